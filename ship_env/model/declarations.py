@@ -1,0 +1,89 @@
+"""Declarations shared by every physical effect: what a parameter is and what an effect is.
+
+An :class:`Effect` names a physical effect in the words a naval engineer uses, lists its
+parameters (name, SI unit, meaning, valid range) and cites the thesis equations it implements.
+The numbers themselves live in one place only: the ship's YAML file in ``configs/ships``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+# Units a YAML file may use, with the factor that converts them to the SI unit the model uses.
+UNIT_CONVERSIONS: dict[str, tuple[str, float]] = {
+    "deg": ("rad", math.pi / 180.0),
+    "deg/s": ("rad/s", math.pi / 180.0),
+    "kn": ("m/s", 1852.0 / 3600.0),
+    "rpm": ("rps", 1.0 / 60.0),
+}
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One model parameter.
+
+    Attributes:
+        name: the field name, unique within its effect (``gain``, ``time_constant``).
+        unit: the SI unit the model uses ("-" for dimensionless).
+        description: what the number means, with the thesis symbol where there is one.
+        minimum, maximum: the valid range (inclusive); a value outside it is rejected.
+        integer: whether the value must be a whole number (a count).
+    """
+
+    name: str
+    unit: str
+    description: str
+    minimum: float = -math.inf
+    maximum: float = math.inf
+    integer: bool = False
+
+    def convert(self, value: object, unit: str | None, where: str) -> float:
+        """Check a value read from a config and convert it to this parameter's SI unit."""
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise TypeError(
+                f"{where}: expected a number in {self.unit}, got {value!r} ({type(value).__name__})"
+            )
+        number = float(value)
+        if unit is not None and unit != self.unit:
+            target, factor = UNIT_CONVERSIONS.get(unit, (None, 1.0))
+            if target != self.unit:
+                raise ValueError(f"{where}: unit {unit!r} cannot be converted to {self.unit!r}")
+            number *= factor
+        if not math.isfinite(number):
+            raise ValueError(f"{where}: value must be finite, got {value!r}")
+        if not self.minimum <= number <= self.maximum:
+            raise ValueError(
+                f"{where}: value {number!r} {self.unit} is outside [{self.minimum}, {self.maximum}]"
+            )
+        if self.integer and number != int(number):
+            raise ValueError(f"{where}: expected a whole number, got {value!r}")
+        return number
+
+
+@dataclass(frozen=True)
+class Effect:
+    """A physical effect of the model: its name, its words, its equations and its parameters.
+
+    Attributes:
+        name: the identifier used in configs and on the command line (``wind_moment``).
+        title: the effect in a naval engineer's words ("wind yaw moment and added resistance").
+        equations: the thesis equations it implements ("(2.85)-(2.88)").
+        parameters: the parameters it reads from the ship's config.
+        required: whether a model can do without it (the yaw equation and kinematics cannot).
+    """
+
+    name: str
+    title: str
+    equations: str
+    parameters: tuple[Parameter, ...] = field(default_factory=tuple)
+    required: bool = False
+
+    def field_name(self, parameter: str) -> str:
+        """The name of a parameter in the compiled parameter record (``yaw_gain``)."""
+        return f"{self.name}_{parameter}"
+
+    @property
+    def flag_name(self) -> str:
+        """The name of this effect's on/off flag in the compiled parameter record."""
+        return f"{self.name}_on"

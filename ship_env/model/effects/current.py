@@ -1,0 +1,35 @@
+"""Uniform current, optionally varying slowly like a tidal stream (thesis 2.71, 2.72).
+
+    dx0/dt += U_c cos(psi_c),   dy0/dt += U_c sin(psi_c)                             (2.71, 2.72)
+
+psi_c is the direction the current sets towards, clockwise from north. A tidal variation is
+optional: U_c(t) = U_c (1 + a sin(2 pi t / T)), psi_c(t) = psi_c + b sin(2 pi t / T), with
+a = ``variation``, b = ``swing``, T = ``period``; a = b = 0 gives a steady current.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.kernel import kernel
+
+EFFECT = Effect(
+    name="current",
+    title="current (set and drift of the water)",
+    equations="(2.71), (2.72)",
+    parameters=(
+        Parameter("variation", "-", "a, relative amplitude of the tidal speed variation", minimum=0.0, maximum=1.0),
+        Parameter("swing", "rad", "b, amplitude of the tidal direction swing", minimum=0.0),
+        Parameter("period", "s", "T, period of the tidal variation", minimum=1e-6),
+    ),
+)
+
+
+@kernel
+def drift(time, current_speed, current_direction, variation, swing, period):
+    """The current's contribution (dx0/dt, dy0/dt) in m/s at ``time``."""
+    phase = math.sin(2.0 * math.pi * time / period)
+    speed = current_speed * (1.0 + variation * phase)
+    direction = current_direction + swing * phase
+    return speed * math.cos(direction), speed * math.sin(direction)

@@ -1,0 +1,32 @@
+"""Wind gusts: a zero-mean random component on the relative wind speed (thesis 2.5.3).
+
+The gust g is a first-order Gauss-Markov process (coloured noise) driven by unit white noise w:
+
+    dg/dt = -g / T_g + sigma_g sqrt(2 / T_g) w,      sigma_g = I V_w
+
+so its stationary standard deviation is sigma_g = I V_w (I the turbulence intensity) and its
+correlation time T_g. It is added to V_wr before the wind forces are computed.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.kernel import kernel
+
+EFFECT = Effect(
+    name="gusts",
+    title="wind gusts (turbulence on the wind speed)",
+    equations="(2.5.3): stochastic component on V_wr",
+    parameters=(
+        Parameter("intensity", "-", "I, gust standard deviation as a fraction of the true wind speed", minimum=0.0),
+        Parameter("time_constant", "s", "T_g, correlation time of the gusts", minimum=1e-6),
+    ),
+)
+
+
+@kernel
+def rate(gust, wind_speed, white_noise, intensity, time_constant):
+    """dg/dt of the Gauss-Markov gust process."""
+    return -gust / time_constant + intensity * wind_speed * math.sqrt(2.0 / time_constant) * white_noise

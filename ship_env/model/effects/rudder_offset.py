@@ -1,0 +1,26 @@
+"""Rudder offset: the rudder angle at which the ship goes straight is not zero.
+
+    delta_e = delta + delta_0
+
+A constant offset models a mis-aligned rudder indicator or the asymmetric side force of a single
+right-handed propeller; it is equivalent to alpha0 = -K* delta_0 in H(r*) (2.27) at one speed,
+but, being an angle, it scales with the rudder's effectiveness (e.g. with the slipstream).
+"""
+
+from __future__ import annotations
+
+from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.kernel import kernel
+
+EFFECT = Effect(
+    name="rudder_offset",
+    title="rudder offset (neutral rudder angle not at zero; propeller asymmetry)",
+    equations="(2.27) alpha0, as an angle",
+    parameters=(Parameter("angle", "rad", "delta_0, added to the actual rudder angle"),),
+)
+
+
+@kernel
+def effective_rudder(rudder, angle):
+    """delta_e = delta + delta_0."""
+    return rudder + angle

@@ -1,0 +1,36 @@
+"""Speed loss in a turn (thesis 2.55, 2.39, 2.53).
+
+    tau_u* (L/u) du*/dt + H_u(u*) = K_u* r*^2                                       (2.55)
+    H_u(u*) = u* + beta3 u*^3                                                        (2.39)
+    u = U0 (1 - u*)                                                                  (2.53)
+
+so du*/dt = (u/L) (K_u* r*^2 - H_u(u*)) / tau_u*. The steady loss with beta3 = 0 is
+u* = K_u* r*^2. Because r = (u/L) r*, the falling speed makes the rate of turn overshoot in a
+turning circle even though r* itself rises monotonically (thesis Fig. 2.7).
+
+Symbols: u* relative speed loss, U0 service speed (m/s), tau_u* normalised time constant, K_u*
+normalised gain, beta3 cubic coefficient.
+"""
+
+from __future__ import annotations
+
+from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.kernel import kernel
+
+EFFECT = Effect(
+    name="speed_loss",
+    title="loss of forward speed in a turn (added resistance from turning)",
+    equations="(2.55), (2.39), (2.53)",
+    parameters=(
+        Parameter("gain", "-", "K_u*, normalised gain from r*^2 to speed loss u*", minimum=0.0),
+        Parameter("time_constant", "-", "tau_u*, normalised time constant in ship lengths", minimum=1e-6),
+        Parameter("cubic", "-", "beta3 of H_u(u*) = u* + beta3 u*^3", minimum=0.0),
+    ),
+)
+
+
+@kernel
+def rate(speed, normalised_rate, speed_loss, gain, time_constant, cubic, length):
+    """du*/dt from (2.55) with H_u from (2.39)."""
+    restoring_value = speed_loss + cubic * speed_loss * speed_loss * speed_loss
+    return speed / length * (gain * normalised_rate * normalised_rate - restoring_value) / time_constant

@@ -1,0 +1,96 @@
+"""Wave yaw moment from a Pierson-Moskowitz sea (thesis 2.89-2.91).
+
+The sea is a sum of regular wave components drawn from the spectrum
+
+    S(omega) = A omega^-p exp(-B omega^-q),  p = 5, q = 4                           (2.89)
+    A = 5/16 H_s^2 omega_p^4,  B = 5/4 omega_p^4,  omega_p = 2 pi / T_p
+
+(the Pierson-Moskowitz / Bretschneider form for significant height H_s and peak period T_p).
+Component i has amplitude a_i = sqrt(2 S(omega_i) d omega), wave number k_i = omega_i^2 / g (deep
+water) and a random phase. The ship meets it at its own position, so the excitation has the
+encounter frequency
+
+    omega_e = omega_0 - omega_0^2 U cos(gamma_w) / g                                 (2.90)
+
+without it being imposed. Its yaw excitation is
+
+    N_g = H_g(omega) sin(2 gamma_w)                                                  (2.91)
+
+with H_g taken proportional to the wave slope k_i a_i: dr/dt += c_g sum_i k_i a_i
+cos(omega_i t - k_i (x0 cos beta + y0 sin beta) + phi_i) sin(2 gamma_w), beta the direction the
+waves travel towards and gamma_w = psi - beta. Unlike ``wave_filter`` it moves the track a little.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.kernel import kernel
+
+GRAVITY = 9.81  # m/s^2
+
+EFFECT = Effect(
+    name="wave_spectrum",
+    title="wave yaw moment from a wave spectrum (encounter frequency, sin 2 gamma_w)",
+    equations="(2.89)-(2.91)",
+    parameters=(
+        Parameter("yaw_coefficient", "rad/s^2", "c_g, yaw acceleration per radian of wave slope", minimum=0.0),
+        Parameter("components", "-", "number of regular wave components", minimum=1, maximum=256, integer=True),
+    ),
+)
+
+
+def spectral_density(frequency: np.ndarray, significant_height: float, peak_period: float) -> np.ndarray:
+    """S(omega) of (2.89) with p = 5, q = 4, in m^2 s/rad."""
+    peak_frequency = 2.0 * math.pi / peak_period
+    a = 5.0 / 16.0 * significant_height**2 * peak_frequency**4
+    b = 5.0 / 4.0 * peak_frequency**4
+    return a * frequency**-5.0 * np.exp(-b * frequency**-4.0)
+
+
+def components(significant_height: float, peak_period: float, uniforms: np.ndarray) -> np.ndarray:
+    """Regular wave components of a Pierson-Moskowitz sea, one per pair of uniform samples.
+
+    Frequencies lie in equal bands from 0.6 to 3 times the peak frequency, each placed at random
+    within its band (so the sum does not repeat itself), with random phases.
+
+    Args:
+        significant_height: H_s, m.
+        peak_period: T_p, s.
+        uniforms: (2, count) samples in (0, 1): the places in the bands and the phases.
+
+    Returns:
+        array of shape (3, count): rows frequency (rad/s), amplitude (m), phase (rad).
+    """
+    count = uniforms.shape[1]
+    peak_frequency = 2.0 * math.pi / peak_period
+    edges = np.linspace(0.6 * peak_frequency, 3.0 * peak_frequency, count + 1)
+    band = edges[1] - edges[0]
+    frequency = edges[:-1] + band * uniforms[0]
+    amplitude = np.sqrt(2.0 * spectral_density(frequency, significant_height, peak_period) * band)
+    phase = 2.0 * math.pi * uniforms[1]
+    return np.stack([frequency, amplitude, phase])
+
+
+@kernel
+def encounter_frequency(frequency, speed, encounter_angle):
+    """omega_e of (2.90); encounter_angle gamma_w is 0 in following seas."""
+    return frequency - frequency * frequency * speed * math.cos(encounter_angle) / GRAVITY
+
+
+@kernel
+def yaw_acceleration(time, north, east, heading, wave_direction, waves, yaw_coefficient):
+    """Added dr/dt in rad/s^2 from (2.91), summed over the components in ``waves`` (3, count)."""
+    travel_direction = wave_direction + math.pi
+    cos_travel = math.cos(travel_direction)
+    sin_travel = math.sin(travel_direction)
+    slope = 0.0
+    for i in range(waves.shape[1]):
+        frequency = waves[0, i]
+        wave_number = frequency * frequency / GRAVITY
+        phase = frequency * time - wave_number * (north * cos_travel + east * sin_travel) + waves[2, i]
+        slope += wave_number * waves[1, i] * math.cos(phase)
+    return yaw_coefficient * slope * math.sin(2.0 * (heading - travel_direction))

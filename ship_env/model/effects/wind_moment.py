@@ -1,0 +1,49 @@
+"""Wind yaw moment and wind resistance in the normalised model (thesis 2.82-2.88).
+
+    tau* dr*/ds* + H(r*) = K* delta + tau* N_w*                                       (2.85)
+    tau_u* du*/ds* + H_u(u*) = K_u* r*^2 + tau_u* F_w*                                (2.86)
+    N_w* = N_w' (L/u)^2 sin(2 gamma_r) V_wr^2                                         (2.87)
+    F_w* = F_w' (L/u)^2 cos(gamma_r) V_wr^2                                           (2.88)
+
+from C_n = a_n sin 2 gamma_r and C_x = a_x cos gamma_r (2.82, 2.84). In the time domain
+(ds* = (u/L) dt) they add to the yaw acceleration and the speed-loss rate:
+
+    dr/dt  += N_w' sin(2 gamma_r) V_wr^2
+    du*/dt += F_w' (L/u) cos(gamma_r) V_wr^2
+
+N_w' (rad/m^2) = 1/2 rho_air a_n S_wy L / I_zz' and F_w' (1/m^2) are constant for a ship. The
+moment vanishes head-on and beam-on and flips sign with the side the wind comes from; a positive
+N_w' turns the bow into a wind from forward of the beam. The wind resistance only acts where the
+speed-loss equation (2.86) is on.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.kernel import kernel
+
+EFFECT = Effect(
+    name="wind_moment",
+    title="wind yaw moment and wind resistance",
+    equations="(2.82)-(2.88)",
+    parameters=(
+        Parameter("yaw_coefficient", "rad/m^2", "N_w' of (2.87); sign: + turns the bow into the wind"),
+        Parameter("surge_coefficient", "1/m^2", "F_w' of (2.88); + means a head wind slows the ship"),
+    ),
+)
+
+
+@kernel
+def yaw_acceleration(relative_wind_speed, relative_wind_angle, yaw_coefficient):
+    """Added dr/dt in rad/s^2 from (2.85, 2.87)."""
+    return yaw_coefficient * math.sin(2.0 * relative_wind_angle) * relative_wind_speed * relative_wind_speed
+
+
+@kernel
+def speed_loss_rate(relative_wind_speed, relative_wind_angle, speed, surge_coefficient, length):
+    """Added du*/dt in 1/s from (2.86, 2.88)."""
+    return (
+        surge_coefficient * length / speed * math.cos(relative_wind_angle) * relative_wind_speed * relative_wind_speed
+    )

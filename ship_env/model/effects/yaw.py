@@ -1,0 +1,50 @@
+"""Yaw: De Keizer's speed-scheduled rate-of-turn equation (thesis 2.54, 2.27).
+
+    tau* (L/u) dr/dt + (u/L) H(r*) = K* (u/L) delta                                (2.54)
+    H(r*) = alpha0 + r* + alpha2 r*^2  (+ alpha3 r*^3, see ``norrbin``)            (2.27)
+    r* = L r / u                                                                    (2.40)
+
+Solved for the yaw acceleration:
+
+    dr/dt = [ (u_R/L)^2 K* delta_e - (u/L)^2 H(r*) ] / tau*
+
+where ``u_R^2`` is the squared inflow speed at the rudder (``u^2`` unless the propeller
+slipstream effect adds to it) and ``delta_e`` the effective rudder angle (``delta`` unless a rudder
+offset is on). With H(r*) = r* this is the Nomoto model tau dr/dt + r = K delta with
+tau = tau* L/u and K = K* u/L (2.58, 2.61): the steady rate of turn is r = K delta.
+
+Symbols: r rate of turn (rad/s), u forward speed (m/s), L ship length (m), delta rudder (rad),
+K* normalised gain, tau* normalised time constant, alpha0 asymmetry, alpha2 quadratic coefficient.
+"""
+
+from __future__ import annotations
+
+from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.kernel import kernel
+
+EFFECT = Effect(
+    name="yaw",
+    title="yaw response to the rudder (speed-scheduled first-order Nomoto, De Keizer)",
+    equations="(2.54), (2.27), (2.61)",
+    parameters=(
+        Parameter("gain", "-", "K*, normalised rudder-to-rate-of-turn gain", minimum=0.0),
+        Parameter("time_constant", "-", "tau*, normalised time constant in ship lengths", minimum=1e-6),
+        Parameter("asymmetry", "-", "alpha0 of H(r*): steady r* at zero rudder is -alpha0"),
+        Parameter("quadratic", "-", "alpha2 of H(r*): asymmetric quadratic term"),
+    ),
+    required=True,
+)
+
+
+@kernel
+def restoring(normalised_rate, asymmetry, quadratic):
+    """The linear, constant and quadratic part of H(r*) (2.27)."""
+    return asymmetry + normalised_rate + quadratic * normalised_rate * normalised_rate
+
+
+@kernel
+def acceleration(speed, inflow_speed_squared, effective_rudder, restoring_value, gain, time_constant, length):
+    """dr/dt from (2.54): rudder moment at the rudder inflow speed minus the hull's H(r*)."""
+    return (
+        inflow_speed_squared * gain * effective_rudder - speed * speed * restoring_value
+    ) / (time_constant * length * length)

@@ -1,0 +1,17 @@
+"""The compiler used for the model's equations.
+
+Every equation of the model is a plain Python function of floats, compiled with numba so that one
+ship steps at C speed from Python and a batch of ships steps in one compiled call over numpy arrays.
+Set the environment variable ``NUMBA_DISABLE_JIT=1`` to run the same code as pure Python (slow, but
+debuggable with pdb).
+"""
+
+from __future__ import annotations
+
+import numba
+
+#: Decorator for every model equation: compiled, cached on disk, IEEE-exact (no fast-math).
+kernel = numba.njit(cache=True, fastmath=False, error_model="numpy")
+
+#: Decorator for the batched step: the same, looping over ships on all cores.
+parallel_kernel = numba.njit(cache=True, fastmath=False, error_model="numpy", parallel=True)

@@ -1,0 +1,315 @@
+"""Ship presets (``configs/ships/*.yaml``) and the :class:`ShipModel` built from them.
+
+A preset gives the ship's principal particulars and, for each effect, whether it is on by default
+and the values of its parameters. Every value carries its source; an assumed value says so::
+
+    principal:
+      length: {value: 225.87, unit: m, source: "thesis App. B, length over all"}
+    effects:
+      yaw:
+        enabled: true
+        gain: {value: 1.6, source: "thesis 6.4.4.1, identified at 19 kn"}
+
+Values may be given in deg, deg/s, kn or rpm (``unit``); the model holds SI units and radians.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from ship_env.model.declarations import Parameter
+from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
+from ship_env.paths import config_dir
+
+PRINCIPAL: tuple[Parameter, ...] = (
+    Parameter("length", "m", "L, the length that normalises the model (2.40)", minimum=1e-3),
+    Parameter("breadth", "m", "B, moulded breadth (drawings only)", minimum=0.0),
+    Parameter("draught", "m", "T, draught (drawings only)", minimum=0.0),
+    Parameter("service_speed", "m/s", "U0, speed through the water on a straight course", minimum=0.0),
+    Parameter("rudder_limit", "rad", "delta_max, hard-over rudder angle (Fig. 2.9)", minimum=1e-6, maximum=math.pi / 2),
+    Parameter(
+        "minimum_speed",
+        "m/s",
+        "speed floor used where the model divides by u (r* = L r / u); keeps a ship at rest finite",
+        minimum=1e-6,
+    ),
+)
+_PRINCIPAL_BY_NAME = {parameter.name: parameter for parameter in PRINCIPAL}
+
+
+def _record_dtype() -> np.dtype:
+    fields: list[tuple[str, type]] = [(parameter.name, np.float64) for parameter in PRINCIPAL]
+    for effect in EFFECTS.values():
+        fields.append((effect.flag_name, np.bool_))
+        fields.extend((effect.field_name(parameter.name), np.float64) for parameter in effect.parameters)
+    return np.dtype(fields)
+
+
+#: The layout of the compiled parameter record: principal particulars, then per effect its flag and
+#: parameters (``yaw_on``, ``yaw_gain``, ...). The same for every model, so the kernels compile once.
+RECORD_DTYPE = _record_dtype()
+
+
+@dataclass(frozen=True)
+class Ship:
+    """A ship preset as read from its YAML file, values in SI units.
+
+    Attributes:
+        name: the preset's name (the file's stem).
+        description: what the ship is.
+        principal: principal particulars by name (``length``, ``service_speed``...).
+        values: per effect, its parameter values by name.
+        enabled: the effects on by default.
+        sources: where each number comes from, keyed ``principal.length`` or ``yaw.gain``.
+        assumed: the keys of numbers that are assumed rather than taken from a source.
+    """
+
+    name: str
+    description: str
+    principal: Mapping[str, float]
+    values: Mapping[str, Mapping[str, float]]
+    enabled: tuple[str, ...]
+    sources: Mapping[str, str] = field(default_factory=dict)
+    assumed: frozenset[str] = frozenset()
+    path: Path | None = None
+
+
+def list_ships() -> list[str]:
+    """Names of the ship presets in ``configs/ships``."""
+    return sorted(path.stem for path in (config_dir() / "ships").glob("*.yaml"))
+
+
+def _read_value(parameter: Parameter, entry: object, where: str, sources: dict, assumed: set) -> float:
+    if not isinstance(entry, Mapping):
+        raise TypeError(f"{where}: expected a mapping with 'value' and 'source', got {entry!r}")
+    unknown = set(entry) - {"value", "unit", "source", "assumed"}
+    if unknown:
+        raise ValueError(f"{where}: unknown keys {sorted(unknown)}")
+    if "value" not in entry:
+        raise ValueError(f"{where}: missing 'value'")
+    source = entry.get("source")
+    if not isinstance(source, str) or not source.strip():
+        raise ValueError(f"{where}: every number needs a 'source' (say 'assumed' and why if it is)")
+    flag = entry.get("assumed", False)
+    if not isinstance(flag, bool):
+        raise TypeError(f"{where}.assumed: expected true or false, got {flag!r}")
+    unit = entry.get("unit")
+    if unit is not None and not isinstance(unit, str):
+        raise TypeError(f"{where}.unit: expected a string, got {unit!r}")
+    key = where.split(":", 1)[-1]
+    sources[key] = source
+    if flag:
+        assumed.add(key)
+    return parameter.convert(entry["value"], unit, where)
+
+
+def load_ship(name_or_path: str | Path) -> Ship:
+    """Read a ship preset by name (``container_226m``) or from a YAML file path."""
+    path = Path(name_or_path)
+    if path.suffix not in (".yaml", ".yml"):
+        path = config_dir() / "ships" / f"{name_or_path}.yaml"
+        if not path.is_file():
+            raise ValueError(f"ship: unknown preset {str(name_or_path)!r}; known: {', '.join(list_ships())}")
+    with path.open() as handle:
+        document = yaml.safe_load(handle)
+    if not isinstance(document, Mapping):
+        raise TypeError(f"{path}: expected a mapping at the top level")
+    unknown = set(document) - {"name", "description", "principal", "effects"}
+    if unknown:
+        raise ValueError(f"{path}: unknown top-level keys {sorted(unknown)}")
+    label = f"{path.name}"
+    sources: dict[str, str] = {}
+    assumed: set[str] = set()
+
+    principal_entries = document.get("principal") or {}
+    if not isinstance(principal_entries, Mapping):
+        raise TypeError(f"{label}: principal: expected a mapping, got {principal_entries!r}")
+    principal: dict[str, float] = {}
+    for key, entry in principal_entries.items():
+        if key not in _PRINCIPAL_BY_NAME:
+            raise ValueError(f"{label}: principal: unknown field {key!r}; known: {', '.join(_PRINCIPAL_BY_NAME)}")
+        principal[key] = _read_value(_PRINCIPAL_BY_NAME[key], entry, f"{label}:principal.{key}", sources, assumed)
+    missing = [name for name in _PRINCIPAL_BY_NAME if name not in principal]
+    if missing:
+        raise ValueError(f"{label}: principal: missing {', '.join(missing)}")
+
+    effect_entries = document.get("effects") or {}
+    if not isinstance(effect_entries, Mapping):
+        raise TypeError(f"{label}: effects: expected a mapping, got {effect_entries!r}")
+    values: dict[str, dict[str, float]] = {}
+    enabled: list[str] = []
+    for effect_name, entries in effect_entries.items():
+        if effect_name not in EFFECTS:
+            raise ValueError(f"{label}: effects: unknown effect {effect_name!r}; known: {', '.join(EFFECTS)}")
+        effect = EFFECTS[effect_name]
+        entries = entries or {}
+        if not isinstance(entries, Mapping):
+            raise TypeError(f"{label}: effects.{effect_name}: expected a mapping, got {entries!r}")
+        by_name = {parameter.name: parameter for parameter in effect.parameters}
+        values[effect_name] = {}
+        for key, entry in entries.items():
+            if key == "enabled":
+                if not isinstance(entry, bool):
+                    raise TypeError(f"{label}: effects.{effect_name}.enabled: expected true or false, got {entry!r}")
+                if entry:
+                    enabled.append(effect_name)
+                continue
+            if key not in by_name:
+                raise ValueError(
+                    f"{label}: effects.{effect_name}: unknown parameter {key!r}; known: {', '.join(by_name) or 'none'}"
+                )
+            values[effect_name][key] = _read_value(
+                by_name[key], entry, f"{label}:{effect_name}.{key}", sources, assumed
+            )
+    return Ship(
+        name=str(document.get("name", path.stem)),
+        description=str(document.get("description", "")).strip(),
+        principal=principal,
+        values=values,
+        enabled=tuple(name for name in EFFECTS if name in enabled or name in REQUIRED_EFFECTS),
+        sources=sources,
+        assumed=frozenset(assumed),
+        path=path,
+    )
+
+
+def _check_effect_names(names: Iterable[str]) -> list[str]:
+    checked = []
+    for name in names:
+        if not isinstance(name, str) or name not in EFFECTS:
+            raise ValueError(f"effects: unknown effect {name!r}; known: {', '.join(EFFECTS)}")
+        checked.append(name)
+    return checked
+
+
+class ShipModel:
+    """A ship preset with a chosen set of physical effects, ready to simulate.
+
+    Turning an effect on or off changes only this model's flags: the equations of the other effects
+    are untouched. Parameter values come from the preset and may be overridden by name.
+
+    Args:
+        ship: a preset name, a YAML path or a loaded :class:`Ship`.
+        effects: the effects to include (the required ``yaw`` and ``kinematics`` are always in);
+            ``None`` takes the preset's default set.
+        parameters: overrides, keyed ``"effect.parameter"`` (``"yaw.gain"``) or a principal
+            particular (``"length"``), in SI units.
+
+    Example::
+
+        model = ShipModel("container_226m").without_effects("wind_moment")
+        model.parameter("yaw.gain")  # 1.6
+    """
+
+    def __init__(
+        self,
+        ship: str | Path | Ship = "container_226m",
+        effects: Iterable[str] | None = None,
+        parameters: Mapping[str, float] | None = None,
+    ) -> None:
+        self.ship = ship if isinstance(ship, Ship) else load_ship(ship)
+        if isinstance(effects, str):
+            raise TypeError(f"effects: expected a list of effect names, got the string {effects!r}")
+        chosen = set(self.ship.enabled if effects is None else _check_effect_names(effects))
+        self.effects: tuple[str, ...] = tuple(n for n in EFFECTS if n in chosen or n in REQUIRED_EFFECTS)
+        self._principal = dict(self.ship.principal)
+        self._values = {name: dict(values) for name, values in self.ship.values.items()}
+        self.overrides: dict[str, float] = {}
+        for key, value in (parameters or {}).items():
+            self._set(key, value)
+        self.record = self._build_record()
+
+    def _set(self, key: str, value: float) -> None:
+        if key in _PRINCIPAL_BY_NAME:
+            self._principal[key] = _PRINCIPAL_BY_NAME[key].convert(value, None, f"parameters[{key!r}]")
+        else:
+            effect_name, _, name = key.partition(".")
+            effect = EFFECTS.get(effect_name)
+            by_name = {parameter.name: parameter for parameter in effect.parameters} if effect else {}
+            if name not in by_name:
+                raise ValueError(
+                    f"parameters: unknown parameter {key!r}; use 'effect.parameter' (e.g. 'yaw.gain') or a principal particular"
+                )
+            self._values.setdefault(effect_name, {})[name] = by_name[name].convert(value, None, f"parameters[{key!r}]")
+        self.overrides[key] = float(value)
+
+    def _build_record(self) -> np.ndarray:
+        record = np.zeros(1, dtype=RECORD_DTYPE)
+        for name, value in self._principal.items():
+            record[0][name] = value
+        for effect_name, effect in EFFECTS.items():
+            on = effect_name in self.effects
+            record[0][effect.flag_name] = on
+            for parameter in effect.parameters:
+                value = self._values.get(effect_name, {}).get(parameter.name)
+                if value is None:
+                    if on:
+                        raise ValueError(
+                            f"ship {self.ship.name!r}: effect {effect_name!r} is on but has no value for "
+                            f"{parameter.name!r} ({parameter.description})"
+                        )
+                    continue
+                record[0][effect.field_name(parameter.name)] = value
+        return record
+
+    # -- variants -------------------------------------------------------------------------------
+    def with_effects(self, *names: str) -> ShipModel:
+        """This model with more effects on."""
+        return ShipModel(self.ship, self.effects + tuple(_check_effect_names(names)), self.overrides)
+
+    def without_effects(self, *names: str) -> ShipModel:
+        """This model with some effects off (required effects cannot be removed)."""
+        for name in _check_effect_names(names):
+            if name in REQUIRED_EFFECTS:
+                raise ValueError(f"effects: {name!r} is required and cannot be turned off")
+        return ShipModel(self.ship, [n for n in self.effects if n not in names], self.overrides)
+
+    def with_parameters(self, parameters: Mapping[str, float]) -> ShipModel:
+        """This model with some parameter values replaced (keys as in the constructor)."""
+        return ShipModel(self.ship, self.effects, {**self.overrides, **parameters})
+
+    @classmethod
+    def minimal(cls, ship: str | Path | Ship = "container_226m") -> ShipModel:
+        """The first-order Nomoto ship with its steering machine (2.58, Fig. 2.9)."""
+        return cls(ship, MINIMAL_EFFECTS)
+
+    @classmethod
+    def full(cls, ship: str | Path | Ship = "container_226m") -> ShipModel:
+        """The ship with every effect on."""
+        return cls(ship, EFFECTS)
+
+    # -- values ----------------------------------------------------------------------------------
+    def parameter(self, key: str) -> float:
+        """A parameter's value in SI units, keyed as in the constructor."""
+        if key in _PRINCIPAL_BY_NAME:
+            return float(self._principal[key])
+        effect_name, _, name = key.partition(".")
+        try:
+            return float(self._values[effect_name][name])
+        except KeyError:
+            raise KeyError(f"parameter {key!r} has no value in ship {self.ship.name!r}") from None
+
+    @property
+    def length(self) -> float:
+        return float(self._principal["length"])
+
+    @property
+    def service_speed(self) -> float:
+        return float(self._principal["service_speed"])
+
+    @property
+    def rudder_limit(self) -> float:
+        return float(self._principal["rudder_limit"])
+
+    def has(self, effect: str) -> bool:
+        """Whether an effect is on."""
+        return effect in self.effects
+
+    def __repr__(self) -> str:
+        return f"ShipModel({self.ship.name!r}, effects={list(self.effects)})"

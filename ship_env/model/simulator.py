@@ -1,0 +1,295 @@
+"""The simulator: N ships of one model, stepped together, reproducible from a seed.
+
+:class:`Simulator` holds the batch's state ``(N, STATE_SIZE)``, the conditions each ship sails in,
+the sea each one meets and a random generator per ship. ``step`` advances all ships in one compiled
+call; with ``N = 1`` it takes a lighter path. Ship ``i`` of a batch seeded with ``seed`` draws its
+randomness from ``seed + i`` (as Gymnasium's vector environments do), so a batch gives the same
+numbers as single runs with those seeds (see ``noise``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from ship_env.model import noise
+from ship_env.model import state as S
+from ship_env.model.dynamics import sway_velocity
+from ship_env.model.effects import wave_spectrum
+from ship_env.model.integrators import METHODS, new_workspace, step_ship, step_ships
+from ship_env.model.ship import ShipModel
+
+
+
+@dataclass(frozen=True)
+class Conditions:
+    """What a ship sails in. Angles in radians, clockwise from north; speeds in m/s.
+
+    Attributes:
+        service_speed: U0, speed through the water on a straight course; ``None`` takes the ship's.
+        propeller_rate: n in rps (used by the propeller-slipstream effect).
+        current_speed, current_direction: the current and the direction it sets *towards*.
+        wind_speed, wind_direction: the true wind and the direction it comes *from*.
+        wave_height, wave_period, wave_direction: significant height (m), peak period (s) and the
+            direction the waves come *from*, for the wave-spectrum effect.
+    """
+
+    service_speed: float | None = None
+    propeller_rate: float = 0.0
+    current_speed: float = 0.0
+    current_direction: float = 0.0
+    wind_speed: float = 0.0
+    wind_direction: float = 0.0
+    wave_height: float = 0.0
+    wave_period: float = 8.0
+    wave_direction: float = 0.0
+
+    def __post_init__(self) -> None:
+        for item in fields(self):
+            value = getattr(self, item.name)
+            if value is None and item.name == "service_speed":
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
+                raise TypeError(f"conditions.{item.name}: expected a number, got {value!r}")
+            if not math.isfinite(value):
+                raise ValueError(f"conditions.{item.name}: must be finite, got {value!r}")
+        for name in ("service_speed", "propeller_rate", "current_speed", "wind_speed", "wave_height"):
+            value = getattr(self, name)
+            if value is not None and value < 0.0:
+                raise ValueError(f"conditions.{name}: must not be negative, got {value!r}")
+        if self.wave_period <= 0.0:
+            raise ValueError(f"conditions.wave_period: must be positive, got {self.wave_period!r}")
+
+    def row(self, default_speed: float) -> np.ndarray:
+        """The conditions as one row of the simulator's condition array."""
+        row = np.zeros(S.CONDITION_SIZE)
+        row[S.SERVICE_SPEED] = default_speed if self.service_speed is None else self.service_speed
+        row[S.PROPELLER_RATE] = self.propeller_rate
+        row[S.CURRENT_SPEED] = self.current_speed
+        row[S.CURRENT_DIRECTION] = self.current_direction
+        row[S.WIND_SPEED] = self.wind_speed
+        row[S.WIND_DIRECTION] = self.wind_direction
+        row[S.WAVE_DIRECTION] = self.wave_direction
+        return row
+
+
+class Simulator:
+    """Steps ``num_ships`` ships of one :class:`ShipModel`.
+
+    Args:
+        model: the ship model (preset plus effects).
+        num_ships: N, the batch size.
+        dt: the integration step, s.
+        method: ``"rk4"`` (default) or ``"euler"``.
+
+    Example::
+
+        sim = Simulator(ShipModel("container_226m"), dt=1.0)
+        sim.reset(seed=0)
+        for _ in range(600):
+            sim.step(math.radians(10))
+        sim.heading, sim.rate_of_turn
+    """
+
+    def __init__(self, model: ShipModel, num_ships: int = 1, dt: float = 0.5, method: str = "rk4") -> None:
+        if not isinstance(num_ships, (int, np.integer)) or num_ships < 1:
+            raise ValueError(f"num_ships: expected a positive whole number, got {num_ships!r}")
+        if isinstance(dt, bool) or not isinstance(dt, (int, float)) or not math.isfinite(dt) or dt <= 0.0:
+            raise ValueError(f"dt: expected a positive step in seconds, got {dt!r}")
+        if method not in METHODS:
+            raise ValueError(f"method: expected one of {sorted(METHODS)}, got {method!r}")
+        self.model = model
+        self.num_ships = int(num_ships)
+        self.dt = float(dt)
+        self.method = method
+        self._method_code = METHODS[method]
+        self._wave_count = int(model.parameter("wave_spectrum.components")) if model.has("wave_spectrum") else 0
+        self.state = np.zeros((self.num_ships, S.STATE_SIZE))
+        self.conditions = np.zeros((self.num_ships, S.CONDITION_SIZE))
+        self.waves = np.zeros((self.num_ships, 3, self._wave_count))
+        self.noise_keys = np.zeros(self.num_ships, dtype=np.uint64)
+        self.step_index = np.zeros(self.num_ships, dtype=np.int64)
+        self._orders = np.zeros(self.num_ships)
+        self._work = new_workspace()
+        self.reset()
+
+    # -- starting ------------------------------------------------------------------------------
+    def reset(
+        self,
+        seed: int | Sequence[int] | None = None,
+        conditions: Conditions | Sequence[Conditions] | None = None,
+        heading: float | np.ndarray = 0.0,
+        rudder: float | np.ndarray = 0.0,
+        rate_of_turn: float | np.ndarray | None = None,
+    ) -> None:
+        """Start all ships at the origin, at their service speed, on ``heading`` (rad).
+
+        Args:
+            seed: one integer (ship i uses seed + i), one per ship, or None for fresh entropy.
+            conditions: one :class:`Conditions` for all ships, or one per ship.
+            heading: initial heading(s), rad.
+            rudder: initial actual rudder angle(s), rad.
+            rate_of_turn: initial rate(s) of turn, rad/s; ``None`` starts straight (r = 0).
+        """
+        self.seeds = self._seeds(seed)
+        self.noise_keys = noise.keys_from_seeds(self.seeds)
+        self.step_index = np.zeros(self.num_ships, dtype=np.int64)
+        per_ship = self._per_ship_conditions(conditions)
+        default_speed = self.model.service_speed
+        self.conditions = np.stack([c.row(default_speed) for c in per_ship])
+        self.state = np.zeros((self.num_ships, S.STATE_SIZE))
+        self.state[:, S.HEADING] = self._per_ship_value("heading", heading)
+        self.state[:, S.RUDDER] = np.clip(
+            self._per_ship_value("rudder", rudder), -self.model.rudder_limit, self.model.rudder_limit
+        )
+        if rate_of_turn is not None:
+            self.state[:, S.RATE_OF_TURN] = self._per_ship_value("rate_of_turn", rate_of_turn)
+        self.waves = np.zeros((self.num_ships, 3, self._wave_count))
+        if self._wave_count:
+            for i, c in enumerate(per_ship):
+                uniforms = noise.uniforms(self.noise_keys[i], noise.WAVE_DOMAIN, 2 * self._wave_count)
+                self.waves[i] = wave_spectrum.components(
+                    c.wave_height, c.wave_period, uniforms.reshape(2, self._wave_count)
+                )
+        self._bind_single()
+
+    def _seeds(self, seed: int | Sequence[int] | None) -> np.ndarray:
+        if seed is None:
+            seed = int(np.random.SeedSequence().generate_state(1, np.uint32)[0])
+        if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+            return int(seed) + np.arange(self.num_ships, dtype=np.int64)
+        seeds = list(seed)
+        if len(seeds) != self.num_ships or not all(isinstance(s, (int, np.integer)) for s in seeds):
+            raise ValueError(f"seed: expected an integer or {self.num_ships} integers, got {seed!r}")
+        return np.asarray(seeds, dtype=np.int64)
+
+    def _per_ship_conditions(self, conditions) -> list[Conditions]:
+        if conditions is None:
+            return [Conditions()] * self.num_ships
+        if isinstance(conditions, Conditions):
+            return [conditions] * self.num_ships
+        items = list(conditions)
+        if len(items) != self.num_ships or not all(isinstance(c, Conditions) for c in items):
+            raise ValueError(f"conditions: expected one Conditions or {self.num_ships} of them")
+        return items
+
+    def _per_ship_value(self, name: str, value) -> np.ndarray:
+        array = np.broadcast_to(np.asarray(value, dtype=float), (self.num_ships,))
+        if not np.all(np.isfinite(array)):
+            raise ValueError(f"{name}: must be finite, got {value!r}")
+        return array
+
+    def _bind_single(self) -> None:
+        """Views of ship 0's rows for the single-ship fast path."""
+        self._state0 = self.state[0]
+        self._conditions0 = self.conditions[0]
+        self._waves0 = self.waves[0]
+        self._key0 = self.noise_keys[0]
+
+    # -- conditions while sailing ----------------------------------------------------------------
+    def set_conditions(self, name: str, value: float | np.ndarray) -> None:
+        """Change one condition (``service_speed``, ``propeller_rate``, ``wind_speed``, ...) now.
+
+        Used to replay measured speed, propeller rate or wind step by step, or to switch a current
+        on or off during a run. Angles in radians.
+        """
+        if name not in S.CONDITION_NAMES:
+            raise ValueError(f"conditions: unknown condition {name!r}; known: {', '.join(S.CONDITION_NAMES)}")
+        array = self._per_ship_value(name, value)
+        if name in ("service_speed", "propeller_rate", "current_speed", "wind_speed") and np.any(array < 0.0):
+            raise ValueError(f"conditions.{name}: must not be negative, got {value!r}")
+        self.conditions[:, S.CONDITION_NAMES.index(name)] = array
+
+    # -- stepping --------------------------------------------------------------------------------
+    def step(self, ordered_rudder: float | np.ndarray) -> None:
+        """Advance every ship by ``dt`` with the given ordered rudder angle(s), rad.
+
+        Orders beyond the rudder limit are clipped to it (the steering machine's limiter). A NaN
+        or infinite order raises ``ValueError``.
+        """
+        if self.num_ships == 1:
+            order = float(np.asarray(ordered_rudder).reshape(-1)[0]) if not isinstance(ordered_rudder, float) else ordered_rudder
+            if not math.isfinite(order):
+                raise ValueError(f"ordered_rudder: must be a finite angle in rad, got {order!r}")
+            step_ship(
+                self._state0,
+                order,
+                self._conditions0,
+                self._key0,
+                self.step_index[0],
+                self._waves0,
+                self.model.record,
+                self.dt,
+                self._method_code,
+                self._work,
+            )
+            self.step_index[0] += 1
+            return
+        orders = np.asarray(ordered_rudder, dtype=float)
+        if orders.ndim == 0:
+            self._orders.fill(float(orders))
+            orders = self._orders
+        elif orders.shape != (self.num_ships,):
+            raise ValueError(f"ordered_rudder: expected shape ({self.num_ships},), got {orders.shape}")
+        if not np.all(np.isfinite(orders)):
+            bad = int(np.flatnonzero(~np.isfinite(orders))[0])
+            raise ValueError(f"ordered_rudder[{bad}]: must be a finite angle in rad, got {orders[bad]!r}")
+        step_ships(
+            self.state,
+            orders,
+            self.conditions,
+            self.noise_keys,
+            self.step_index,
+            self.waves,
+            self.model.record,
+            self.dt,
+            self._method_code,
+        )
+
+    # -- reading ---------------------------------------------------------------------------------
+    @property
+    def time(self) -> np.ndarray:
+        return self.state[:, S.TIME]
+
+    @property
+    def position(self) -> np.ndarray:
+        """(N, 2) north and east positions, m."""
+        return self.state[:, S.NORTH : S.EAST + 1]
+
+    @property
+    def heading(self) -> np.ndarray:
+        """True heading psi, rad, not wrapped."""
+        return self.state[:, S.HEADING]
+
+    @property
+    def rate_of_turn(self) -> np.ndarray:
+        """True rate of turn r, rad/s."""
+        return self.state[:, S.RATE_OF_TURN]
+
+    @property
+    def rudder(self) -> np.ndarray:
+        """Actual rudder angle, rad."""
+        return self.state[:, S.RUDDER]
+
+    @property
+    def speed(self) -> np.ndarray:
+        """Forward speed u = U0 (1 - u*), m/s (2.53)."""
+        return self.conditions[:, S.SERVICE_SPEED] * (1.0 - self.state[:, S.SPEED_LOSS])
+
+    @property
+    def sway_velocity(self) -> np.ndarray:
+        """Van Leeuwen sway velocity v, m/s (without leeway)."""
+        return np.array([sway_velocity(s, c, self.model.record[0]) for s, c in zip(self.state, self.conditions)])
+
+    @property
+    def measured_heading(self) -> np.ndarray:
+        """Heading as a compass would read it: psi plus the HF wave heading (Fig. 2.13)."""
+        return self.state[:, S.HEADING] + self.state[:, S.WAVE_HEADING]
+
+    @property
+    def measured_rate_of_turn(self) -> np.ndarray:
+        """Rate of turn as a rate gyro would read it: r plus the HF wave rate (Fig. 2.13)."""
+        return self.state[:, S.RATE_OF_TURN] + self.state[:, S.WAVE_RATE]

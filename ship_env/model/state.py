@@ -1,0 +1,61 @@
+"""Layout of a ship's state and of the conditions it sails in.
+
+A batch of ``N`` ships is a float64 array of shape ``(N, STATE_SIZE)``; one ship is a row.
+Angles are in radians, the heading is not wrapped (it counts whole turns), positions in metres
+in the earth-fixed frame (x0 north, y0 east), time in seconds.
+"""
+
+from __future__ import annotations
+
+# State variables (thesis ch. 2): time, position, heading, rate of turn, relative speed loss u*,
+# actual rudder angle, and the disturbance states (HF wave filter, wind gust).
+TIME = 0  # s, time since the start of the run
+NORTH = 1  # m, x0 (2.71)
+EAST = 2  # m, y0 (2.72)
+HEADING = 3  # rad, psi, clockwise from north, not wrapped
+RATE_OF_TURN = 4  # rad/s, r, positive turning to starboard
+SPEED_LOSS = 5  # -, u* = dU / U0 (2.41)
+RUDDER = 6  # rad, actual rudder angle delta, positive gives positive r (2.23)
+WAVE_HEADING = 7  # rad, HF wave-induced heading (Fig. 2.13), not part of the track
+WAVE_RATE = 8  # rad/s, HF wave-induced rate of turn (Fig. 2.13)
+GUST = 9  # m/s, random component on the relative wind speed (2.5.3)
+STATE_SIZE = 10
+
+STATE_NAMES = (
+    "time",
+    "north",
+    "east",
+    "heading",
+    "rate_of_turn",
+    "speed_loss",
+    "rudder",
+    "wave_heading",
+    "wave_rate",
+    "gust",
+)
+
+# Conditions: held constant over one step, one row per ship, set by the caller (a scenario, an
+# environment, or a measured log replayed step by step).
+SERVICE_SPEED = 0  # m/s, U0: the speed through the water on a straight course (2.53)
+PROPELLER_RATE = 1  # rps, n, for the propeller slipstream over the rudder
+CURRENT_SPEED = 2  # m/s, Uc (2.71)
+CURRENT_DIRECTION = 3  # rad, psi_c: the direction the current sets towards, clockwise from north
+WIND_SPEED = 4  # m/s, true wind speed V_w (2.74)
+WIND_DIRECTION = 5  # rad, psi_w: the direction the wind comes from, clockwise from north
+WAVE_DIRECTION = 6  # rad, the direction the waves come from, clockwise from north
+CONDITION_SIZE = 7
+
+CONDITION_NAMES = (
+    "service_speed",
+    "propeller_rate",
+    "current_speed",
+    "current_direction",
+    "wind_speed",
+    "wind_direction",
+    "wave_direction",
+)
+
+# White-noise channels drawn once per step (standard normal, held over the step).
+NOISE_WAVE = 0  # drives the HF wave shaping filter
+NOISE_GUST = 1  # drives the gust process
+NOISE_SIZE = 2

@@ -1,0 +1,184 @@
+"""Simulator behaviour: symmetry, reproducibility, batch = single runs, and errors on bad input."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from conftest import CONTAINER, run
+from ship_env.model import EFFECTS, Conditions, ShipModel, Simulator, list_ships, load_ship
+from ship_env.model import state as S
+
+
+def _disturbed() -> Conditions:
+    return Conditions(
+        wind_speed=9.0, wind_direction=math.radians(300.0), current_speed=1.0,
+        current_direction=math.radians(45.0), wave_height=2.5, wave_period=8.0, wave_direction=math.radians(140.0),
+    )
+
+
+def test_mirrored_rudder_gives_the_mirrored_track():
+    model = ShipModel(CONTAINER).without_effects("gusts")  # symmetric ship, calm water
+
+    def zigzag(sign):
+        return lambda t: sign * math.radians(20.0) * (1.0 if (t // 120.0) % 2 == 0 else -1.0)
+
+    starboard = run(model, zigzag(1.0), duration=900.0)
+    port = run(model, zigzag(-1.0), duration=900.0)
+    np.testing.assert_allclose(starboard[:, S.NORTH], port[:, S.NORTH], rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(starboard[:, S.EAST], -port[:, S.EAST], rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(starboard[:, S.HEADING], -port[:, S.HEADING], atol=1e-13)
+    assert np.max(np.abs(starboard[:, S.EAST])) > 100.0  # it did turn
+
+
+def test_seeded_runs_repeat_exactly_and_seeds_differ():
+    model = ShipModel.full(CONTAINER)
+    first = run(model, math.radians(5.0), duration=300.0, conditions=_disturbed(), seed=11)
+    again = run(model, math.radians(5.0), duration=300.0, conditions=_disturbed(), seed=11)
+    other = run(model, math.radians(5.0), duration=300.0, conditions=_disturbed(), seed=12)
+    np.testing.assert_array_equal(first, again)
+    assert np.max(np.abs(first[:, S.HEADING] - other[:, S.HEADING])) > 1e-4
+    assert np.max(np.abs(first[:, S.WAVE_RATE] - other[:, S.WAVE_RATE])) > 1e-4
+
+
+def test_batch_equals_single_runs():
+    model = ShipModel.full(CONTAINER)
+    count, steps = 5, 400
+    seeds = [3, 8, 1, 42, 7]
+    conditions = [
+        Conditions(wind_speed=2.0 * i, wind_direction=0.7 * i, current_speed=0.3 * i, wave_height=0.5 * i, wave_direction=i)
+        for i in range(count)
+    ]
+    orders = np.radians(np.linspace(-30.0, 30.0, count))
+    batch = Simulator(model, num_ships=count, dt=0.5)
+    batch.reset(seed=seeds, conditions=conditions, heading=np.linspace(0, 3, count))
+    singles = [Simulator(model, dt=0.5) for _ in range(count)]
+    for i, single in enumerate(singles):
+        single.reset(seed=seeds[i], conditions=conditions[i], heading=np.linspace(0, 3, count)[i])
+    for k in range(steps):
+        wave = np.sin(0.01 * k) * orders
+        batch.step(wave)
+        for i, single in enumerate(singles):
+            single.step(float(wave[i]))
+    for i, single in enumerate(singles):
+        np.testing.assert_array_equal(batch.state[i], single.state[0])
+
+
+def test_integer_seed_gives_ship_i_the_seed_plus_i():
+    model = ShipModel(CONTAINER, ["yaw", "kinematics", "wave_filter"])
+    batch = Simulator(model, num_ships=3)
+    batch.reset(seed=100)
+    single = Simulator(model)
+    single.reset(seed=102)
+    for _ in range(50):
+        batch.step(0.0)
+        single.step(0.0)
+    np.testing.assert_array_equal(batch.state[2], single.state[0])
+
+
+def test_turning_an_effect_off_only_changes_that_effect():
+    model = ShipModel(CONTAINER)
+    without = model.without_effects("norrbin")
+    assert "norrbin" not in without.effects and "speed_loss" in without.effects
+    assert without.record[0]["norrbin_on"] == False  # noqa: E712 (numpy bool)
+    assert without.parameter("yaw.gain") == model.parameter("yaw.gain")
+    assert set(model.with_effects("wave_filter").effects) == set(model.effects) | {"wave_filter"}
+
+
+def test_every_preset_loads_and_states_its_sources():
+    assert {"container_226m", "esso_osaka_model"} <= set(list_ships())
+    for name in list_ships():
+        ship = load_ship(name)
+        full = ShipModel.full(name)  # every effect has values
+        assert full.length > 0
+        parameters = [f"principal.{k}" for k in ship.principal] + [
+            f"{effect}.{key}" for effect, values in ship.values.items() for key in values
+        ]
+        assert set(parameters) <= set(ship.sources)
+        assert set(ship.values) == set(EFFECTS) - {"kinematics"}
+
+
+# -- bad input ---------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("order", [math.nan, math.inf, -math.inf])
+def test_non_finite_rudder_orders_are_rejected(order):
+    sim = Simulator(ShipModel(CONTAINER))
+    with pytest.raises(ValueError, match="ordered_rudder"):
+        sim.step(order)
+    batch = Simulator(ShipModel(CONTAINER), num_ships=3)
+    with pytest.raises(ValueError, match=r"ordered_rudder\[1\].*nan|ordered_rudder\[1\].*inf"):
+        batch.step(np.array([0.0, order, 0.0]))
+
+
+def test_wrong_shape_of_orders_is_rejected():
+    batch = Simulator(ShipModel(CONTAINER), num_ships=3)
+    with pytest.raises(ValueError, match=r"ordered_rudder: expected shape \(3,\)"):
+        batch.step(np.zeros(4))
+
+
+def test_negative_speed_is_rejected():
+    with pytest.raises(ValueError, match=r"conditions.service_speed.*-2.0"):
+        Conditions(service_speed=-2.0)
+    sim = Simulator(ShipModel(CONTAINER))
+    with pytest.raises(ValueError, match=r"conditions.wind_speed.*-1"):
+        sim.set_conditions("wind_speed", -1.0)
+    with pytest.raises(TypeError, match=r"conditions.current_speed.*'fast'"):
+        Conditions(current_speed="fast")
+
+
+def test_unknown_effect_and_parameter_names_are_rejected():
+    with pytest.raises(ValueError, match=r"unknown effect 'wind_momnet'"):
+        ShipModel(CONTAINER, ["yaw", "wind_momnet"])
+    with pytest.raises(ValueError, match=r"unknown parameter 'yaw.gian'"):
+        ShipModel(CONTAINER, parameters={"yaw.gian": 1.0})
+    with pytest.raises(ValueError, match=r"'yaw' is required"):
+        ShipModel(CONTAINER).without_effects("yaw")
+    with pytest.raises(ValueError, match=r"ship: unknown preset 'titanic'"):
+        ShipModel("titanic")
+
+
+def test_parameter_out_of_range_is_rejected():
+    with pytest.raises(ValueError, match=r"yaw.time_constant.*-1.0"):
+        ShipModel(CONTAINER, parameters={"yaw.time_constant": -1.0})
+
+
+def _write_variant(tmp_path: Path, edit) -> Path:
+    document = yaml.safe_load(load_ship(CONTAINER).path.read_text())
+    edit(document)
+    path = tmp_path / "variant.yaml"
+    path.write_text(yaml.safe_dump(document))
+    return path
+
+
+def test_config_field_of_the_wrong_type_names_the_field_and_value(tmp_path):
+    path = _write_variant(tmp_path, lambda d: d["effects"]["yaw"]["gain"].update(value="1.6"))
+    with pytest.raises(TypeError, match=r"yaw.gain: expected a number in -, got '1.6'"):
+        load_ship(path)
+    path = _write_variant(tmp_path, lambda d: d["effects"]["sway"].update(enabled="yes"))
+    with pytest.raises(TypeError, match=r"sway.enabled: expected true or false, got 'yes'"):
+        load_ship(path)
+
+
+def test_config_units_convert_and_mismatched_units_are_rejected(tmp_path):
+    ship = load_ship(CONTAINER)
+    assert ship.principal["rudder_limit"] == pytest.approx(math.radians(35.0))
+    path = _write_variant(tmp_path, lambda d: d["principal"]["length"].update(unit="deg"))
+    with pytest.raises(ValueError, match=r"principal.length: unit 'deg' cannot be converted to 'm'"):
+        load_ship(path)
+
+
+def test_config_number_without_a_source_is_rejected(tmp_path):
+    path = _write_variant(tmp_path, lambda d: d["effects"]["yaw"]["gain"].pop("source"))
+    with pytest.raises(ValueError, match=r"yaw.gain: every number needs a 'source'"):
+        load_ship(path)
+
+
+def test_unknown_effect_in_a_config_is_rejected(tmp_path):
+    path = _write_variant(tmp_path, lambda d: d["effects"].update(bow_thruster={"enabled": True}))
+    with pytest.raises(ValueError, match=r"unknown effect 'bow_thruster'"):
+        load_ship(path)

@@ -8,8 +8,5 @@ _PACKAGE_DIR = Path(__file__).resolve().parent
 
 
 def config_dir() -> Path:
-    """The ``configs`` folder: inside the installed package, or at the repository's top level."""
-    for candidate in (_PACKAGE_DIR / "configs", _PACKAGE_DIR.parent / "configs"):
-        if candidate.is_dir():
-            return candidate
-    raise FileNotFoundError(f"no configs folder found beside {_PACKAGE_DIR}")
+    """The ``configs`` folder inside the package (the repository's top-level ``configs`` links to it)."""
+    return _PACKAGE_DIR / "configs"

@@ -182,3 +182,13 @@ def test_unknown_effect_in_a_config_is_rejected(tmp_path):
     path = _write_variant(tmp_path, lambda d: d["effects"].update(bow_thruster={"enabled": True}))
     with pytest.raises(ValueError, match=r"unknown effect 'bow_thruster'"):
         load_ship(path)
+
+
+def test_a_model_driven_past_its_validity_raises_instead_of_returning_nonsense():
+    """A huge speed-loss gain drives u* past 1 (going astern): an error names the ship and the cause."""
+    model = ShipModel(CONTAINER, ["yaw", "kinematics", "speed_loss"], {"speed_loss.gain": 50.0})
+    sim = Simulator(model, num_ships=2, dt=1.0)
+    sim.reset(seed=0)
+    with pytest.raises(FloatingPointError, match=r"ship 1 left the model's validity .* speed_loss u\* = .* > 1"):
+        for _ in range(2000):
+            sim.step(np.radians([0.0, 35.0]))

@@ -63,6 +63,10 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
         dt: the step, s.
         method: ``RK4`` or ``EULER``.
         work: (WORK_ROWS, STATE_SIZE) scratch space, overwritten.
+
+    Returns:
+        True while the model is valid: every state finite and the forward speed not negative
+        (u* <= 1). False flags a ship the caller must not go on with.
     """
     p = params[0]
     order = steering_machine.limit_order(ordered_rudder, p["rudder_limit"])
@@ -109,17 +113,30 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
         for j in range(S.STATE_SIZE):
             state[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
     state[S.RUDDER] = _rudder_at(rudder, order, dt, p)
+    return is_valid(state)
+
+
+@kernel
+def is_valid(state):
+    """Whether a state is inside the model's validity: finite, with forward speed u >= 0."""
+    for j in range(S.STATE_SIZE):
+        if not math.isfinite(state[j]):
+            return False
+    return state[S.SPEED_LOSS] <= 1.0
 
 
 @parallel_kernel
-def step_ships(states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method):
-    """Advance a batch of ships in place: row i of each array is ship i (see ``step_ship``)."""
+def step_ships(states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid):
+    """Advance a batch of ships in place: row i of each array is ship i (see ``step_ship``).
+
+    ``valid[i]`` receives ``step_ship``'s verdict for ship i.
+    """
     count = states.shape[0]
     chunks = min(count, 64)
     for chunk in prange(chunks):
         work = new_workspace()
         for i in range(chunk * count // chunks, (chunk + 1) * count // chunks):
-            step_ship(
+            valid[i] = step_ship(
                 states[i], ordered_rudder[i], conditions[i], noise_keys[i], step_index[i], waves[i], params, dt, method, work
             )
             step_index[i] += 1

@@ -113,6 +113,7 @@ class Simulator:
         self.noise_keys = np.zeros(self.num_ships, dtype=np.uint64)
         self.step_index = np.zeros(self.num_ships, dtype=np.int64)
         self._orders = np.zeros(self.num_ships)
+        self._valid = np.ones(self.num_ships, dtype=np.bool_)
         self._work = new_workspace()
         self.reset()
 
@@ -214,7 +215,7 @@ class Simulator:
             order = float(np.asarray(ordered_rudder).reshape(-1)[0]) if not isinstance(ordered_rudder, float) else ordered_rudder
             if not math.isfinite(order):
                 raise ValueError(f"ordered_rudder: must be a finite angle in rad, got {order!r}")
-            step_ship(
+            valid = step_ship(
                 self._state0,
                 order,
                 self._conditions0,
@@ -227,6 +228,8 @@ class Simulator:
                 self._work,
             )
             self.step_index[0] += 1
+            if not valid:
+                self._raise_invalid(0)
             return
         orders = np.asarray(ordered_rudder, dtype=float)
         if orders.ndim == 0:
@@ -247,6 +250,19 @@ class Simulator:
             self.model.record,
             self.dt,
             self._method_code,
+            self._valid,
+        )
+        if not self._valid.all():
+            self._raise_invalid(int(np.flatnonzero(~self._valid)[0]))
+
+    def _raise_invalid(self, ship: int) -> None:
+        state = self.state[ship]
+        bad = [f"{name} = {value!r}" for name, value in zip(S.STATE_NAMES, state) if not math.isfinite(value)]
+        if not bad:
+            bad = [f"speed_loss u* = {state[S.SPEED_LOSS]:.3f} > 1 (forward speed negative)"]
+        raise FloatingPointError(
+            f"ship {ship} left the model's validity at t = {state[S.TIME]:.1f} s: {', '.join(bad)}; "
+            f"check the model's coefficients (e.g. speed_loss.gain for a turn this tight) and the step dt = {self.dt}"
         )
 
     # -- reading ---------------------------------------------------------------------------------

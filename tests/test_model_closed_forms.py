@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import CONTAINER, SPEED, run
-from ship_env.model import Conditions, ShipModel
+from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
 
 NOMOTO = ["yaw", "kinematics"]  # minimal yaw without the steering machine: tau dr/dt + r = K delta
@@ -149,3 +149,16 @@ def test_propeller_slipstream_scales_rudder_effect_and_turns_a_ship_at_rest():
     assert at_rest[-1, S.RATE_OF_TURN] > 0.0
     no_propeller = run(base, rudder, duration=60.0, dt=1.0, conditions=Conditions(service_speed=0.0))
     assert no_propeller[-1, S.RATE_OF_TURN] == 0.0
+
+
+def test_course_unstable_ship_turns_away_at_zero_rudder():
+    """(2.27): alpha1 < 0, alpha3 > 0 gives the unstable spiral; steady r* solves alpha1 r* + alpha3 r*^3 = 0."""
+    model = ShipModel(CONTAINER, ["yaw", "kinematics", "norrbin"], {"yaw.linear": -0.5, "norrbin.cubic": 1.0})
+    history = run(model, 0.0, duration=3000.0, dt=1.0)
+    assert np.all(history[:, S.RATE_OF_TURN] == 0.0)  # balanced on the unstable equilibrium
+    sim = Simulator(model, dt=1.0)
+    sim.reset(seed=0, rate_of_turn=-1e-5)
+    for _ in range(3000):
+        sim.step(0.0)
+    normalised_rate = model.length * sim.rate_of_turn[0] / sim.speed[0]
+    assert normalised_rate == pytest.approx(-math.sqrt(0.5), rel=1e-6)

@@ -71,6 +71,13 @@ def test_wind_moment_flips_with_the_side_the_wind_comes_from():
     assert starboard == pytest.approx(-port) and starboard > 0.0
 
 
+def test_still_air_does_not_slow_the_ship():
+    """U0 is the still-air speed: the apparent wind of the ship's own motion adds no resistance."""
+    model = ShipModel(CONTAINER).without_effects("gusts")
+    history = run(model, 0.0, duration=600.0, dt=1.0)
+    assert history[-1, SPEED] == pytest.approx(model.service_speed, rel=1e-12)
+
+
 def test_head_wind_on_a_straight_ship_leaves_it_straight_and_slows_it():
     model = ShipModel(CONTAINER).without_effects("gusts")
     history = run(model, 0.0, duration=600.0, dt=1.0, conditions=Conditions(wind_speed=15.0, wind_direction=0.0))

@@ -111,7 +111,7 @@ def derivatives(state, rudder, conditions, white_noise, wave_yaw, p, out):
             p["propeller_slipstream_propeller_diameter"],
         )
 
-    restoring = yaw.restoring(normalised_rate, p["yaw_asymmetry"], p["yaw_quadratic"])
+    restoring = yaw.restoring(normalised_rate, p["yaw_asymmetry"], p["yaw_linear"], p["yaw_quadratic"])
     if p["norrbin_on"]:
         restoring += norrbin.restoring(normalised_rate, p["norrbin_cubic"])
     yaw_acceleration = yaw.acceleration(

@@ -9,7 +9,11 @@ from C_n = a_n sin 2 gamma_r and C_x = a_x cos gamma_r (2.82, 2.84). In the time
 (ds* = (u/L) dt) they add to the yaw acceleration and the speed-loss rate:
 
     dr/dt  += N_w' sin(2 gamma_r) V_wr^2
-    du*/dt += F_w' (L/u) cos(gamma_r) V_wr^2
+    du*/dt += F_w' (L/u) (cos(gamma_r) V_wr^2 - u^2)
+
+The service speed U0 is the speed reached in still air, so the air resistance of the ship's own
+motion (a head wind of u, cos(gamma_r) V_wr^2 = u^2) is already in it and is subtracted: only the
+resistance the true wind adds changes the speed.
 
 N_w' (rad/m^2) = 1/2 rho_air a_n S_wy L / I_zz' and F_w' (1/m^2) are constant for a ship. The
 moment vanishes head-on and beam-on and flips sign with the side the wind comes from; a positive
@@ -43,7 +47,6 @@ def yaw_acceleration(relative_wind_speed, relative_wind_angle, yaw_coefficient):
 
 @kernel
 def speed_loss_rate(relative_wind_speed, relative_wind_angle, speed, surge_coefficient, length):
-    """Added du*/dt in 1/s from (2.86, 2.88)."""
-    return (
-        surge_coefficient * length / speed * math.cos(relative_wind_angle) * relative_wind_speed * relative_wind_speed
-    )
+    """Added du*/dt in 1/s from (2.86, 2.88), beyond the still-air resistance in U0."""
+    added = math.cos(relative_wind_angle) * relative_wind_speed * relative_wind_speed - speed * speed
+    return surge_coefficient * length / speed * added

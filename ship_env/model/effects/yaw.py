@@ -1,7 +1,7 @@
 """Yaw: De Keizer's speed-scheduled rate-of-turn equation (thesis 2.54, 2.27).
 
     tau* (L/u) dr/dt + (u/L) H(r*) = K* (u/L) delta                                (2.54)
-    H(r*) = alpha0 + r* + alpha2 r*^2  (+ alpha3 r*^3, see ``norrbin``)            (2.27)
+    H(r*) = alpha0 + alpha1 r* + alpha2 r*^2  (+ alpha3 r*^3, see ``norrbin``)     (2.27)
     r* = L r / u                                                                    (2.40)
 
 Solved for the yaw acceleration:
@@ -10,11 +10,13 @@ Solved for the yaw acceleration:
 
 where ``u_R^2`` is the squared inflow speed at the rudder (``u^2`` unless the propeller
 slipstream effect adds to it) and ``delta_e`` the effective rudder angle (``delta`` unless a rudder
-offset is on). With H(r*) = r* this is the Nomoto model tau dr/dt + r = K delta with
+offset is on). The normalised model (2.54) has alpha1 = 1; alpha1 < 0 with alpha3 > 0 describes a
+course-unstable ship (2.27). With H(r*) = r* this is the Nomoto model tau dr/dt + r = K delta with
 tau = tau* L/u and K = K* u/L (2.58, 2.61): the steady rate of turn is r = K delta.
 
 Symbols: r rate of turn (rad/s), u forward speed (m/s), L ship length (m), delta rudder (rad),
-K* normalised gain, tau* normalised time constant, alpha0 asymmetry, alpha2 quadratic coefficient.
+K* normalised gain, tau* normalised time constant, alpha0 asymmetry, alpha1 linear coefficient,
+alpha2 quadratic coefficient.
 """
 
 from __future__ import annotations
@@ -29,7 +31,8 @@ EFFECT = Effect(
     parameters=(
         Parameter("gain", "-", "K*, normalised rudder-to-rate-of-turn gain", minimum=0.0),
         Parameter("time_constant", "-", "tau*, normalised time constant in ship lengths", minimum=1e-6),
-        Parameter("asymmetry", "-", "alpha0 of H(r*): steady r* at zero rudder is -alpha0"),
+        Parameter("asymmetry", "-", "alpha0 of H(r*): steady r* at zero rudder is -alpha0 / alpha1"),
+        Parameter("linear", "-", "alpha1 of H(r*): 1 in (2.54); negative for a course-unstable ship"),
         Parameter("quadratic", "-", "alpha2 of H(r*): asymmetric quadratic term"),
     ),
     required=True,
@@ -37,9 +40,9 @@ EFFECT = Effect(
 
 
 @kernel
-def restoring(normalised_rate, asymmetry, quadratic):
-    """The linear, constant and quadratic part of H(r*) (2.27)."""
-    return asymmetry + normalised_rate + quadratic * normalised_rate * normalised_rate
+def restoring(normalised_rate, asymmetry, linear, quadratic):
+    """The constant, linear and quadratic part of H(r*) (2.27)."""
+    return asymmetry + linear * normalised_rate + quadratic * normalised_rate * normalised_rate
 
 
 @kernel

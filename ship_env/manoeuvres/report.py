@@ -1,0 +1,129 @@
+"""Manoeuvre results as a readable text report and as a JSON-ready dictionary.
+
+The report has one block per kind of manoeuvre, a row per figure with its unit in the row header
+and a column per run, then the spiral's table and the IMO criteria with pass or fail.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+from ship_env.manoeuvres.imo import CriterionCheck
+from ship_env.manoeuvres.results import KNOT, ManoeuvreResult, fixed
+from ship_env.manoeuvres.spiral import SpiralTest
+from ship_env.model import ShipModel
+
+LABEL_WIDTH = 44  # row headers: a figure and its unit
+CRITERION_WIDTH = 64  # row headers of the criteria: clause, figure, run and unit
+COLUMN_WIDTH = 12
+
+
+def ship_line(model: ShipModel, approach_speed: float) -> str:
+    """The ship, its test speed and the effects of its model, in one line."""
+    return (
+        f"{model.ship.name}: L = {model.length:.1f} m, V = {approach_speed / KNOT:.1f} kn "
+        f"({approach_speed:.2f} m/s), L/V = {model.length / approach_speed:.1f} s; "
+        f"effects: {', '.join(model.effects)}"
+    )
+
+
+def _row(header: str, cells: Sequence[str], width: int = LABEL_WIDTH) -> str:
+    """A header left-aligned in ``width`` characters, then the cells right-aligned in columns."""
+    return f"{header:<{width}}" + "".join(f"{cell:>{COLUMN_WIDTH}}" for cell in cells)
+
+
+def _figures_block(results: Sequence[ManoeuvreResult]) -> list[str]:
+    """Results of one kind side by side: a row per figure, a column per run."""
+    figures_per_run = [result.figures() for result in results]
+    lines = [_row(results[0].manoeuvre.capitalize(), [result.label for result in results])]
+    for same_figure in zip(*figures_per_run):
+        unit = f" [{same_figure[0].unit}]" if same_figure[0].unit else ""
+        lines.append(_row(f"  {same_figure[0].label}{unit}", [figure.text for figure in same_figure]))
+    return lines
+
+
+def _spiral_table(spiral: SpiralTest) -> list[str]:
+    """The spiral's steady points, one row each, sorted by rate of turn."""
+    lines = [_row("  steady points", ("rudder [deg]", "r [deg/s]", "r* [-]", "speed [kn]"))]
+    for point in spiral.table.itertuples():
+        cells = (
+            fixed(math.degrees(point.rudder), 2),
+            fixed(math.degrees(point.rate_of_turn), 3),
+            fixed(point.normalised_rate, 3),
+            fixed(point.speed / KNOT, 1),
+            "hard over" if point.hard_over else "",
+        )
+        lines.append(_row("", cells))
+    return lines
+
+
+def _criteria_block(checks: Sequence[CriterionCheck]) -> list[str]:
+    """One row per criterion: the figure, its limit, pass or FAIL."""
+    lines = [_row("IMO MSC.137(76) 5.3 criteria", ("value", "limit", "result"), CRITERION_WIDTH)]
+    for check in checks:
+        header = f"  {check.clause} {check.description} [{check.unit}]"
+        cells = (fixed(check.value, 2), f"<= {check.limit:.2f}", "pass" if check.passed else "FAIL")
+        lines.append(_row(header, cells, CRITERION_WIDTH))
+    return lines
+
+
+def format_report(header: str, results: Sequence[ManoeuvreResult], checks: Sequence[CriterionCheck]) -> str:
+    """The text report: ``header``, a block per kind of manoeuvre, the spiral table, the criteria."""
+    lines = [header]
+    kinds = list(dict.fromkeys(type(result) for result in results))
+    for kind in kinds:
+        same_kind = [result for result in results if type(result) is kind]
+        lines += ["", *_figures_block(same_kind)]
+        for result in same_kind:
+            if isinstance(result, SpiralTest):
+                lines += _spiral_table(result)
+    if checks:
+        lines += ["", *_criteria_block(checks)]
+    return "\n".join(line.rstrip() for line in lines)
+
+
+def _number(value: float | str) -> float | str | None:
+    """A figure for JSON: NaN (an event not reached) becomes null."""
+    return None if isinstance(value, float) and math.isnan(value) else value
+
+
+def report_dict(model: ShipModel, results: Sequence[ManoeuvreResult], checks: Sequence[CriterionCheck]) -> dict:
+    """The report as plain data for JSON: ship, results' figures (display units), spiral tables, criteria."""
+    manoeuvres = []
+    for result in results:
+        entry = {
+            "manoeuvre": result.manoeuvre,
+            "label": result.label,
+            "figures": {f.key: {"value": _number(f.value), "unit": f.unit} for f in result.figures()},
+        }
+        if isinstance(result, SpiralTest):
+            entry["table"] = [
+                {
+                    "rudder_deg": math.degrees(point.rudder),
+                    "rate_of_turn_deg_s": math.degrees(point.rate_of_turn),
+                    "normalised_rate": point.normalised_rate,
+                    "speed_m_s": point.speed,
+                    "hard_over": bool(point.hard_over),
+                }
+                for point in result.table.itertuples()
+            ]
+        manoeuvres.append(entry)
+    return {
+        "ship": model.ship.name,
+        "effects": list(model.effects),
+        "length_m": model.length,
+        "approach_speed_m_s": results[0].approach_speed if results else None,
+        "manoeuvres": manoeuvres,
+        "criteria": [
+            {
+                "clause": c.clause,
+                "description": c.description,
+                "value": _number(c.value),
+                "limit": c.limit,
+                "unit": c.unit,
+                "passed": c.passed,
+            }
+            for c in checks
+        ],
+    }

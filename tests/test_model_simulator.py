@@ -192,3 +192,39 @@ def test_a_model_driven_past_its_validity_raises_instead_of_returning_nonsense()
     with pytest.raises(FloatingPointError, match=r"ship 1 left the model's validity .* speed_loss u\* = .* > 1"):
         for _ in range(2000):
             sim.step(np.radians([0.0, 35.0]))
+
+
+def test_resetting_some_ships_leaves_the_others_sailing():
+    model = ShipModel(CONTAINER).with_effects("wave_filter")
+    batch = Simulator(model, num_ships=3)
+    batch.reset(seed=10)
+    for _ in range(20):
+        batch.step(np.radians([5.0, 10.0, 15.0]))
+    before = batch.state.copy()
+    batch.reset(seed=[77], heading=1.0, ships=[1])
+    np.testing.assert_array_equal(batch.state[[0, 2]], before[[0, 2]])
+    fresh = Simulator(model)
+    fresh.reset(seed=77, heading=1.0)
+    np.testing.assert_array_equal(batch.state[1], fresh.state[0])
+    for _ in range(20):
+        batch.step(np.radians([5.0, 10.0, 15.0]))
+        fresh.step(math.radians(10.0))
+    np.testing.assert_array_equal(batch.state[1], fresh.state[0])
+    with pytest.raises(ValueError, match=r"ships: expected indices in \[0, 3\)"):
+        batch.reset(ships=[3])
+
+
+def test_large_batches_step_on_all_cores_with_the_same_numbers():
+    from ship_env.model.simulator import PARALLEL_SHIPS
+
+    model = ShipModel.full(CONTAINER)
+    conditions = Conditions(wind_speed=8.0, wave_height=2.0)
+    big = Simulator(model, num_ships=PARALLEL_SHIPS)
+    big.reset(seed=0, conditions=conditions)
+    small = Simulator(model, num_ships=2)
+    small.reset(seed=[0, PARALLEL_SHIPS - 1], conditions=conditions)
+    orders = np.radians(np.linspace(-20.0, 20.0, PARALLEL_SHIPS))
+    for _ in range(30):
+        big.step(orders)
+        small.step(orders[[0, -1]])
+    np.testing.assert_array_equal(big.state[[0, -1]], small.state)

@@ -125,18 +125,44 @@ def is_valid(state):
     return state[S.SPEED_LOSS] <= 1.0
 
 
-@parallel_kernel
-def step_ships(states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid):
-    """Advance a batch of ships in place: row i of each array is ship i (see ``step_ship``).
+@kernel
+def _step_range(first, stop, states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid):
+    """Step ships ``first`` to ``stop - 1`` of a batch with one scratch space (see ``step_ships``)."""
+    work = new_workspace()
+    for i in range(first, stop):
+        valid[i] = step_ship(
+            states[i], ordered_rudder[i], conditions[i], noise_keys[i], step_index[i], waves[i], params, dt, method, work
+        )
+        step_index[i] += 1
 
-    ``valid[i]`` receives ``step_ship``'s verdict for ship i.
+
+@kernel
+def step_ships(states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid):
+    """Advance a batch of ships in place, in one thread: row i of each array is ship i.
+
+    Each ship is stepped by ``step_ship``; ``valid[i]`` receives its verdict and ``step_index[i]``
+    counts the step.
     """
+    _step_range(0, states.shape[0], states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid)
+
+
+@parallel_kernel
+def step_ships_parallel(states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid):
+    """``step_ships`` on all cores: the batch in chunks, the same numbers."""
     count = states.shape[0]
     chunks = min(count, 64)
     for chunk in prange(chunks):
-        work = new_workspace()
-        for i in range(chunk * count // chunks, (chunk + 1) * count // chunks):
-            valid[i] = step_ship(
-                states[i], ordered_rudder[i], conditions[i], noise_keys[i], step_index[i], waves[i], params, dt, method, work
-            )
-            step_index[i] += 1
+        _step_range(
+            chunk * count // chunks,
+            (chunk + 1) * count // chunks,
+            states,
+            ordered_rudder,
+            conditions,
+            noise_keys,
+            step_index,
+            waves,
+            params,
+            dt,
+            method,
+            valid,
+        )

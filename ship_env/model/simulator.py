@@ -19,7 +19,11 @@ from ship_env.model import noise
 from ship_env.model import state as S
 from ship_env.model.dynamics import sway_velocity
 from ship_env.model.effects import wave_spectrum
-from ship_env.model.integrators import METHODS, new_workspace, step_ship, step_ships
+from ship_env.model.integrators import METHODS, new_workspace, step_ship, step_ships, step_ships_parallel
+
+#: Batches at least this large step on all cores; smaller ones in one thread (no thread start-up
+#: cost, and no competition with a learner's own threads on a small machine).
+PARALLEL_SHIPS = 4096
 from ship_env.model.ship import ShipModel
 
 
@@ -107,14 +111,19 @@ class Simulator:
         self.method = method
         self._method_code = METHODS[method]
         self._wave_count = int(model.parameter("wave_spectrum.components")) if model.has("wave_spectrum") else 0
+        # The arrays are allocated once and written in place, so views of them stay valid.
         self.state = np.zeros((self.num_ships, S.STATE_SIZE))
         self.conditions = np.zeros((self.num_ships, S.CONDITION_SIZE))
         self.waves = np.zeros((self.num_ships, 3, self._wave_count))
+        self.seeds = np.zeros(self.num_ships, dtype=np.int64)
         self.noise_keys = np.zeros(self.num_ships, dtype=np.uint64)
         self.step_index = np.zeros(self.num_ships, dtype=np.int64)
         self._orders = np.zeros(self.num_ships)
         self._valid = np.ones(self.num_ships, dtype=np.bool_)
         self._work = new_workspace()
+        self._state0 = self.state[0]
+        self._conditions0 = self.conditions[0]
+        self._waves0 = self.waves[0]
         self.reset()
 
     # -- starting ------------------------------------------------------------------------------
@@ -125,70 +134,74 @@ class Simulator:
         heading: float | np.ndarray = 0.0,
         rudder: float | np.ndarray = 0.0,
         rate_of_turn: float | np.ndarray | None = None,
+        ships: Sequence[int] | np.ndarray | None = None,
     ) -> None:
-        """Start all ships at the origin, at their service speed, on ``heading`` (rad).
+        """Start ships at the origin, at their service speed, on ``heading`` (rad).
 
         Args:
-            seed: one integer (ship i uses seed + i), one per ship, or None for fresh entropy.
-            conditions: one :class:`Conditions` for all ships, or one per ship.
+            seed: one integer (the k-th restarted ship uses seed + k), one per restarted ship, or
+                None for fresh entropy.
+            conditions: one :class:`Conditions` for all restarted ships, or one per ship.
             heading: initial heading(s), rad.
             rudder: initial actual rudder angle(s), rad.
             rate_of_turn: initial rate(s) of turn, rad/s; ``None`` starts straight (r = 0).
+            ships: indices of the ships to restart (the others sail on untouched); None for all.
         """
-        self.seeds = self._seeds(seed)
-        self.noise_keys = noise.keys_from_seeds(self.seeds)
-        self.step_index = np.zeros(self.num_ships, dtype=np.int64)
-        per_ship = self._per_ship_conditions(conditions)
-        default_speed = self.model.service_speed
-        self.conditions = np.stack([c.row(default_speed) for c in per_ship])
-        self.state = np.zeros((self.num_ships, S.STATE_SIZE))
-        self.state[:, S.HEADING] = self._per_ship_value("heading", heading)
-        self.state[:, S.RUDDER] = np.clip(
-            self._per_ship_value("rudder", rudder), -self.model.rudder_limit, self.model.rudder_limit
+        rows = np.arange(self.num_ships) if ships is None else self._rows(ships)
+        count = len(rows)
+        seeds = self._seeds(seed, count)
+        self.seeds[rows] = seeds
+        self.noise_keys[rows] = noise.keys_from_seeds(seeds)
+        self.step_index[rows] = 0
+        per_ship = self._per_ship_conditions(conditions, count)
+        self.conditions[rows] = np.stack([c.row(self.model.service_speed) for c in per_ship])
+        self.state[rows] = 0.0
+        self.state[rows, S.HEADING] = self._per_ship_value("heading", heading, count)
+        self.state[rows, S.RUDDER] = np.clip(
+            self._per_ship_value("rudder", rudder, count), -self.model.rudder_limit, self.model.rudder_limit
         )
         if rate_of_turn is not None:
-            self.state[:, S.RATE_OF_TURN] = self._per_ship_value("rate_of_turn", rate_of_turn)
-        self.waves = np.zeros((self.num_ships, 3, self._wave_count))
-        if self._wave_count:
-            for i, c in enumerate(per_ship):
-                uniforms = noise.uniforms(self.noise_keys[i], noise.WAVE_DOMAIN, 2 * self._wave_count)
-                self.waves[i] = wave_spectrum.components(
-                    c.wave_height, c.wave_period, uniforms.reshape(2, self._wave_count)
-                )
-        self._bind_single()
+            self.state[rows, S.RATE_OF_TURN] = self._per_ship_value("rate_of_turn", rate_of_turn, count)
+        for row, c in zip(rows, per_ship) if self._wave_count else ():
+            uniforms = noise.uniforms(self.noise_keys[row], noise.WAVE_DOMAIN, 2 * self._wave_count)
+            self.waves[row] = wave_spectrum.components(c.wave_height, c.wave_period, uniforms.reshape(2, -1))
 
-    def _seeds(self, seed: int | Sequence[int] | None) -> np.ndarray:
+    def _rows(self, ships: Sequence[int] | np.ndarray) -> np.ndarray:
+        rows = np.asarray(ships)
+        if rows.ndim != 1 or not np.issubdtype(rows.dtype, np.integer) or np.any((rows < 0) | (rows >= self.num_ships)):
+            raise ValueError(f"ships: expected indices in [0, {self.num_ships}), got {ships!r}")
+        if len(np.unique(rows)) != len(rows):
+            raise ValueError(f"ships: indices must not repeat, got {ships!r}")
+        return rows
+
+    def _seeds(self, seed: int | Sequence[int] | None, count: int) -> np.ndarray:
         if seed is None:
             seed = int(np.random.SeedSequence().generate_state(1, np.uint32)[0])
         if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
-            return int(seed) + np.arange(self.num_ships, dtype=np.int64)
+            return int(seed) + np.arange(count, dtype=np.int64)
         seeds = list(seed)
-        if len(seeds) != self.num_ships or not all(isinstance(s, (int, np.integer)) for s in seeds):
-            raise ValueError(f"seed: expected an integer or {self.num_ships} integers, got {seed!r}")
+        if len(seeds) != count or not all(isinstance(s, (int, np.integer)) for s in seeds):
+            raise ValueError(f"seed: expected an integer or {count} integers, got {seed!r}")
         return np.asarray(seeds, dtype=np.int64)
 
-    def _per_ship_conditions(self, conditions) -> list[Conditions]:
+    def _per_ship_conditions(self, conditions, count: int) -> list[Conditions]:
         if conditions is None:
-            return [Conditions()] * self.num_ships
+            return [Conditions()] * count
         if isinstance(conditions, Conditions):
-            return [conditions] * self.num_ships
+            return [conditions] * count
         items = list(conditions)
-        if len(items) != self.num_ships or not all(isinstance(c, Conditions) for c in items):
-            raise ValueError(f"conditions: expected one Conditions or {self.num_ships} of them")
+        if len(items) != count or not all(isinstance(c, Conditions) for c in items):
+            raise ValueError(f"conditions: expected one Conditions or {count} of them")
         return items
 
-    def _per_ship_value(self, name: str, value) -> np.ndarray:
-        array = np.broadcast_to(np.asarray(value, dtype=float), (self.num_ships,))
+    def _per_ship_value(self, name: str, value, count: int | None = None) -> np.ndarray:
+        try:
+            array = np.broadcast_to(np.asarray(value, dtype=float), (self.num_ships if count is None else count,))
+        except (TypeError, ValueError):
+            raise ValueError(f"{name}: expected a number or one per ship, got {value!r}") from None
         if not np.all(np.isfinite(array)):
             raise ValueError(f"{name}: must be finite, got {value!r}")
         return array
-
-    def _bind_single(self) -> None:
-        """Views of ship 0's rows for the single-ship fast path."""
-        self._state0 = self.state[0]
-        self._conditions0 = self.conditions[0]
-        self._waves0 = self.waves[0]
-        self._key0 = self.noise_keys[0]
 
     # -- conditions while sailing ----------------------------------------------------------------
     def set_conditions(self, name: str, value: float | np.ndarray) -> None:
@@ -219,7 +232,7 @@ class Simulator:
                 self._state0,
                 order,
                 self._conditions0,
-                self._key0,
+                self.noise_keys[0],
                 self.step_index[0],
                 self._waves0,
                 self.model.record,
@@ -240,7 +253,8 @@ class Simulator:
         if not np.all(np.isfinite(orders)):
             bad = int(np.flatnonzero(~np.isfinite(orders))[0])
             raise ValueError(f"ordered_rudder[{bad}]: must be a finite angle in rad, got {orders[bad]!r}")
-        step_ships(
+        stepper = step_ships_parallel if self.num_ships >= PARALLEL_SHIPS else step_ships
+        stepper(
             self.state,
             orders,
             self.conditions,

@@ -1,0 +1,176 @@
+"""CourseChange-v0: turn a ship from a steady course onto a new heading."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from gymnasium import Env, logger
+
+from ship_env.envs.course_change_task import CourseChangeBatch, CourseChangeTask
+from ship_env.envs.rendering import CourseChangeRenderer
+
+
+class CourseChangeEnv(Env[np.ndarray, np.ndarray]):
+    """
+    ## Description
+
+    The course-changing task of the thesis's simulator experiment (Passenier 1989, 6.4.3-6.4.4):
+    a ship sails a steady course at its service speed; at time 0 a new heading is ordered, the
+    change drawn from the experiment's 15, 30, 45, 75 and 105 deg (Table 6.1.a), to port or to
+    starboard. Ordering the rudder once a second, bring the ship onto the new heading quickly,
+    without overshoot and without working the steering machine more than needed.
+
+    The ship (default the 226 m container ship of the experiment, 19 kn, K* = 1.6, tau* = 1.7,
+    steering machine 2.5 deg/s) is simulated by :mod:`ship_env.model`: De Keizer's
+    speed-scheduled yaw with the Norrbin term, speed loss and sway (2.54-2.58), the steering
+    machine (Fig. 2.9), and at the chosen disturbance level wind (2.73-2.88, moment, drift and
+    gusts), current (2.71, 2.72) and waves (the high-frequency yaw the compass sees, Fig. 2.13,
+    and a Pierson-Moskowitz sea's yaw moment, 2.89-2.91).
+
+    ## Action Space
+
+    ``Box(-1, 1, (1,), float32)``: the ordered rudder as a fraction of the rudder limit delta_max
+    (``rudder_limit_deg``, default 20 deg), positive to starboard. Values outside [-1, 1] are
+    clipped to it (the steering machine's limiter); NaN, infinite or wrongly shaped actions raise
+    ``ValueError``. The actual rudder follows the order at the steering machine's rate.
+
+    ## Observation Space
+
+    ``Box(5,) float32``, from the bridge's instruments (noise and the waves' yaw included):
+
+    | Num | Observation    | Definition                                           | Min | Max |
+    |-----|----------------|------------------------------------------------------|-----|-----|
+    | 0   | heading error  | wrap(new heading - compass heading) / pi             | -1  | 1   |
+    | 1   | rate of turn   | gyro rate / (K* U0 / L * delta_max), clipped         | -4  | 4   |
+    | 2   | rudder         | actual rudder / delta_max                            | -1  | 1   |
+    | 3   | speed          | log speed / service speed U0, clipped                | 0   | 2   |
+    | 4   | turn direction | +1 if the change was ordered to starboard, -1 port   | -1  | 1   |
+
+    K* U0 / L * delta_max is the linear steady rate of turn at full rudder (6.4.4.2), about
+    1.35 deg/s for the default ship and limit. The turn direction tells a 180-deg change's way.
+
+    ## Rewards
+
+    Each step: ``-(heading_error_weight * |e| / pi + rudder_travel_weight * |d delta| / delta_max)``
+    with e the *true* heading error wrap(new heading - psi) and d delta the actual rudder's move
+    over the step; weights 1 and 0.2 by default. The heading part of the return is the integrated
+    absolute heading error in units of pi * dt.
+
+    ## Starting State
+
+    At the origin, on an initial heading drawn uniformly in [0, 360) deg, at service speed, rate
+    of turn 0, rudder amidships. The course change, the disturbance level (if ``"random"``), wind
+    (speed in ``wind_speed_range``, from a uniform direction), current (``current_speed_range``,
+    towards a uniform direction) and waves (H_s, T_p in their ranges, from the wind's direction
+    +-30 deg) are drawn from the environment's ``np_random``; so is the simulator's seed for the
+    gusts, the sea, the wave yaw and the sensor noise. ``reset(options=...)`` may pin
+    ``disturbance``, ``course_change_deg`` (signed), ``initial_heading_deg`` or ``conditions``
+    (a :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``).
+
+    ## Episode End
+
+    The episode is truncated after ``max_episode_steps`` (600 in the registration: 600 s at the
+    default step). It never terminates: a course change has no terminal state. A model driven
+    outside its validity (a non-finite state or negative forward speed, which the presets do not
+    reach within their rudder limit) is a divergence: the simulator raises ``FloatingPointError``.
+
+    ## Information
+
+    ``reset`` and ``step`` return in ``info``: ``measurement`` (the instruments: compass
+    ``heading`` in [0, 2 pi) rad with the waves' yaw, gyro ``rate_of_turn`` rad/s, ``rudder``
+    rad, log ``speed`` m/s, position fix ``north`` and ``east`` m, for estimators such as the
+    yaw and position filters of thesis 5.3-5.4); ``state``, the ship's true state (layout in
+    :mod:`ship_env.model.state`); ``new_heading`` (rad, unwrapped); ``metrics``, the episode's
+    metrics so far (:mod:`ship_env.envs.metrics`: integrated heading error deg s, overshoot deg,
+    settling time s, rudder travel deg), final at its last step. ``reset`` adds ``scenario``
+    (:class:`~ship_env.envs.course_change_task.Scenario`).
+
+    ## Arguments
+
+    ```python
+    import gymnasium as gym
+    env = gym.make("ship_env/CourseChange-v0", disturbance="random", rudder_limit_deg=10.0)
+    ```
+
+    ``render_mode`` (``"human"``, ``"rgb_array"``) and the task's keywords (see
+    :class:`~ship_env.envs.course_change_task.CourseChangeTask`): ``ship``, ``ship_parameters``,
+    ``effects``, ``disturbance`` (``"calm"`` default, ``"wind_current"``,
+    ``"wind_current_waves"``, ``"random"``), ``course_changes_deg``, ``rudder_limit_deg``,
+    ``dt`` (s), ``heading_error_weight``, ``rudder_travel_weight``, ``settle_band_deg``,
+    ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``,
+    ``wave_period_range``, ``sensor_noise_scale``.
+
+    ## Version History
+
+    * v0: initial version.
+    """
+
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 30}
+
+    def __init__(self, render_mode: str | None = None, **task_options: Any) -> None:
+        modes = self.metadata["render_modes"]
+        if render_mode is not None and render_mode not in modes:
+            raise ValueError(f"render_mode: expected one of {modes} or None, got {render_mode!r}")
+        self.task = CourseChangeTask(**task_options)
+        self.batch = CourseChangeBatch(self.task, 1)
+        self.observation_space = self.task.observation_space
+        self.action_space = self.task.action_space
+        self.render_mode = render_mode
+        self._ordered_rudder = 0.0
+        self._track: list[np.ndarray] = []
+        self._renderer: CourseChangeRenderer | None = None
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
+        super().reset(seed=seed)
+        scenario = self.task.draw_scenario(self.np_random, options)
+        self.batch.restart(np.zeros(1, dtype=np.intp), [scenario])
+        self.batch.update()
+        self._ordered_rudder = 0.0
+        info = self.batch.info(0)
+        info["scenario"] = scenario
+        if self.render_mode is not None:
+            self._track = [self.batch.simulator.position[0].copy()]
+        if self.render_mode == "human":
+            self.render()
+        return self.batch.observations[0], info
+
+    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
+        fraction = float(self.task.action_array(action, (1,))[0])
+        self._ordered_rudder = min(max(fraction, -1.0), 1.0) * self.task.rudder_limit
+        self.batch.simulator.step(self._ordered_rudder)
+        self.batch.update()
+        if self.render_mode is not None:
+            self._track.append(self.batch.simulator.position[0].copy())
+        if self.render_mode == "human":
+            self.render()
+        return self.batch.observations[0], float(self.batch.rewards[0]), False, False, self.batch.info(0)
+
+    def render(self) -> np.ndarray | None:
+        if self.render_mode is None:
+            logger.warn(
+                "You are calling render method without specifying any render mode. You can specify the render_mode at "
+                'initialization, e.g. gym.make("ship_env/CourseChange-v0", render_mode="rgb_array")'
+            )
+            return None
+        if self._renderer is None:
+            model = self.task.model
+            self._renderer = CourseChangeRenderer(
+                self.render_mode,
+                self.metadata["render_fps"],
+                model.length,
+                model.parameter("breadth"),
+                self.task.rudder_limit,
+            )
+        scenario = self.batch.scenarios[0]
+        if scenario is None:
+            raise RuntimeError("render: call reset() before render()")
+        state = self.batch.simulator.state[0]
+        return self._renderer.draw(np.asarray(self._track), state, scenario, self._ordered_rudder)
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None

@@ -1,0 +1,295 @@
+"""CourseChange-v0: Gymnasium's contract, reproducibility, the vector env, physics through the env."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import ship_env  # noqa: F401  (registers the environments)
+from ship_env.envs.course_change import CourseChangeEnv
+from ship_env.envs.course_change_task import DISTURBANCES, OBS_RATE_OF_TURN, PARALLEL_SHIPS, RANDOM_DISTURBANCE
+from ship_env.envs.course_change_vector import CourseChangeVectorEnv
+from ship_env.envs.metrics import course_change_metrics
+from ship_env.model import Conditions, ShipModel
+from ship_env.model import state as S
+
+ENV_ID = "ship_env/CourseChange-v0"
+#: The preset's effects less the wind's: even in still air the model feels the apparent wind of the
+#: ship's own motion over the ground (2.74), which the closed forms below leave out.
+WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")
+NO_WIND_EFFECTS = [name for name in ShipModel("container_226m").effects if name not in WIND_EFFECTS]
+
+
+def sail(env: gym.Env, actions: np.ndarray, seed: int, options: dict | None = None) -> list:
+    """Reset with ``seed`` and step through ``actions``; every returned item, in order."""
+    steps = [env.reset(seed=seed, options=options)]
+    steps.extend(env.step(action) for action in actions)
+    return steps
+
+
+def assert_same_steps(first: list, second: list) -> None:
+    for one, other in zip(first, second, strict=True):
+        np.testing.assert_array_equal(one[0], other[0])
+        np.testing.assert_array_equal(one[-1]["state"], other[-1]["state"])
+        assert one[-1]["measurement"] == other[-1]["measurement"]
+        assert one[-1]["metrics"] == other[-1]["metrics"]
+        assert one[1:-1] == other[1:-1]
+
+
+@pytest.mark.parametrize("disturbance", [*DISTURBANCES, RANDOM_DISTURBANCE])
+def test_check_env_passes_without_warnings(disturbance):
+    env = gym.make(ENV_ID, disturbance=disturbance)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env.unwrapped)
+    assert [str(warning.message) for warning in caught] == []
+
+
+@pytest.mark.parametrize("disturbance", [*DISTURBANCES, RANDOM_DISTURBANCE])
+def test_seeded_reset_repeats_the_trajectory_and_other_seeds_differ(disturbance):
+    actions = np.random.default_rng(0).uniform(-1.0, 1.0, size=(40, 1)).astype(np.float32)
+    env = CourseChangeEnv(disturbance=disturbance)
+    first = sail(env, actions, seed=11)
+    assert_same_steps(first, sail(env, actions, seed=11))
+    assert_same_steps(first, sail(CourseChangeEnv(disturbance=disturbance), actions, seed=11))
+    other = sail(env, actions, seed=12)
+    assert not np.array_equal(first[-1][-1]["state"], other[-1][-1]["state"])
+
+
+def test_vector_env_equals_single_envs_seeded_s_plus_i_across_resets():
+    """Sub-env i of a batch seeded s is a single env seeded s + i, through autoresets and reset_mask."""
+    num_envs, episode_steps, seed = 3, 7, 21
+    vector = CourseChangeVectorEnv(num_envs=num_envs, max_episode_steps=episode_steps, disturbance=RANDOM_DISTURBANCE)
+    singles = [CourseChangeEnv(disturbance=RANDOM_DISTURBANCE) for _ in range(num_envs)]
+    actions = np.random.default_rng(1).uniform(-1.3, 1.3, size=(30, num_envs, 1))
+    partial_reset_at = 10  # restart env 1 alone, so that later autoresets restart some ships only
+
+    observations, info = vector.reset(seed=seed)
+    single = [env.reset(seed=seed + i) for i, env in enumerate(singles)]  # (observation, info) per env
+    elapsed = np.zeros(num_envs, dtype=int)
+    for k in range(actions.shape[0]):
+        for i, (observation, single_info) in enumerate(single):
+            np.testing.assert_array_equal(observations[i], observation)
+            np.testing.assert_array_equal(info["state"][i], single_info["state"])
+            for group in ("measurement", "metrics"):
+                assert {name: info[group][name][i] for name in single_info[group]} == single_info[group]
+        if k == partial_reset_at:
+            mask = np.array([False, True, False])
+            observations, info = vector.reset(options={"reset_mask": mask})
+            np.testing.assert_array_equal(info["_state"], mask)
+            single[1] = singles[1].reset()
+            elapsed[1] = 0
+            continue
+        ended = elapsed >= episode_steps
+        observations, rewards, terminated, truncated, info = vector.step(actions[k])
+        for i, env in enumerate(singles):
+            if ended[i]:
+                single[i] = env.reset()
+                elapsed[i], reward = 0, 0.0
+                assert info["_scenario"][i] and info["scenario"][i] == single[i][1]["scenario"]
+            else:
+                observation, reward, _, _, single_info = env.step(actions[k, i])
+                single[i] = (observation, single_info)
+                elapsed[i] += 1
+            assert rewards[i] == reward
+            assert truncated[i] == (elapsed[i] >= episode_steps) and not terminated[i]
+    assert elapsed.min() < elapsed.max(), "the partial reset should have put the envs out of step"
+
+
+def test_a_batch_updated_on_all_cores_equals_single_envs():
+    num_envs, seed = PARALLEL_SHIPS, 5
+    vector = CourseChangeVectorEnv(num_envs=num_envs, disturbance="wind_current_waves")
+    actions = np.random.default_rng(2).uniform(-1.0, 1.0, size=(20, num_envs, 1))
+    observations = [vector.reset(seed=seed)[0]]
+    observations.extend(vector.step(action)[0] for action in actions)
+    for i in (0, num_envs - 1):
+        single = sail(CourseChangeEnv(disturbance="wind_current_waves"), actions[:, i], seed=seed + i)
+        np.testing.assert_array_equal(np.array(observations)[:, i], np.array([step[0] for step in single]))
+
+
+def test_make_vec_uses_the_vector_entry_point_with_next_step_autoreset():
+    envs = gym.make_vec(ENV_ID, num_envs=4, vectorization_mode="vector_entry_point", max_episode_steps=2)
+    assert isinstance(envs.unwrapped, CourseChangeVectorEnv)
+    assert envs.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
+    assert envs.observation_space.shape == (4, 5) and envs.action_space.shape == (4, 1)
+    envs.reset(seed=0)
+    hard_over = np.ones((4, 1), dtype=np.float32)
+    for _ in range(2):
+        _, _, _, truncated, _ = envs.step(hard_over)
+    assert truncated.all()
+    observations, rewards, _, truncated, info = envs.step(hard_over)
+    assert not truncated.any() and (rewards == 0.0).all() and info["_scenario"].all()
+    np.testing.assert_array_equal(observations[:, 2], 0.0)  # a new episode: rudder amidships
+
+
+def test_zero_rudder_in_calm_water_with_a_current_drifts_with_the_current():
+    env = CourseChangeEnv(sensor_noise_scale=0.0, effects=NO_WIND_EFFECTS)
+    heading, current_speed, current_direction = math.radians(30.0), 1.2, math.radians(135.0)
+    conditions = Conditions(current_speed=current_speed, current_direction=current_direction)
+    _, info = env.reset(seed=3, options={"conditions": conditions, "initial_heading_deg": 30.0})
+    assert info["scenario"].disturbance == "custom"
+    speed = env.task.model.service_speed
+    for _ in range(200):
+        _, _, _, _, info = env.step(np.zeros(1, dtype=np.float32))
+    state = info["state"]
+    time = state[S.TIME]
+    assert time == pytest.approx(200.0)
+    assert state[S.HEADING] == heading and state[S.RATE_OF_TURN] == 0.0
+    north = (speed * math.cos(heading) + current_speed * math.cos(current_direction)) * time
+    east = (speed * math.sin(heading) + current_speed * math.sin(current_direction)) * time
+    assert state[S.NORTH] == pytest.approx(north, rel=1e-12)
+    assert state[S.EAST] == pytest.approx(east, rel=1e-12)
+    assert (info["measurement"]["north"], info["measurement"]["east"]) == (state[S.NORTH], state[S.EAST])
+
+
+def closed_form_steady_rate(model: ShipModel, rudder: float) -> float:
+    """Steady r of the model in calm water: H(r*) = K* delta (2.26, 2.27), u* from (2.55), r = u r* / L."""
+    cubic = model.parameter("norrbin.cubic") if model.has("norrbin") else 0.0
+    coefficients = [
+        cubic,
+        model.parameter("yaw.quadratic"),
+        model.parameter("yaw.linear"),
+        model.parameter("yaw.asymmetry") - model.parameter("yaw.gain") * rudder,
+    ]
+    roots = np.roots(coefficients)
+    normalised_rate = float(roots[np.abs(roots.imag) < 1e-12].real[0])
+    speed_loss = 0.0
+    if model.has("speed_loss"):
+        loss_roots = np.roots(
+            [model.parameter("speed_loss.cubic"), 0.0, 1.0, -model.parameter("speed_loss.gain") * normalised_rate**2]
+        )
+        speed_loss = float(loss_roots[np.abs(loss_roots.imag) < 1e-12].real[0])
+    return model.service_speed * (1.0 - speed_loss) * normalised_rate / model.length
+
+
+def test_constant_full_rudder_reaches_the_closed_form_steady_rate_of_turn():
+    env = CourseChangeEnv(sensor_noise_scale=0.0, rudder_limit_deg=20.0, effects=NO_WIND_EFFECTS)
+    env.reset(seed=5)
+    for _ in range(1500):
+        observation, _, _, _, info = env.step(np.ones(1, dtype=np.float32))
+    model = env.task.model
+    expected = closed_form_steady_rate(model, math.radians(20.0))
+    assert info["state"][S.RUDDER] == pytest.approx(math.radians(20.0))
+    assert info["state"][S.RATE_OF_TURN] == pytest.approx(expected, rel=1e-4)
+    linear_full_rudder_rate = model.parameter("yaw.gain") * model.service_speed / model.length * math.radians(20.0)
+    assert observation[OBS_RATE_OF_TURN] == pytest.approx(expected / linear_full_rudder_rate, rel=1e-5)
+
+
+@pytest.mark.parametrize(
+    "action",
+    [np.array([np.nan]), np.array([np.inf]), np.array([-np.inf]), np.array([0.1, 0.2]), np.array([[0.1]]), 0.5, "port"],
+    ids=["nan", "inf", "-inf", "two", "nested", "scalar", "text"],
+)
+def test_bad_actions_raise_value_error_naming_the_action(action):
+    env = CourseChangeEnv()
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="action") as raised:
+        env.step(action)
+    assert repr(action) in str(raised.value) or str(action) in str(raised.value)
+
+
+@pytest.mark.parametrize("action", [np.full((3,), 0.1), np.array([[0.1], [np.nan], [0.2]]), np.zeros((3, 2))])
+def test_bad_vector_actions_raise_value_error(action):
+    envs = CourseChangeVectorEnv(num_envs=3)
+    envs.reset(seed=0)
+    with pytest.raises(ValueError, match="action"):
+        envs.step(action)
+
+
+@pytest.mark.parametrize(("outside", "limit"), [(3.0, 1.0), (-7.5, -1.0)])
+def test_out_of_range_actions_are_clipped(outside, limit):
+    actions = np.full((30, 1), outside, dtype=np.float32)
+    clipped = sail(CourseChangeEnv(), actions, seed=4)
+    assert_same_steps(clipped, sail(CourseChangeEnv(), np.full_like(actions, limit), seed=4))
+    assert clipped[5][-1]["state"][S.RUDDER] == pytest.approx(limit * math.radians(2.5) * 5)
+    assert clipped[-1][-1]["state"][S.RUDDER] == limit * math.radians(20.0)
+
+
+def test_make_from_a_fresh_interpreter_with_only_the_id_and_kwargs_passing_through(tmp_path):
+    code = (
+        "import sys, gymnasium as gym\n"
+        "assert 'ship_env' not in sys.modules\n"
+        "env = gym.make('ship_env:ship_env/CourseChange-v0', rudder_limit_deg=10.0, disturbance='random')\n"
+        "observation, info = env.reset(seed=1)\n"
+        "env.step(env.action_space.sample())\n"
+        "envs = gym.make_vec('ship_env:ship_env/CourseChange-v0', num_envs=2, vectorization_mode='vector_entry_point')\n"
+        "print(env.spec.max_episode_steps, round(env.unwrapped.task.rudder_limit, 6), env.unwrapped.task.disturbance,"
+        " observation.shape, type(envs.unwrapped).__name__, envs.unwrapped.max_episode_steps)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    rudder_limit = str(round(math.radians(10.0), 6))
+    assert result.stdout.split() == ["600", rudder_limit, "random", "(5,)", "CourseChangeVectorEnv", "600"]
+
+
+def test_episode_truncates_at_the_spec_length_with_the_shared_metrics_in_its_last_info():
+    env = gym.make(ENV_ID)
+    _, info = env.reset(seed=8, options={"course_change_deg": -45.0})
+    states = [info["state"]]
+    truncated, steps = False, 0
+    while not truncated:
+        heading_error = info["new_heading"] - info["state"][S.HEADING]
+        action = np.clip([2.0 * heading_error - 40.0 * info["state"][S.RATE_OF_TURN]], -1.0, 1.0).astype(np.float32)
+        _, _, terminated, truncated, info = env.step(action)
+        assert not terminated
+        states.append(info["state"])
+        steps += 1
+    assert steps == 600
+    states = np.array(states)
+    expected = course_change_metrics(states[:, S.TIME], states[:, S.HEADING], states[:, S.RUDDER], math.radians(-45.0))
+    assert info["metrics"] == pytest.approx(expected, rel=1e-12)
+    assert 0.0 < expected["settling_time"] < 600.0 and expected["rudder_travel"] > 0.0
+
+
+def test_course_change_metrics_on_a_hand_made_run():
+    time = [0.0, 1.0, 2.0, 3.0, 4.0]
+    errors_deg = np.array([10.0, 5.0, -1.0, 0.5, -0.5])  # to starboard: overshoot 1 deg at t = 2
+    rudder = np.radians([0.0, 10.0, 5.0, 5.0, 0.0])
+    for sign in (1.0, -1.0):
+        heading = np.radians(355.0 + sign * (10.0 - errors_deg)) % (2.0 * math.pi)  # wraps through north
+        metrics = course_change_metrics(time, heading, sign * rudder, math.radians(sign * 10.0))
+        assert metrics == pytest.approx(
+            {"integrated_heading_error": 7.0, "overshoot": 1.0, "settling_time": 2.0, "rudder_travel": 20.0}
+        )
+    unsettled = course_change_metrics(time, np.zeros(5), np.zeros(5), math.radians(10.0))
+    assert unsettled["settling_time"] == math.inf and unsettled["overshoot"] == 0.0
+
+
+def test_rgb_array_render_returns_an_rgb_frame():
+    env = gym.make(ENV_ID, render_mode="rgb_array", disturbance="wind_current_waves")
+    env.reset(seed=2)
+    for _ in range(20):
+        env.step(np.full(1, 0.5, dtype=np.float32))
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3 and frame.shape[0] > 100
+    assert len(np.unique(frame.reshape(-1, 3), axis=0)) > 10
+    env.close()
+
+
+def test_ppo_trains_on_the_vector_env_through_the_sb3_adapter():
+    torch = pytest.importorskip("torch")
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import VecMonitor
+
+    from ship_env.envs.sb3_adapter import SB3VecEnvAdapter
+
+    torch.set_num_threads(1)
+    vector_env = gym.make_vec(ENV_ID, num_envs=4, vectorization_mode="vector_entry_point", max_episode_steps=16)
+    adapter = SB3VecEnvAdapter(vector_env)
+    adapter.seed(3)
+    adapter.reset()
+    for _ in range(16):
+        _, rewards, dones, infos = adapter.step(np.zeros((4, 1), dtype=np.float32))
+    assert dones.all() and rewards.dtype == np.float32
+    assert all(info["TimeLimit.truncated"] and info["terminal_observation"].shape == (5,) for info in infos)
+    assert set(infos[0]["metrics"]) == {"integrated_heading_error", "overshoot", "settling_time", "rudder_travel"}
+    model = PPO("MlpPolicy", VecMonitor(adapter), n_steps=32, batch_size=64, n_epochs=1, seed=0)
+    model.learn(256)
+    assert model.num_timesteps == 256 and len(model.ep_info_buffer) > 0

@@ -20,11 +20,11 @@ from ship_env.model import state as S
 from ship_env.model.dynamics import sway_velocity
 from ship_env.model.effects import wave_spectrum
 from ship_env.model.integrators import METHODS, new_workspace, step_ship, step_ships, step_ships_parallel
+from ship_env.model.ship import ShipModel
 
 #: Batches at least this large step on all cores; smaller ones in one thread (no thread start-up
 #: cost, and no competition with a learner's own threads on a small machine).
 PARALLEL_SHIPS = 4096
-from ship_env.model.ship import ShipModel
 
 
 

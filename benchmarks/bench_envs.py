@@ -1,17 +1,18 @@
-"""Throughput of the course-change environments.
+"""Throughput of the environments.
 
     python benchmarks/bench_envs.py [--quick]
 
 Measures, best of a few repeats:
 
-1. ``CourseChangeEnv.step`` steps/s, with the default model (calm) and the full model (every
-   effect on, wind, current and waves), on the raw env and through ``gymnasium.make``'s wrappers
-   (target >= 50k/s with the full model);
-2. ``CourseChangeVectorEnv`` env-steps/s at N = 1024 (target >= 2M/s), with a breakdown of one
+1. single-env ``step`` steps/s of each environment (CourseChange-v0 with the default model (calm)
+   and the full model (every effect on, wind, current and waves); TrackFollow-v0 in the thesis's
+   wind and current; CourseKeeping-v0 in wind, current and waves), on the raw env and through
+   ``gymnasium.make``'s wrappers (target >= 50k/s with the full model);
+2. the native vector envs' env-steps/s at N = 1024 (target >= 2M/s), with a breakdown of one
    vector step: the simulator's step, the task's compiled update, the info dicts;
 3. stable-baselines3 PPO training steps/s (rollouts and updates, ``torch.set_num_threads(1)``) on
-   the vector env through ``SB3VecEnvAdapter``, beside the same PPO on a ``DummyVecEnv`` of single
-   envs.
+   the CourseChange vector env through ``SB3VecEnvAdapter``, beside the same PPO on a
+   ``DummyVecEnv`` of single envs.
 """
 
 from __future__ import annotations
@@ -29,13 +30,26 @@ import numpy as np
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.course_change import CourseChangeEnv
 from ship_env.envs.course_change_vector import CourseChangeVectorEnv
+from ship_env.envs.course_keeping import CourseKeepingEnv
+from ship_env.envs.course_keeping_vector import CourseKeepingVectorEnv
+from ship_env.envs.single_env import ShipEnv
+from ship_env.envs.track_follow import TrackFollowEnv
+from ship_env.envs.track_follow_vector import TrackFollowVectorEnv
+from ship_env.envs.vector_env import ShipVectorEnv
 from ship_env.model import EFFECTS
 
 ENV_ID = "ship_env/CourseChange-v0"
 VECTOR_MODE = "vector_entry_point"
-CONFIGURATIONS = {
-    "default model, calm": {},
-    "full model, wind+current+waves": {"disturbance": "wind_current_waves", "effects": tuple(EFFECTS)},
+#: name: (single env, vector env, keyword arguments).
+CONFIGURATIONS: dict[str, tuple[type[ShipEnv], type[ShipVectorEnv], dict]] = {
+    "CourseChange, default model, calm": (CourseChangeEnv, CourseChangeVectorEnv, {}),
+    "CourseChange, full model, wind+current+waves": (
+        CourseChangeEnv,
+        CourseChangeVectorEnv,
+        {"disturbance": "wind_current_waves", "effects": tuple(EFFECTS)},
+    ),
+    "TrackFollow, thesis wind+current": (TrackFollowEnv, TrackFollowVectorEnv, {}),
+    "CourseKeeping, wind+current+waves": (CourseKeepingEnv, CourseKeepingVectorEnv, {}),
 }
 SINGLE_TARGET = 50_000.0
 VECTOR_TARGET = 2_000_000.0
@@ -63,9 +77,11 @@ def single_env_rate(env: gym.Env, steps: int, repeats: int) -> float:
     return steps / best_seconds(run, repeats)
 
 
-def vector_env_rates(options: dict, num_envs: int, steps: int, repeats: int) -> dict[str, float]:
+def vector_env_rates(
+    vector_class: type[ShipVectorEnv], options: dict, num_envs: int, steps: int, repeats: int
+) -> dict[str, float]:
     """Env-steps/s of the vector env, and the microseconds of each part of one step."""
-    env = CourseChangeVectorEnv(num_envs=num_envs, max_episode_steps=600, **options)
+    env = vector_class(num_envs=num_envs, **options)
     env.reset(seed=0)
     actions = np.random.default_rng(0).uniform(-1.0, 1.0, size=(num_envs, 1)).astype(np.float32)
     orders = actions[:, 0].astype(np.float64) * env.task.rudder_limit
@@ -91,6 +107,14 @@ def vector_env_rates(options: dict, num_envs: int, steps: int, repeats: int) -> 
         "task update us": part(batch.update),
         "info us": part(lambda: env._info(np.zeros(0, dtype=np.intp), [], env._all_envs)),
     }
+
+
+def threading_layer() -> str:
+    """numba's threading layer, once a parallel kernel has run (batches of ``PARALLEL_SHIPS`` or more)."""
+    try:
+        return numba.threading_layer()
+    except ValueError:
+        return "not started (every batch here updated in one thread)"
 
 
 def ppo_rate(make_env: Callable[[], object], total_steps: int, num_envs: int) -> float:
@@ -121,21 +145,21 @@ def main() -> None:
         f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}"
     )
 
-    print("\n1. single env, CourseChangeEnv.step (target >= 50k steps/s with the full model)")
-    for name, options in CONFIGURATIONS.items():
-        raw = single_env_rate(CourseChangeEnv(**options), single_steps, repeats)
-        made = single_env_rate(gym.make(ENV_ID, max_episode_steps=10**9, **options), single_steps, repeats)
-        print(f"   {name:32s} raw {raw / 1e3:7.1f}k/s   gym.make (wrappers) {made / 1e3:7.1f}k/s")
+    print("\n1. single env, step (target >= 50k steps/s with the full model)")
+    for name, (single_class, _, options) in CONFIGURATIONS.items():
+        raw = single_env_rate(single_class(**options), single_steps, repeats)
+        made = single_env_rate(gym.make(single_class.env_id, max_episode_steps=10**9, **options), single_steps, repeats)
+        print(f"   {name:45s} raw {raw / 1e3:7.1f}k/s   gym.make (wrappers) {made / 1e3:7.1f}k/s")
 
     print("\n2. vector env, N = 1024 (target >= 2M env-steps/s); one step's parts in microseconds")
-    for name, options in CONFIGURATIONS.items():
-        rates = vector_env_rates(options, 1024, vector_steps, repeats)
+    for name, (_, vector_class, options) in CONFIGURATIONS.items():
+        rates = vector_env_rates(vector_class, options, 1024, vector_steps, repeats)
         print(
-            f"   {name:32s} {rates['env-steps/s'] / 1e6:5.2f}M env-steps/s = {rates['step us']:6.0f} us/step: "
+            f"   {name:45s} {rates['env-steps/s'] / 1e6:5.2f}M env-steps/s = {rates['step us']:6.0f} us/step: "
             f"simulator {rates['simulator us']:5.0f}, task update {rates['task update us']:4.0f}, "
             f"info {rates['info us']:4.0f}"
         )
-    print(f"   numba threading layer: {numba.threading_layer()}")
+    print(f"   numba threading layer: {threading_layer()}")
 
     print("\n3. PPO training (MlpPolicy, 2048-step rollouts, batch 256, 4 epochs, torch 1 thread)")
     from stable_baselines3.common.vec_env import DummyVecEnv

@@ -13,8 +13,9 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 import ship_env  # noqa: F401  (registers the environments)
+from ship_env.envs.batch import PARALLEL_SHIPS
 from ship_env.envs.course_change import CourseChangeEnv
-from ship_env.envs.course_change_task import DISTURBANCES, OBS_RATE_OF_TURN, PARALLEL_SHIPS, RANDOM_DISTURBANCE
+from ship_env.envs.course_change_task import DISTURBANCES, OBS_RATE_OF_TURN, RANDOM_DISTURBANCE
 from ship_env.envs.course_change_vector import CourseChangeVectorEnv
 from ship_env.envs.metrics import course_change_metrics
 from ship_env.model import Conditions, ShipModel

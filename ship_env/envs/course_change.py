@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
-from typing import Any
-
-import numpy as np
-from gymnasium import Env, logger
+import math
 
 from ship_env.envs.course_change_task import CourseChangeBatch, CourseChangeTask
-from ship_env.envs.rendering import CourseChangeRenderer
+from ship_env.envs.rendering import Guide
+from ship_env.envs.single_env import ShipEnv
 
 
-class CourseChangeEnv(Env[np.ndarray, np.ndarray]):
+class CourseChangeEnv(ShipEnv):
     """
     ## Description
 
@@ -33,7 +31,9 @@ class CourseChangeEnv(Env[np.ndarray, np.ndarray]):
     ``Box(-1, 1, (1,), float32)``: the ordered rudder as a fraction of the rudder limit delta_max
     (``rudder_limit_deg``, default 20 deg), positive to starboard. Values outside [-1, 1] are
     clipped to it (the steering machine's limiter); NaN, infinite or wrongly shaped actions raise
-    ``ValueError``. The actual rudder follows the order at the steering machine's rate.
+    ``ValueError``. The actual rudder follows the order at the steering machine's rate. With
+    ``action_type="discrete"``: ``Discrete(rudder_levels)``, action k ordering
+    -delta_max + 2 k delta_max / (rudder_levels - 1).
 
     ## Observation Space
 
@@ -77,10 +77,11 @@ class CourseChangeEnv(Env[np.ndarray, np.ndarray]):
 
     ## Information
 
-    ``reset`` and ``step`` return in ``info``: ``measurement`` (the instruments: compass
-    ``heading`` in [0, 2 pi) rad with the waves' yaw, gyro ``rate_of_turn`` rad/s, ``rudder``
-    rad, log ``speed`` m/s, position fix ``north`` and ``east`` m, for estimators such as the
-    yaw and position filters of thesis 5.3-5.4); ``state``, the ship's true state (layout in
+    ``reset`` and ``step`` return in ``info``: ``measurement`` (the instruments,
+    :mod:`ship_env.envs.sensors`: compass ``heading`` in [0, 2 pi) rad with the waves' yaw, gyro
+    ``rate_of_turn`` rad/s, ``rudder`` rad, log ``speed`` m/s, the latest position fix ``north``
+    and ``east`` m and its ``fix_time`` s, for estimators such as the yaw and position filters of
+    thesis 5.3-5.4); ``state``, the ship's true state (layout in
     :mod:`ship_env.model.state`); ``new_heading`` (rad, unwrapped); ``metrics``, the episode's
     metrics so far (:mod:`ship_env.envs.metrics`: integrated heading error deg s, overshoot deg,
     settling time s, rudder travel deg), final at its last step. ``reset`` adds ``scenario``
@@ -94,83 +95,25 @@ class CourseChangeEnv(Env[np.ndarray, np.ndarray]):
     ```
 
     ``render_mode`` (``"human"``, ``"rgb_array"``) and the task's keywords (see
-    :class:`~ship_env.envs.course_change_task.CourseChangeTask`): ``ship``, ``ship_parameters``,
-    ``effects``, ``disturbance`` (``"calm"`` default, ``"wind_current"``,
-    ``"wind_current_waves"``, ``"random"``), ``course_changes_deg``, ``rudder_limit_deg``,
-    ``dt`` (s), ``heading_error_weight``, ``rudder_travel_weight``, ``settle_band_deg``,
+    :class:`~ship_env.envs.course_change_task.CourseChangeTask`): ``disturbance`` (``"calm"``
+    default, ``"wind_current"``, ``"wind_current_waves"``, ``"random"``), ``course_changes_deg``,
+    ``rudder_limit_deg``, ``heading_error_weight``, ``rudder_travel_weight``, ``settle_band_deg``,
     ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``,
-    ``wave_period_range``, ``sensor_noise_scale``.
+    ``wave_period_range``; and those every task shares (:class:`~ship_env.envs.task.ShipTask`):
+    ``ship``, ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``,
+    ``fix_interval`` (s, default 0: a fix every step), ``action_type``, ``rudder_levels``.
 
     ## Version History
 
     * v0: initial version.
     """
 
-    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 30}
+    task_class = CourseChangeTask
+    batch_class = CourseChangeBatch
+    env_id = "ship_env/CourseChange-v0"
 
-    def __init__(self, render_mode: str | None = None, **task_options: Any) -> None:
-        modes = self.metadata["render_modes"]
-        if render_mode is not None and render_mode not in modes:
-            raise ValueError(f"render_mode: expected one of {modes} or None, got {render_mode!r}")
-        self.task = CourseChangeTask(**task_options)
-        self.batch = CourseChangeBatch(self.task, 1)
-        self.observation_space = self.task.observation_space
-        self.action_space = self.task.action_space
-        self.render_mode = render_mode
-        self._ordered_rudder = 0.0
-        self._track: list[np.ndarray] = []
-        self._renderer: CourseChangeRenderer | None = None
+    def render_guides(self) -> list[Guide]:
+        return [Guide("new heading", heading=self.batch.scenarios[0].new_heading)]
 
-    def reset(
-        self, *, seed: int | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
-        super().reset(seed=seed)
-        scenario = self.task.draw_scenario(self.np_random, options)
-        self.batch.restart(np.zeros(1, dtype=np.intp), [scenario])
-        self.batch.update()
-        self._ordered_rudder = 0.0
-        info = self.batch.info(0)
-        info["scenario"] = scenario
-        if self.render_mode is not None:
-            self._track = [self.batch.simulator.position[0].copy()]
-        if self.render_mode == "human":
-            self.render()
-        return self.batch.observations[0], info
-
-    def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
-        fraction = float(self.task.action_array(action, (1,))[0])
-        self._ordered_rudder = min(max(fraction, -1.0), 1.0) * self.task.rudder_limit
-        self.batch.simulator.step(self._ordered_rudder)
-        self.batch.update()
-        if self.render_mode is not None:
-            self._track.append(self.batch.simulator.position[0].copy())
-        if self.render_mode == "human":
-            self.render()
-        return self.batch.observations[0], float(self.batch.rewards[0]), False, False, self.batch.info(0)
-
-    def render(self) -> np.ndarray | None:
-        if self.render_mode is None:
-            logger.warn(
-                "You are calling render method without specifying any render mode. You can specify the render_mode at "
-                'initialization, e.g. gym.make("ship_env/CourseChange-v0", render_mode="rgb_array")'
-            )
-            return None
-        if self._renderer is None:
-            model = self.task.model
-            self._renderer = CourseChangeRenderer(
-                self.render_mode,
-                self.metadata["render_fps"],
-                model.length,
-                model.parameter("breadth"),
-                self.task.rudder_limit,
-            )
-        scenario = self.batch.scenarios[0]
-        if scenario is None:
-            raise RuntimeError("render: call reset() before render()")
-        state = self.batch.simulator.state[0]
-        return self._renderer.draw(np.asarray(self._track), state, scenario, self._ordered_rudder)
-
-    def close(self) -> None:
-        if self._renderer is not None:
-            self._renderer.close()
-            self._renderer = None
+    def render_caption(self) -> str:
+        return f"new {math.degrees(self.batch.scenarios[0].new_heading) % 360.0:05.1f} deg"

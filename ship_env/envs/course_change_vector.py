@@ -2,142 +2,19 @@
 
 from __future__ import annotations
 
-from typing import Any
-
-import numpy as np
-from gymnasium.utils import seeding
-from gymnasium.vector import AutoresetMode, VectorEnv
-from gymnasium.vector.utils import batch_space
-
-from ship_env.envs.course_change_task import CourseChangeBatch, CourseChangeTask, Scenario
+from ship_env.envs.course_change_task import CourseChangeBatch, CourseChangeTask
+from ship_env.envs.vector_env import ShipVectorEnv
 
 
-def _with_masks(info: dict[str, Any], mask: np.ndarray) -> dict[str, Any]:
-    """A vector info in Gymnasium's layout: every key with its ``_key`` mask, nested dicts alike."""
-    batched: dict[str, Any] = {}
-    for key, value in info.items():
-        batched[key] = _with_masks(value, mask) if isinstance(value, dict) else value
-        batched[f"_{key}"] = mask
-    return batched
-
-
-class CourseChangeVectorEnv(VectorEnv):
+class CourseChangeVectorEnv(ShipVectorEnv):
     """N independent ``CourseChange-v0`` episodes, stepped together in one ``Simulator.step``.
 
-    The task, observations, rewards, information and metrics are those of
-    :class:`~ship_env.envs.course_change.CourseChangeEnv` (the same compiled code), and
-    sub-environment i behaves exactly as a single environment: ``reset(seed=s)`` seeds it with
-    ``s + i`` and every later episode is drawn from its own generator, so the trajectories equal
-    N single environments' with those seeds.
-
-    Autoreset follows Gymnasium's ``AutoresetMode.NEXT_STEP``: the step that ends an episode
-    (truncation after ``max_episode_steps``) returns its last observation; the next ``step``
-    restarts that sub-environment, ignores its action and returns the first observation of the
-    new episode with reward 0 and the reset's information (with ``scenario``).
-    ``reset(options={"reset_mask": mask})`` restarts only the masked sub-environments.
-
-    Infos are dicts of arrays, each key with its boolean ``_key`` mask (Gymnasium's vector
-    layout); ``scenario`` is an object array, set for the sub-environments that started an
-    episode at that call. After ``reset`` the masks mark the sub-environments it restarted.
-
-    A ship driven outside its model's validity raises ``FloatingPointError`` for the whole batch
-    (see ``CourseChangeEnv``, Episode End).
-
-    Args:
-        num_envs: N, the number of ships.
-        max_episode_steps: the episode length in steps (``make_vec`` passes the spec's 600).
-        render_mode: must be None: draw a single ``CourseChangeEnv`` instead.
-        **task_options: the task's keywords, as for ``CourseChangeEnv``.
+    Sub-environment i equals a :class:`~ship_env.envs.course_change.CourseChangeEnv` seeded
+    ``s + i``; autoreset, seeding, ``reset_mask`` and the info layout are those of
+    :class:`~ship_env.envs.vector_env.ShipVectorEnv`. A course change never terminates: episodes
+    end by truncation after ``max_episode_steps`` (default 600).
     """
 
-    metadata = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
-
-    def __init__(
-        self, num_envs: int = 1, max_episode_steps: int = 600, render_mode: str | None = None, **task_options: Any
-    ) -> None:
-        if render_mode is not None:
-            raise ValueError(f"render_mode: the vector env does not render, got {render_mode!r}; use CourseChangeEnv")
-        whole = isinstance(max_episode_steps, (int, np.integer)) and not isinstance(max_episode_steps, bool)
-        if not whole or max_episode_steps < 1:
-            raise ValueError(f"max_episode_steps: expected a positive whole number, got {max_episode_steps!r}")
-        self.task = CourseChangeTask(**task_options)
-        self.batch = CourseChangeBatch(self.task, num_envs)
-        self.num_envs = self.batch.num_ships
-        self.max_episode_steps = int(max_episode_steps)
-        self.single_observation_space = self.task.observation_space
-        self.single_action_space = self.task.action_space
-        self.observation_space = batch_space(self.single_observation_space, self.num_envs)
-        self.action_space = batch_space(self.single_action_space, self.num_envs)
-        self.render_mode = render_mode
-        self._generators = [seeding.np_random()[0] for _ in range(self.num_envs)]
-        self._elapsed_steps = np.zeros(self.num_envs, dtype=np.int64)
-        self._autoreset = np.zeros(self.num_envs, dtype=np.bool_)
-        self._orders = np.zeros(self.num_envs)
-        self._all_envs = np.ones(self.num_envs, dtype=np.bool_)
-        self._all_envs.setflags(write=False)  # shared by the ``_key`` masks of every info
-
-    def reset(
-        self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
-    ) -> tuple[np.ndarray, dict[str, Any]]:
-        """Start new episodes: all sub-environments, or those in ``options["reset_mask"]``.
-
-        ``seed``: None (go on with each sub-environment's generator), an integer s (sub-environment
-        i is seeded with s + i) or one seed or None per sub-environment.
-        """
-        options = dict(options or {})
-        mask = options.pop("reset_mask", self._all_envs)
-        if not (isinstance(mask, np.ndarray) and mask.shape == (self.num_envs,) and mask.dtype == np.bool_ and mask.any()):
-            raise ValueError(
-                f"options['reset_mask']: expected a bool array of shape ({self.num_envs},) with a True, got {mask!r}"
-            )
-        mask = mask.copy()
-        ships = np.flatnonzero(mask)
-        if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
-            super().reset(seed=int(seed))
-            seeds: list[int | None] = [int(seed) + i for i in range(self.num_envs)]
-        elif seed is None:
-            seeds = [None] * self.num_envs
-        else:
-            seeds = list(seed)
-            if len(seeds) != self.num_envs:
-                raise ValueError(f"seed: expected None, an integer or {self.num_envs} seeds, got {seed!r}")
-        for ship in ships:
-            if seeds[ship] is not None:
-                self._generators[ship] = seeding.np_random(seeds[ship])[0]
-        scenarios = self._restart(ships, options)
-        self.batch.update(restarted_only=True)
-        return self.batch.observations, self._info(ships, scenarios, mask)
-
-    def step(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
-        """Step every ship; restart those whose episode ended at the previous step (NEXT_STEP)."""
-        fractions = self.task.action_array(actions, (self.num_envs, 1))[:, 0]
-        np.clip(fractions, -1.0, 1.0, out=self._orders)
-        self._orders *= self.task.rudder_limit
-        self.batch.simulator.step(self._orders)
-        self._elapsed_steps += 1
-        ships = np.flatnonzero(self._autoreset)
-        scenarios = self._restart(ships, {}) if ships.size else []
-        self.batch.update()
-        terminated = np.zeros(self.num_envs, dtype=np.bool_)
-        truncated = self._elapsed_steps >= self.max_episode_steps
-        self._autoreset = truncated.copy()
-        info = self._info(ships, scenarios, self._all_envs)
-        return self.batch.observations, self.batch.rewards, terminated, truncated, info
-
-    def _restart(self, ships: np.ndarray, options: dict[str, Any]) -> list[Scenario]:
-        """Draw and start new episodes for ``ships``."""
-        scenarios = [self.task.draw_scenario(self._generators[ship], options) for ship in ships]
-        self.batch.restart(ships, scenarios)
-        self._elapsed_steps[ships] = 0
-        self._autoreset[ships] = False
-        return scenarios
-
-    def _info(self, ships: np.ndarray, scenarios: list[Scenario], mask: np.ndarray) -> dict[str, Any]:
-        """The batch's info with ``mask`` on every key, plus the scenarios of the ``ships`` that started."""
-        info = _with_masks(self.batch.info(slice(None)), mask)
-        if ships.size:
-            info["scenario"] = np.full(self.num_envs, None, dtype=object)
-            info["scenario"][ships] = scenarios
-            info["_scenario"] = np.zeros(self.num_envs, dtype=np.bool_)
-            info["_scenario"][ships] = True
-        return info
+    task_class = CourseChangeTask
+    batch_class = CourseChangeBatch
+    default_max_episode_steps = 600

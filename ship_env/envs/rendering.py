@@ -1,5 +1,6 @@
-"""Drawing a course change with matplotlib: the track, the ship at scale, the new heading, the rudder
-and the disturbances. North is up, east to the right, distances in metres.
+"""Drawing a ship's episode with matplotlib: the track, the ship at scale, the rudder, the disturbances
+and the task's guides (a new heading, a reference track). North is up, east to the right, distances
+in metres.
 
 ``"rgb_array"`` draws off-screen (Agg canvas) and returns the frame; ``"human"`` draws into a pyplot
 window and pauses for one frame at the environment's frame rate.
@@ -8,12 +9,13 @@ window and pauses for one frame at the environment's frame rate.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from ship_env.envs.course_change_task import Scenario
+from ship_env.model import Conditions
 from ship_env.model import state as S
 
 FRAME_INCHES = 6.0
@@ -34,8 +36,18 @@ def _earth(
     return east + forward * sin + starboard * cos, north + forward * cos - starboard * sin
 
 
-class CourseChangeRenderer:
-    """Draws frames of one ship's course change.
+class Guide(NamedTuple):
+    """A dashed line drawn beside the ship: a polyline through (``north``, ``east``) points, m, or, with
+    ``heading`` set (rad), a ray from the ship on that heading."""
+
+    label: str
+    north: np.ndarray = np.zeros(0)
+    east: np.ndarray = np.zeros(0)
+    heading: float | None = None
+
+
+class ShipRenderer:
+    """Draws frames of one ship's episode.
 
     Args:
         render_mode: ``"human"`` or ``"rgb_array"``.
@@ -61,9 +73,16 @@ class CourseChangeRenderer:
         self.axes = self.figure.add_axes((0.1, 0.08, 0.86, 0.78))
 
     def draw(
-        self, track: np.ndarray, state: np.ndarray, scenario: Scenario, ordered_rudder: float
+        self,
+        track: np.ndarray,
+        state: np.ndarray,
+        conditions: Conditions,
+        ordered_rudder: float,
+        guides: list[Guide],
+        caption: str,
     ) -> np.ndarray | None:
-        """Draw one frame: ``track`` (k, 2) north/east positions, the true ``state``, the episode.
+        """Draw one frame: ``track`` (k, 2) north/east positions, the true ``state``, the episode's
+        ``conditions``, the task's ``guides`` and ``caption`` (the title's task part).
 
         Returns the frame (H, W, 3) uint8 for ``"rgb_array"``, None for ``"human"``.
         """
@@ -87,26 +106,23 @@ class CourseChangeRenderer:
         span = max(np.ptp(track[:, 0]), np.ptp(track[:, 1]), 4.0 * self.length) + 4.0 * self.length
         centre_north = 0.5 * (track[:, 0].min() + track[:, 0].max())
         centre_east = 0.5 * (track[:, 1].min() + track[:, 1].max())
-        new_heading = scenario.new_heading
         reach = 0.4 * span
-        axes.plot(
-            [east, east + reach * math.sin(new_heading)],
-            [north, north + reach * math.cos(new_heading)],
-            color="tab:green",
-            linestyle="--",
-            linewidth=1.0,
-            label="new heading",
-        )
+        for guide in guides:
+            if guide.heading is None:
+                guide_east, guide_north = guide.east, guide.north
+            else:
+                guide_east = [east, east + reach * math.sin(guide.heading)]
+                guide_north = [north, north + reach * math.cos(guide.heading)]
+            axes.plot(guide_east, guide_north, color="tab:green", linestyle="--", linewidth=1.0, label=guide.label)
         axes.set_xlim(centre_east - 0.5 * span, centre_east + 0.5 * span)
         axes.set_ylim(centre_north - 0.5 * span, centre_north + 0.5 * span)
         axes.set_aspect("equal")
         axes.set_xlabel("east (m)")
         axes.set_ylabel("north (m)")
         axes.legend(loc="lower right", fontsize=8)
-        self._draw_disturbances(scenario)
+        self._draw_disturbances(conditions)
         axes.set_title(
-            f"t = {state[S.TIME]:.0f} s   heading {math.degrees(heading) % 360.0:05.1f} deg   "
-            f"new {math.degrees(new_heading) % 360.0:05.1f} deg\n"
+            f"t = {state[S.TIME]:.0f} s   heading {math.degrees(heading) % 360.0:05.1f} deg   {caption}\n"
             f"rudder {math.degrees(rudder):+.1f} deg (ordered {math.degrees(ordered_rudder):+.1f}, "
             f"limit {math.degrees(self.rudder_limit):.0f})   "
             f"rate of turn {math.degrees(state[S.RATE_OF_TURN]) * 60.0:+.0f} deg/min",
@@ -119,9 +135,8 @@ class CourseChangeRenderer:
         canvas.draw()
         return np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
 
-    def _draw_disturbances(self, scenario: Scenario) -> None:
+    def _draw_disturbances(self, sea: Conditions) -> None:
         """Arrows in the corner: where the wind blows and the current sets to, where the waves run."""
-        sea = scenario.conditions
         arrows = {
             "wind": (sea.wind_speed, sea.wind_direction + math.pi, f"wind {sea.wind_speed:.1f} m/s"),
             "current": (sea.current_speed, sea.current_direction, f"current {sea.current_speed:.1f} m/s"),

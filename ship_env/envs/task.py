@@ -1,0 +1,130 @@
+"""What every ship-steering task shares: the ship model, the rudder, the step, the instruments, the action.
+
+:class:`ShipTask` is the base of the course-change, track-following and course-keeping tasks. It
+builds the ship model from a preset, sets the rudder limit delta_max that action +-1 orders, the
+control step, the instruments' noise and position-fix interval (:mod:`ship_env.envs.sensors`),
+and turns actions into ordered rudder angles, continuous or discrete.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+
+from ship_env.envs.checks import check_choice, check_number, check_whole_number
+from ship_env.envs.sensors import sensors_record
+from ship_env.model import ShipModel, load_ship
+
+#: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
+ACTION_TYPES = ("continuous", "discrete")
+
+
+class ShipTask:
+    """The options every task shares; a task's other keywords come first in its own signature.
+
+    Args:
+        ship: a ship preset name (``configs/ships``) or a YAML path.
+        ship_parameters: parameter overrides for the preset, ``{"yaw.gain": 1.2}`` (SI units).
+        effects: the model's effects; ``None`` takes the preset's defaults plus ``extra_effects``.
+        extra_effects: effects the task adds to the preset's defaults (the waves' when it has waves).
+        rudder_limit_deg: delta_max, the hard-over angle action +-1 orders, deg (it becomes the
+            model's rudder limit).
+        dt: the control step, s (one simulator step).
+        sensor_noise_scale: multiplies ``sensors.SENSOR_NOISE``; 0 gives noise-free instruments.
+        fix_interval: s between position fixes (held in between); 0 fixes at every step.
+        action_type: ``"continuous"`` (``Box(-1, 1, (1,))``, the ordered rudder as a fraction of
+            delta_max, clipped to [-1, 1]) or ``"discrete"`` (``Discrete(rudder_levels)``: action k
+            orders -delta_max + 2 k delta_max / (rudder_levels - 1)).
+        rudder_levels: the number of rudder angles of the discrete action, at least 2 (odd
+            numbers include amidships).
+    """
+
+    def __init__(
+        self,
+        *,
+        ship: str | Path = "container_226m",
+        ship_parameters: Mapping[str, float] | None = None,
+        effects: Sequence[str] | None = None,
+        extra_effects: Sequence[str] = (),
+        rudder_limit_deg: float = 20.0,
+        dt: float = 1.0,
+        sensor_noise_scale: float = 1.0,
+        fix_interval: float = 0.0,
+        action_type: str = "continuous",
+        rudder_levels: int = 7,
+    ) -> None:
+        self.rudder_limit = math.radians(check_number("rudder_limit_deg", rudder_limit_deg, 1e-3, 90.0))
+        self.dt = check_number("dt", dt, 1e-6)
+        self.action_type = check_choice("action_type", action_type, ACTION_TYPES)
+        levels = check_whole_number("rudder_levels", rudder_levels, 2)
+        noise_scale = check_number("sensor_noise_scale", sensor_noise_scale, 0.0)
+        self.sensors = sensors_record(noise_scale, check_number("fix_interval", fix_interval, 0.0))
+
+        preset = load_ship(ship)
+        if effects is None:
+            effects = (*preset.enabled, *extra_effects)
+        self.model = ShipModel(preset, effects, {**(ship_parameters or {}), "rudder_limit": self.rudder_limit})
+        #: K* delta_max / L: the linear model's steady rate of turn at full rudder per m/s of speed
+        #: (6.4.4.2: r_ss = K* (U/L) delta_max, about 40 deg/min at 19 kn and 10 deg).
+        self.full_rudder_rate_per_speed = self.model.parameter("yaw.gain") * self.rudder_limit / self.model.length
+
+        if self.action_type == "continuous":
+            self.action_space: spaces.Space = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
+            self._levels = np.zeros(0)
+        else:
+            self.action_space = spaces.Discrete(levels)
+            self._levels = np.linspace(-1.0, 1.0, levels) * self.rudder_limit
+
+    # -- actions ---------------------------------------------------------------------------------
+    def rudder_order(self, action: object) -> float:
+        """One environment's action as the ordered rudder angle, rad; ``ValueError`` if it is malformed."""
+        if self.action_type == "continuous":
+            fraction = float(self._continuous(action, (1,))[0])
+            return min(max(fraction, -1.0), 1.0) * self.rudder_limit
+        return float(self._levels[self._discrete(action, ())])
+
+    def rudder_orders(self, actions: object, num_envs: int, out: np.ndarray) -> np.ndarray:
+        """N environments' actions as ordered rudder angles, rad, written into ``out`` (N,)."""
+        if self.action_type == "continuous":
+            np.clip(self._continuous(actions, (num_envs, 1))[:, 0], -1.0, 1.0, out=out)
+            out *= self.rudder_limit
+        else:
+            np.take(self._levels, self._discrete(actions, (num_envs,)), out=out)
+        return out
+
+    @staticmethod
+    def _continuous(action: object, shape: tuple[int, ...]) -> np.ndarray:
+        """The action as a float64 array of ``shape``; ``ValueError`` if it is not that or not finite."""
+        try:
+            array = np.asarray(action, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"action: expected an array of shape {shape} in [-1, 1], got {action!r}") from None
+        if array.shape != shape:
+            raise ValueError(f"action: expected shape {shape}, got {action!r} of shape {array.shape}")
+        if not np.isfinite(array).all():
+            index = tuple(int(i) for i in np.argwhere(~np.isfinite(array))[0])
+            raise ValueError(f"action{list(index)}: must be finite, got {float(array[index])} in action {action!r}")
+        return array
+
+    def _discrete(self, action: object, shape: tuple[int, ...]) -> np.ndarray:
+        """The action as rudder-level indices of ``shape``; ``ValueError`` unless whole numbers in range."""
+        array = np.asarray(action)
+        count = len(self._levels)
+        if array.shape != shape or not np.issubdtype(array.dtype, np.integer) or array.dtype == np.bool_:
+            raise ValueError(f"action: expected integers of shape {shape} in [0, {count}), got {action!r}")
+        if np.any((array < 0) | (array >= count)):
+            raise ValueError(f"action: expected integers in [0, {count}), got {action!r}")
+        return array
+
+    def check_options(self, options: Mapping[str, Any] | None, known: frozenset[str]) -> dict[str, Any]:
+        """``reset``'s options as a dict; ``ValueError`` naming unknown keys."""
+        options = dict(options or {})
+        unknown = sorted(set(options) - known)
+        if unknown:
+            raise ValueError(f"options: unknown keys {unknown}; known: {', '.join(sorted(known))}")
+        return options

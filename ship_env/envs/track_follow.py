@@ -1,0 +1,132 @@
+"""TrackFollow-v0: sail the reference tracks of the thesis's simulator experiment."""
+
+from __future__ import annotations
+
+from ship_env.envs.rendering import Guide
+from ship_env.envs.single_env import ShipEnv
+from ship_env.envs.track_follow_task import TrackFollowBatch, TrackFollowTask
+
+
+class TrackFollowEnv(ShipEnv):
+    """
+    ## Description
+
+    The tracking task of the thesis's simulator experiment (Passenier 1989, 6.4.3-6.4.4): sail a
+    reference track of six legs as accurately as possible. Each of the six tracks T1..T6 has five
+    course changes, of 15, 30, 45, 75 and 105 deg in the order of Table 6.1.b (T1: 75 45 30 105 15;
+    T2: 15 75 105 30 45; T3: 45 15 105 75 30; T4: 105 30 75 15 45; T5: 30 15 45 75 105; T6: 45 105
+    15 30 75), alternately to starboard and to port, starboard first (the thesis gives no
+    directions; see :mod:`ship_env.envs.tracks`), with legs of 2 to 2.5 nm, the first course
+    north. The reference track rounds each waypoint on the ship's own steady turn at the rudder
+    limit (radius about 860 m for the container ship at 10 deg), as the thesis corrected its
+    score "for the ship's inherent manoeuvrability" (6.4.4.2).
+
+    The ship is the experiment's 226 m container ship at 9.5 m/s (19 kn) with the rudder limited
+    to 10 deg (6.4.4.2), in the disturbances of Table 6.2: a current of 2.5 kn setting towards
+    SW (225 deg) and a wind of 7 m/s blowing from NW (315 deg), with gusts. The thesis writes
+    "South West" and "North West"; the usual conventions (a current by where it goes, a wind by
+    where it comes from) are assumed.
+
+    ## Action Space
+
+    ``Box(-1, 1, (1,), float32)``: the ordered rudder as a fraction of delta_max
+    (``rudder_limit_deg``, default 10 deg), positive to starboard, clipped to [-1, 1]; NaN,
+    infinite or wrongly shaped actions raise ``ValueError``. With ``action_type="discrete"``:
+    ``Discrete(rudder_levels)``, action k ordering -delta_max + 2 k delta_max / (rudder_levels - 1).
+
+    ## Observation Space
+
+    ``Box(7,) float32``, from the bridge's instruments (the latest position fix, taken every
+    ``fix_interval`` = 2 s, compass, gyro, log), relative to the leg being sailed:
+
+    | Num | Observation       | Definition                                                   | Min | Max |
+    |-----|-------------------|--------------------------------------------------------------|-----|-----|
+    | 0   | cross-track error | signed distance of the fix to the reference track / L        | -10 | 10  |
+    | 1   | heading error     | wrap(leg course - compass heading) / pi                      | -1  | 1   |
+    | 2   | rate of turn      | gyro rate / (K* U0 / L * delta_max), clipped                 | -4  | 4   |
+    | 3   | rudder            | actual rudder / delta_max                                    | -1  | 1   |
+    | 4   | speed             | log speed / service speed U0, clipped                        | 0   | 2   |
+    | 5   | next course change| the change at the leg's end waypoint / pi, 0 on the last leg | -1  | 1   |
+    | 6   | waypoint distance | fix to the leg's end waypoint along the leg, nm, clipped     | -1  | 3   |
+
+    The cross-track error is positive with the ship to starboard of the track (steer to port);
+    L = 225.87 m for the container ship. The leg advances when the ship crosses the bisector of
+    the corner at the leg's end (the line through the waypoint and the turn's centre), so the
+    heading error jumps by the course change there; observations 5 and 6 let a policy put the
+    rudder over before it (the wheel-over point lies about a turning radius' tangent plus the
+    ship's reaction distance ahead of the arc).
+
+    ## Rewards
+
+    Each step: ``-(cross_track_weight * (e / L)^2 + rudder_travel_weight * |d delta| / delta_max)``
+    with e the true cross-track error (e / L clipped to +-10, so a lost ship costs at most 100 a
+    step) and d delta the actual rudder's move over the step; weights 1 and 0.1 by default. Within
+    the clip, the cross-track part of the return is the sum of the squared errors whose root mean,
+    sampled every 2 s, is the score.
+
+    ## Starting State
+
+    At the first waypoint (the origin) on the first leg's course, at service speed, rate of turn
+    0, rudder amidships. The track (if ``"random"``) and the simulator's seed (gusts, sensor
+    noise) are drawn from the environment's ``np_random``. ``reset(options=...)`` may pin the
+    ``track`` or give the ``conditions`` (a :class:`~ship_env.model.Conditions`, reported as
+    disturbance ``"custom"``).
+
+    ## Episode End
+
+    The episode terminates when the ship passes the last waypoint (crosses the perpendicular to
+    the last leg there); the step that does so adds ``info["score"]``. It is truncated after
+    ``max_episode_steps`` (3600 in the registration: one hour at the default 1-s step; a track
+    takes 44 to 48 minutes in the thesis's current).
+
+    ## Information
+
+    ``reset`` and ``step`` return in ``info``: ``measurement`` (the instruments,
+    :mod:`ship_env.envs.sensors`: compass ``heading`` rad, gyro ``rate_of_turn`` rad/s, ``rudder``
+    rad, log ``speed`` m/s, and the latest GPS fix ``north``, ``east`` m with its ``fix_time`` s,
+    5 m noise, every 2 s, for the position filter and track predictor of thesis 5.4, 5.6);
+    ``state``, the ship's true state; ``leg`` (0-based) and ``cross_track_error`` (m, true);
+    ``metrics``, the episode's track metrics so far (:mod:`ship_env.envs.metrics`:
+    ``rms_cross_track_error`` m, the score of eq. 6.5 sampled every 2 s, ``max_cross_track_error``
+    m, ``rudder_travel`` deg). ``reset`` adds ``scenario``
+    (:class:`~ship_env.envs.track_follow_task.TrackScenario`). At termination ``score`` holds
+    ``rms_cross_track_error`` beside the thesis's navigators' mean RMS errors (Table 6.4),
+    ``thesis_parallel_indexing`` 117 m, ``thesis_ground_speed_vector`` 95 m and
+    ``thesis_track_predictor`` 33 m. The reference tracks themselves are ``env.unwrapped.task.tracks``
+    (:class:`~ship_env.envs.tracks.ReferenceTrack`); :func:`ship_env.envs.tracks.cross_track_error`
+    and :func:`ship_env.envs.metrics.track_metrics` score any recorded run the same way.
+
+    ## Arguments
+
+    ```python
+    import gymnasium as gym
+    env = gym.make("ship_env/TrackFollow-v0", track="T3")
+    ```
+
+    ``render_mode`` (``"human"``, ``"rgb_array"``) and the task's keywords (see
+    :class:`~ship_env.envs.track_follow_task.TrackFollowTask`): ``track`` (``"T1"`` ..
+    ``"T6"``, ``"random"`` default), ``disturbance`` (``"thesis"`` default, ``"calm"``),
+    ``rudder_limit_deg``, ``cross_track_weight``, ``rudder_travel_weight``, ``fix_interval``
+    (s); and those every task shares (:class:`~ship_env.envs.task.ShipTask`): ``ship``,
+    ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``, ``action_type``,
+    ``rudder_levels``.
+
+    ## Version History
+
+    * v0: initial version.
+    """
+
+    task_class = TrackFollowTask
+    batch_class = TrackFollowBatch
+    env_id = "ship_env/TrackFollow-v0"
+
+    def render_guides(self) -> list[Guide]:
+        outline = self.task.tracks[self.batch.scenarios[0].track].outline()
+        return [Guide("reference track", outline[:, 0], outline[:, 1])]
+
+    def render_caption(self) -> str:
+        episode = self.batch.episodes[0]
+        return (
+            f"{self.batch.scenarios[0].track} leg {episode['leg'] + 1}   "
+            f"cross-track {episode['cross_track_error']:+.0f} m"
+        )

@@ -1,0 +1,336 @@
+"""The track-following task, shared by ``TrackFollowEnv`` (one ship) and ``TrackFollowVectorEnv`` (N).
+
+- :class:`TrackFollowTask` holds the task's options (track, disturbances, reward weights, plus the
+  ship, rudder, step, instruments and action of :class:`~ship_env.envs.task.ShipTask`), builds
+  the six reference tracks for its ship (:mod:`ship_env.envs.tracks`) and draws an episode's
+  :class:`TrackScenario`;
+- :class:`TrackFollowBatch` sails N ships in one simulator and, in one compiled call
+  (:func:`update_ship` per ship), follows each ship along its track's legs, measures, observes,
+  rewards, ends the episode at the last waypoint and keeps the score (:mod:`ship_env.envs.metrics`).
+
+The thesis's disturbances (Table 6.2): a current of 2.5 kn "South West" and a wind of 7 m/s
+"North West", read with the usual conventions as the current setting *towards* SW (225 deg) and
+the wind blowing *from* NW (315 deg): the ship is set to port on a northerly course and the wind
+pushes the same way.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from gymnasium import spaces
+from numba import prange
+
+from ship_env.envs.batch import ShipBatch, episode_dtype, pick
+from ship_env.envs.checks import check_choice, check_number
+from ship_env.envs.metrics import (
+    SCORE_INTERVAL,
+    THESIS_NAVIGATOR_RMS,
+    TRACK_METRICS_DTYPE,
+    start_track_metrics,
+    update_track_metrics,
+)
+from ship_env.envs.sensors import (
+    MEASURED_EAST,
+    MEASURED_FIX_TIME,
+    MEASURED_HEADING,
+    MEASURED_NORTH,
+    MEASURED_RATE_OF_TURN,
+    MEASURED_SPEED,
+    measure,
+    wrap,
+)
+from ship_env.envs.task import ShipTask
+from ship_env.envs.tracks import (
+    LEG_COURSE,
+    LEG_DIRECTION_EAST,
+    LEG_DIRECTION_NORTH,
+    LEG_END_EAST,
+    LEG_END_NORTH,
+    NAUTICAL_MILE,
+    THESIS_RUDDER_LIMIT_DEG,
+    TRACK_IDS,
+    TURN_CHANGE,
+    ReferenceTrack,
+    passed_waypoint,
+    reference_track,
+    signed_cross_track,
+)
+from ship_env.envs.weather import CUSTOM_DISTURBANCE, check_conditions
+from ship_env.model import Conditions
+from ship_env.model import state as S
+from ship_env.model.kernel import kernel, parallel_kernel
+
+#: Table 6.2, read as stated in the module docstring.
+THESIS_CONDITIONS = Conditions(
+    current_speed=2.5 * NAUTICAL_MILE / 3600.0,
+    current_direction=math.radians(225.0),
+    wind_speed=7.0,
+    wind_direction=math.radians(315.0),
+)
+#: Disturbance levels: the thesis's (Table 6.2) or still water and air.
+TRACK_DISTURBANCES = ("thesis", "calm")
+RANDOM_TRACK = "random"
+
+#: Keys ``reset(options=...)`` accepts.
+RESET_OPTIONS = frozenset({"track", "conditions"})
+
+# Observation layout (float32, normalised; see TrackFollowEnv's docstring).
+OBS_CROSS_TRACK = 0  # cross-track error of the latest fix / L, positive to starboard of the track
+OBS_HEADING_ERROR = 1  # wrap(leg course - compass heading) / pi
+OBS_RATE_OF_TURN = 2  # gyro rate / (K* U0 / L * delta_max)
+OBS_RUDDER = 3  # actual rudder / delta_max
+OBS_SPEED = 4  # log speed / U0
+OBS_NEXT_CHANGE = 5  # the course change at the leg's end waypoint / pi, 0 on the last leg
+OBS_WAYPOINT_DISTANCE = 6  # distance of the fix to the leg's end waypoint along the leg, nm
+OBSERVATION_SIZE = 7
+CROSS_TRACK_BOUND = 10.0  # ship lengths
+RATE_BOUND = 4.0
+SPEED_BOUND = 2.0
+DISTANCE_BOUNDS = (-1.0, 3.0)  # nm: legs are at most 2.5 nm
+OBSERVATION_LOW = np.array(
+    [-CROSS_TRACK_BOUND, -1.0, -RATE_BOUND, -1.0, 0.0, -1.0, DISTANCE_BOUNDS[0]], dtype=np.float32
+)
+OBSERVATION_HIGH = np.array(
+    [CROSS_TRACK_BOUND, 1.0, RATE_BOUND, 1.0, SPEED_BOUND, 1.0, DISTANCE_BOUNDS[1]], dtype=np.float32
+)
+
+#: Per-ship episode data: the common record plus the track's fields.
+EPISODE_DTYPE = episode_dtype(
+    OBSERVATION_SIZE,
+    [
+        ("track", np.int64),  # index into TRACK_IDS
+        ("leg", np.int64),  # the leg being sailed: it advances across the bisector of its end corner
+        ("cross_track_error", np.float64),  # m, true position, positive to starboard of the track
+        ("fix_cross_track_error", np.float64),  # m, of the latest position fix
+    ],
+)
+
+#: The task's constants as the compiled update reads them.
+TASK_DTYPE = np.dtype(
+    [
+        ("rudder_limit", np.float64),
+        ("full_rudder_rate_per_speed", np.float64),
+        ("length", np.float64),  # m, L
+        ("cross_track_weight", np.float64),
+        ("rudder_travel_weight", np.float64),
+        ("score_interval", np.float64),  # s
+    ]
+)
+
+
+@dataclass(frozen=True)
+class TrackScenario:
+    """One episode's track and the sea it is sailed in.
+
+    Attributes:
+        track: ``"T1"`` .. ``"T6"``.
+        disturbance: ``"thesis"``, ``"calm"`` or ``"custom"`` (conditions given at reset).
+        conditions: wind, current, waves and speed for the simulator.
+        seed: the simulator's seed for the episode (its gusts and sensor noise).
+        initial_heading: the first leg's course, rad: the ship starts on it at the first waypoint.
+    """
+
+    track: str
+    disturbance: str
+    conditions: Conditions
+    seed: int
+    initial_heading: float
+
+
+class TrackFollowTask(ShipTask):
+    """The options of the track-following task; the environments' keyword arguments.
+
+    Args:
+        track: ``"T1"`` .. ``"T6"``, or ``"random"`` (one of the six per episode).
+        disturbance: ``"thesis"`` (Table 6.2: current 2.5 kn towards SW, wind 7 m/s from NW) or
+            ``"calm"``.
+        rudder_limit_deg: delta_max, deg (default 10, the experiment's); the reference track
+            turns on the ship's steady turn at this rudder.
+        cross_track_weight: reward per step for (cross-track error / L)^2.
+        rudder_travel_weight: reward per step for |actual rudder move| / delta_max.
+        fix_interval: s between position fixes (default 2, the thesis's sampling).
+        **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`):
+            ``ship``, ``ship_parameters``, ``effects``, ``dt``, ``sensor_noise_scale``,
+            ``action_type``, ``rudder_levels``.
+    """
+
+    def __init__(
+        self,
+        *,
+        track: str = RANDOM_TRACK,
+        disturbance: str = "thesis",
+        rudder_limit_deg: float = THESIS_RUDDER_LIMIT_DEG,
+        cross_track_weight: float = 1.0,
+        rudder_travel_weight: float = 0.1,
+        fix_interval: float = SCORE_INTERVAL,
+        **ship_options: Any,
+    ) -> None:
+        self.track = check_choice("track", track, (*TRACK_IDS, RANDOM_TRACK))
+        self.disturbance = check_choice("disturbance", disturbance, TRACK_DISTURBANCES)
+        self.cross_track_weight = check_number("cross_track_weight", cross_track_weight, 0.0)
+        self.rudder_travel_weight = check_number("rudder_travel_weight", rudder_travel_weight, 0.0)
+        super().__init__(rudder_limit_deg=rudder_limit_deg, fix_interval=fix_interval, **ship_options)
+        #: The reference tracks, rounded by this ship's steady turns at delta_max.
+        self.tracks: dict[str, ReferenceTrack] = {
+            track_id: reference_track(track_id, self.model, math.degrees(self.rudder_limit)) for track_id in TRACK_IDS
+        }
+        self.track_legs = np.stack([self.tracks[track_id].legs for track_id in TRACK_IDS])
+
+        self.parameters = np.zeros(1, dtype=TASK_DTYPE)
+        record = self.parameters[0]
+        record["rudder_limit"] = self.rudder_limit
+        record["full_rudder_rate_per_speed"] = self.full_rudder_rate_per_speed
+        record["length"] = self.model.length
+        record["cross_track_weight"] = self.cross_track_weight
+        record["rudder_travel_weight"] = self.rudder_travel_weight
+        record["score_interval"] = SCORE_INTERVAL
+        #: What the compiled update reads besides the simulator's and the batch's arrays.
+        self.kernel_arguments = (self.parameters, self.sensors, self.track_legs)
+        self.observation_space = spaces.Box(OBSERVATION_LOW, OBSERVATION_HIGH, dtype=np.float32)
+
+    def draw_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None = None) -> TrackScenario:
+        """Draw an episode from ``rng``: the track uniformly over the six if ``"random"``.
+
+        ``options`` may pin the ``track`` or give the ``conditions`` (a
+        :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``). Every draw
+        takes the same numbers from ``rng``, so one seed gives one sequence of episodes.
+        """
+        draw = float(rng.random())
+        seed = int(rng.integers(2**31))
+        options = self.check_options(options, RESET_OPTIONS)
+        track = check_choice("options['track']", options.get("track", self.track), (*TRACK_IDS, RANDOM_TRACK))
+        if track == RANDOM_TRACK:
+            track = TRACK_IDS[int(draw * len(TRACK_IDS))]
+        if "conditions" in options:
+            conditions = check_conditions("options['conditions']", options["conditions"])
+            disturbance = CUSTOM_DISTURBANCE
+        else:
+            disturbance = self.disturbance
+            conditions = THESIS_CONDITIONS if disturbance == "thesis" else Conditions()
+        return TrackScenario(track, disturbance, conditions, seed, float(self.tracks[track].courses[0]))
+
+
+@kernel
+def update_ship(
+    i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks
+):
+    """Follow, measure, observe and reward ship ``i`` after a step (or after a restart, reward 0).
+
+    The leg advances when the true position crosses the bisector of the leg's end corner; the
+    episode terminates when it crosses the perpendicular at the last waypoint. Reward:
+    -(w_x (e / L)^2 + w_d |delta - delta_prev| / delta_max) with e the true cross-track error
+    (e / L clipped to +-``CROSS_TRACK_BOUND``, as in the observation).
+    The observation comes from the measurements (the latest fix, compass, gyro, log).
+    """
+    episode = episodes[i]
+    restarted = episode["restarted"]
+    if restarted_only and not restarted:
+        return
+    p = task[0]
+    state = states[i]
+    legs = tracks[episode["track"]]
+    north, east = state[S.NORTH], state[S.EAST]
+    leg = 0 if restarted else episode["leg"]
+    last = legs.shape[0] - 1
+    while leg < last and passed_waypoint(north, east, legs, leg):
+        leg += 1
+    episode["leg"] = leg
+    episode["terminated"] = leg == last and passed_waypoint(north, east, legs, leg)
+    cross_track = signed_cross_track(north, east, legs)
+    episode["cross_track_error"] = cross_track
+    rudder = state[S.RUDDER]
+    if restarted:
+        start_track_metrics(metrics[i], state[S.TIME], cross_track)
+        episode["reward"] = 0.0
+        episode["restarted"] = False
+    else:
+        rudder_move = abs(rudder - episode["rudder"])
+        relative = min(max(cross_track / p["length"], -CROSS_TRACK_BOUND), CROSS_TRACK_BOUND)
+        episode["reward"] = -(
+            p["cross_track_weight"] * relative * relative + p["rudder_travel_weight"] * rudder_move / p["rudder_limit"]
+        )
+        update_track_metrics(metrics[i], state[S.TIME], cross_track, rudder_move, p["score_interval"])
+    episode["rudder"] = rudder
+
+    service_speed = conditions[i, S.SERVICE_SPEED]
+    measured = episode["measurement"]
+    measure(state, service_speed, episode["wave_yaw"], noise_keys[i], step_index[i], sensors, restarted, measured)
+
+    row = legs[leg]
+    fix_north, fix_east = measured[MEASURED_NORTH], measured[MEASURED_EAST]
+    if measured[MEASURED_FIX_TIME] == state[S.TIME]:  # a new fix
+        episode["fix_cross_track_error"] = signed_cross_track(fix_north, fix_east, legs)
+    observation = episode["observation"]
+    relative = episode["fix_cross_track_error"] / p["length"]
+    observation[OBS_CROSS_TRACK] = min(max(relative, -CROSS_TRACK_BOUND), CROSS_TRACK_BOUND)
+    observation[OBS_HEADING_ERROR] = wrap(row[LEG_COURSE] - measured[MEASURED_HEADING]) / math.pi
+    steady_rate = p["full_rudder_rate_per_speed"] * service_speed
+    observation[OBS_RATE_OF_TURN] = min(max(measured[MEASURED_RATE_OF_TURN] / steady_rate, -RATE_BOUND), RATE_BOUND)
+    observation[OBS_RUDDER] = rudder / p["rudder_limit"]
+    observation[OBS_SPEED] = min(max(measured[MEASURED_SPEED] / service_speed, 0.0), SPEED_BOUND)
+    observation[OBS_NEXT_CHANGE] = row[TURN_CHANGE] / math.pi
+    to_go_north = (row[LEG_END_NORTH] - fix_north) * row[LEG_DIRECTION_NORTH]
+    to_go = to_go_north + (row[LEG_END_EAST] - fix_east) * row[LEG_DIRECTION_EAST]
+    observation[OBS_WAYPOINT_DISTANCE] = min(max(to_go / NAUTICAL_MILE, DISTANCE_BOUNDS[0]), DISTANCE_BOUNDS[1])
+
+
+@kernel
+def update_ships(restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks):
+    """``update_ship`` for every ship of a batch."""
+    for i in range(states.shape[0]):
+        update_ship(
+            i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks
+        )
+
+
+@parallel_kernel
+def update_ships_parallel(
+    restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks
+):
+    """``update_ship`` for every ship of a batch, on all cores."""
+    for i in prange(states.shape[0]):
+        update_ship(
+            i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks
+        )
+
+
+class TrackFollowBatch(ShipBatch):
+    """N ships following reference tracks (:class:`~ship_env.envs.batch.ShipBatch`).
+
+    Each ship's ``episodes`` record holds ``observation`` float32 (7,), ``measurement``,
+    ``reward``, ``terminated``, its ``track`` and ``leg`` and its true ``cross_track_error``;
+    ``metrics`` the running track metrics (the score).
+    """
+
+    metrics_dtype = TRACK_METRICS_DTYPE
+    update_serial = staticmethod(update_ships)
+    update_parallel = staticmethod(update_ships_parallel)
+
+    def __init__(self, task: TrackFollowTask, num_ships: int) -> None:
+        super().__init__(task, num_ships, EPISODE_DTYPE)
+
+    def start_episode(self, episode: np.void, scenario: TrackScenario) -> None:
+        episode["track"] = TRACK_IDS.index(scenario.track)
+        episode["leg"] = 0
+
+    def task_info(self, ships: int | slice) -> dict[str, Any]:
+        """``leg``: the leg being sailed (0-based); ``cross_track_error``: true, m, positive to starboard."""
+        return {
+            "leg": pick(self.episodes["leg"], ships),
+            "cross_track_error": pick(self.episodes["cross_track_error"], ships),
+        }
+
+    def end_info(self, ships: int | slice) -> dict[str, Any]:
+        """``score``: the episode's ``rms_cross_track_error`` (m, eq. 6.5) beside the thesis's
+        navigators' (Table 6.4) as ``thesis_parallel_indexing``, ``thesis_ground_speed_vector``
+        and ``thesis_track_predictor``."""
+        rms = pick(self.metrics["rms_cross_track_error"], ships)
+        score = {"rms_cross_track_error": rms}
+        for name, value in THESIS_NAVIGATOR_RMS.items():
+            score[f"thesis_{name}"] = np.full_like(rms, value) if isinstance(rms, np.ndarray) else value
+        return {"score": score}

@@ -1,0 +1,91 @@
+"""The wind, current and waves an episode is sailed in, drawn at a disturbance level.
+
+Shared by the course-change and course-keeping tasks. Directions follow the simulator's
+conventions (:class:`~ship_env.model.Conditions`): the wind and the waves come *from* their
+direction, the current sets *towards* its direction; angles in radians clockwise from north.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ship_env.envs.checks import check_range
+from ship_env.model import Conditions
+
+#: Disturbance levels; ``"random"`` draws one of them per episode.
+DISTURBANCES = ("calm", "wind_current", "wind_current_waves")
+RANDOM_DISTURBANCE = "random"
+#: The level reported for an episode whose conditions were given in ``reset(options=...)``.
+CUSTOM_DISTURBANCE = "custom"
+
+#: Effects added to a preset's defaults when the disturbance level can have waves: the HF yaw the
+#: compass sees (Fig. 2.13) and the sea's yaw moment (2.89-2.91).
+WAVE_EFFECTS = ("wave_filter", "wave_spectrum")
+#: Waves come from within this angle of the wind's direction (assumed: a wind sea).
+WAVE_SPREAD = math.radians(30.0)
+
+#: Uniform numbers :meth:`WeatherRanges.conditions` reads, whatever the level.
+WEATHER_DRAWS = 7
+
+
+def _within(bounds: tuple[float, float], fraction: float) -> float:
+    return bounds[0] + (bounds[1] - bounds[0]) * fraction
+
+
+def has_waves(disturbance: str) -> bool:
+    """Whether episodes at this level (or drawn from it) can have waves."""
+    return disturbance in ("wind_current_waves", RANDOM_DISTURBANCE)
+
+
+@dataclass(frozen=True)
+class WeatherRanges:
+    """The ranges the weather is drawn from, uniformly.
+
+    Attributes:
+        wind_speed_range, current_speed_range: m/s.
+        wave_height_range: significant wave height H_s, m.
+        wave_period_range: peak period T_p, s.
+    """
+
+    wind_speed_range: tuple[float, float] = (5.0, 10.0)
+    current_speed_range: tuple[float, float] = (0.5, 1.5)
+    wave_height_range: tuple[float, float] = (1.0, 4.0)
+    wave_period_range: tuple[float, float] = (6.0, 10.0)
+
+    def __post_init__(self) -> None:
+        for name in ("wind_speed_range", "current_speed_range", "wave_height_range"):
+            object.__setattr__(self, name, check_range(name, getattr(self, name)))
+        object.__setattr__(self, "wave_period_range", check_range("wave_period_range", self.wave_period_range, 1e-3))
+
+    def conditions(self, disturbance: str, draws: Sequence[float]) -> Conditions:
+        """The weather of a level (one of ``DISTURBANCES``) from ``WEATHER_DRAWS`` uniforms in [0, 1).
+
+        Wind speed and current speed uniform in their ranges, the wind from and the current towards
+        uniform directions; at ``"wind_current_waves"`` waves of uniform H_s and T_p from the
+        wind's direction +-30 deg. ``"calm"`` is still water and air.
+        """
+        if disturbance == "calm":
+            return Conditions()
+        wind_direction = 2.0 * math.pi * draws[1]
+        weather = {
+            "wind_speed": _within(self.wind_speed_range, draws[0]),
+            "wind_direction": wind_direction,
+            "current_speed": _within(self.current_speed_range, draws[2]),
+            "current_direction": 2.0 * math.pi * draws[3],
+        }
+        if disturbance == "wind_current_waves":
+            weather["wave_height"] = _within(self.wave_height_range, draws[4])
+            weather["wave_period"] = _within(self.wave_period_range, draws[5])
+            weather["wave_direction"] = (wind_direction + WAVE_SPREAD * (2.0 * draws[6] - 1.0)) % (2.0 * math.pi)
+        return Conditions(**weather)
+
+
+def check_conditions(name: str, conditions: object) -> Conditions:
+    """``conditions`` given in ``reset(options=...)``, checked."""
+    if not isinstance(conditions, Conditions):
+        raise TypeError(f"{name}: expected a Conditions, got {conditions!r}")
+    if conditions.service_speed is not None and conditions.service_speed <= 0.0:
+        raise ValueError(f"{name}.service_speed: must be positive, got {conditions.service_speed!r}")
+    return conditions

@@ -1,0 +1,92 @@
+"""Checks of the Gymnasium contract every ship environment keeps: seeding, and vector = N singles."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+#: Keys of a single env's info that the vector env reports in its own way.
+EPISODE_KEYS = ("scenario", "score")
+
+
+def sail(env: gym.Env, actions: np.ndarray, seed: int, options: dict | None = None) -> list:
+    """Reset with ``seed`` and step through ``actions``; every returned item, in order."""
+    steps = [env.reset(seed=seed, options=options)]
+    steps.extend(env.step(action) for action in actions)
+    return steps
+
+
+def assert_same_steps(first: list, second: list) -> None:
+    """Two runs returned the same observations, rewards, flags and information."""
+    for one, other in zip(first, second, strict=True):
+        np.testing.assert_array_equal(one[0], other[0])
+        np.testing.assert_array_equal(one[-1]["state"], other[-1]["state"])
+        assert one[-1]["measurement"] == other[-1]["measurement"]
+        assert one[-1]["metrics"] == other[-1]["metrics"]
+        assert one[1:-1] == other[1:-1]
+
+
+def _assert_info_row(info: dict[str, Any], i: int, single_info: dict[str, Any]) -> None:
+    """Sub-environment ``i`` of a vector info holds what the single env's info holds."""
+    for key, value in single_info.items():
+        if key in EPISODE_KEYS:
+            continue
+        if isinstance(value, dict):
+            assert {name: info[key][name][i] for name in value} == value, key
+        else:
+            np.testing.assert_array_equal(info[key][i], value, err_msg=key)
+
+
+def assert_vector_equals_singles(
+    vector: gym.vector.VectorEnv,
+    singles: list[gym.Env],
+    policy: Callable[[np.ndarray], np.ndarray],
+    steps: int,
+    seed: int,
+    partial_reset_at: int | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Step ``vector`` and ``singles`` (seeded ``seed + i``) with the same ``policy`` actions and
+    compare everything, through NEXT_STEP autoresets and, at ``partial_reset_at``, a reset of
+    sub-environment 1 alone. Returns how many episodes each sub-environment ended, and the steps
+    each one's current episode has run."""
+    num_envs = len(singles)
+    max_steps = vector.max_episode_steps
+    observations, info = vector.reset(seed=seed)
+    single = [env.reset(seed=seed + i) for i, env in enumerate(singles)]  # (observation, info) per env
+    elapsed = np.zeros(num_envs, dtype=int)
+    ended = np.zeros(num_envs, dtype=bool)
+    episodes = np.zeros(num_envs, dtype=int)
+    for k in range(steps):
+        for i, (observation, single_info) in enumerate(single):
+            np.testing.assert_array_equal(observations[i], observation)
+            _assert_info_row(info, i, single_info)
+        if k == partial_reset_at:
+            mask = np.arange(num_envs) == 1
+            observations, info = vector.reset(options={"reset_mask": mask})
+            np.testing.assert_array_equal(info["_state"], mask)
+            single[1] = singles[1].reset()
+            elapsed[1], ended[1] = 0, False
+            continue
+        actions = policy(observations)
+        observations, rewards, terminated, truncated, info = vector.step(actions)
+        for i, env in enumerate(singles):
+            if ended[i]:
+                single[i] = env.reset()
+                elapsed[i], reward, single_terminated = 0, 0.0, False
+                assert info["_scenario"][i] and info["scenario"][i] == single[i][1]["scenario"]
+            else:
+                observation, reward, single_terminated, _, single_info = env.step(actions[i])
+                single[i] = (observation, single_info)
+                elapsed[i] += 1
+                if single_terminated:
+                    assert info["_score"][i]
+                    assert {name: info["score"][name][i] for name in single_info["score"]} == single_info["score"]
+            assert rewards[i] == reward
+            assert terminated[i] == single_terminated
+            assert truncated[i] == (elapsed[i] >= max_steps)
+            ended[i] = terminated[i] or truncated[i]
+            episodes[i] += ended[i]
+    return episodes, elapsed

@@ -1,0 +1,222 @@
+"""CourseKeeping-v0: the criterion, the waves on the compass, Gymnasium's contract."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from env_contract import assert_same_steps, assert_vector_equals_singles, sail
+from gymnasium.utils.env_checker import check_env
+
+import ship_env  # noqa: F401  (registers the environments)
+from ship_env.envs.batch import PARALLEL_SHIPS
+from ship_env.envs.course_keeping import CourseKeepingEnv
+from ship_env.envs.course_keeping_task import HEADING_SCALE, OBS_HEADING_ERROR, OBS_RATE_OF_TURN
+from ship_env.envs.course_keeping_vector import CourseKeepingVectorEnv
+from ship_env.envs.metrics import course_keeping_metrics
+from ship_env.envs.weather import DISTURBANCES, RANDOM_DISTURBANCE
+from ship_env.model import Conditions, ShipModel
+from ship_env.model import state as S
+
+ENV_ID = "ship_env/CourseKeeping-v0"
+WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")
+NO_WIND_EFFECTS = [name for name in ShipModel("container_226m").effects if name not in WIND_EFFECTS]
+
+
+def heading_pd(task, kp: float = 1.0, kd: float = 30.0):
+    """A fixed-gain PD autopilot on the observation: delta = Kp e - Kd r (rad, s)."""
+    rate_scale = task.full_rudder_rate_per_speed * task.model.service_speed
+
+    def policy(observations: np.ndarray) -> np.ndarray:
+        observations = np.atleast_2d(observations)
+        rudder = (
+            kp * observations[:, OBS_HEADING_ERROR] * HEADING_SCALE
+            - kd * observations[:, OBS_RATE_OF_TURN] * rate_scale
+        )
+        return np.clip(rudder / task.rudder_limit, -1.0, 1.0).astype(np.float32)[:, None]
+
+    return policy
+
+
+@pytest.mark.parametrize(
+    "options",
+    [*({"disturbance": level} for level in (*DISTURBANCES, RANDOM_DISTURBANCE)), {"action_type": "discrete"}],
+    ids=[*DISTURBANCES, RANDOM_DISTURBANCE, "discrete"],
+)
+def test_check_env_passes_without_warnings(options):
+    env = gym.make(ENV_ID, **options)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env.unwrapped)
+    assert [str(warning.message) for warning in caught] == []
+
+
+@pytest.mark.parametrize("env_id", ["ship_env/CourseChange-v0", "ship_env/TrackFollow-v0", ENV_ID])
+def test_every_env_offers_the_discrete_rudder(env_id):
+    env = gym.make(env_id, action_type="discrete", rudder_levels=3)
+    assert env.action_space == gym.spaces.Discrete(3)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env.unwrapped)
+    assert [str(warning.message) for warning in caught] == []
+
+
+def test_seeded_reset_repeats_the_trajectory_and_other_seeds_differ():
+    actions = np.random.default_rng(0).uniform(-1.0, 1.0, size=(40, 1)).astype(np.float32)
+    env = CourseKeepingEnv(disturbance=RANDOM_DISTURBANCE)
+    first = sail(env, actions, seed=11)
+    assert_same_steps(first, sail(env, actions, seed=11))
+    assert_same_steps(first, sail(CourseKeepingEnv(disturbance=RANDOM_DISTURBANCE), actions, seed=11))
+    other = sail(env, actions, seed=12)
+    assert not np.array_equal(first[-1][-1]["state"], other[-1][-1]["state"])
+
+
+def test_vector_env_equals_single_envs_seeded_s_plus_i_across_resets():
+    num_envs, seed = 3, 21
+    vector = CourseKeepingVectorEnv(num_envs=num_envs, max_episode_steps=7, disturbance=RANDOM_DISTURBANCE)
+    singles = [CourseKeepingEnv(disturbance=RANDOM_DISTURBANCE) for _ in range(num_envs)]
+    episodes, elapsed = assert_vector_equals_singles(
+        vector, singles, heading_pd(vector.task), 30, seed, partial_reset_at=10
+    )
+    assert episodes.min() >= 2 and elapsed.min() < elapsed.max()
+
+
+def test_make_vec_uses_the_vector_entry_point_on_all_cores_like_single_envs():
+    vector = gym.make_vec(ENV_ID, num_envs=PARALLEL_SHIPS, vectorization_mode="vector_entry_point", max_episode_steps=3)
+    assert isinstance(vector.unwrapped, CourseKeepingVectorEnv)
+    assert vector.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
+    assert vector.observation_space.shape == (PARALLEL_SHIPS, 4) and vector.action_space.shape == (PARALLEL_SHIPS, 1)
+    actions = np.random.default_rng(2).uniform(-1.0, 1.0, size=(4, PARALLEL_SHIPS, 1)).astype(np.float32)
+    observations = [vector.reset(seed=9)[0]]
+    for k in range(4):
+        observation, rewards, terminated, truncated, info = vector.step(actions[k])
+        observations.append(observation)
+        assert truncated.all() == (k == 2) and not terminated.any()
+    assert (rewards == 0.0).all() and info["_scenario"].all()
+    single = sail(CourseKeepingEnv(), actions[:3, -1], seed=9 + PARALLEL_SHIPS - 1)
+    np.testing.assert_array_equal(np.array(observations)[:4, -1], [step[0] for step in single])
+
+
+def test_still_water_with_the_rudder_amidships_costs_nothing():
+    env = CourseKeepingEnv(disturbance="calm", effects=NO_WIND_EFFECTS, sensor_noise_scale=0.0)
+    _, info = env.reset(seed=0, options={"course_deg": 200.0})
+    for _ in range(100):
+        observation, reward, _, _, info = env.step(np.zeros(1, dtype=np.float32))
+        assert reward == 0.0 and observation[OBS_HEADING_ERROR] == 0.0
+    assert info["state"][S.HEADING] == math.radians(200.0) == info["course"]
+    assert info["metrics"] == {
+        "cost": 0.0,
+        "mean_squared_heading_error": 0.0,
+        "mean_squared_rudder": 0.0,
+        "rudder_travel": 0.0,
+        "samples": 100,
+    }
+
+
+def test_an_episode_truncates_at_the_spec_length_and_its_mean_reward_is_the_criterion():
+    """600 steps; info's metrics equal ``course_keeping_metrics`` of the run; mean reward = -J / delta_max^2."""
+    env = gym.make(ENV_ID)
+    observation, info = env.reset(seed=5)
+    policy = heading_pd(env.unwrapped.task)
+    states, rewards, truncated = [info["state"]], [], False
+    while not truncated:
+        observation, reward, terminated, truncated, info = env.step(policy(observation)[0])
+        assert not terminated
+        states.append(info["state"])
+        rewards.append(reward)
+    states = np.array(states)
+    assert len(rewards) == 600
+    expected = course_keeping_metrics(states[:, S.HEADING], states[:, S.RUDDER], info["course"])
+    assert info["metrics"] == pytest.approx(expected, rel=1e-12)
+    rudder_limit_deg = 10.0
+    assert np.mean(rewards) == pytest.approx(-expected["cost"] / rudder_limit_deg**2, rel=1e-9)
+    assert 0.0 < expected["mean_squared_heading_error"] < 4.0 and expected["rudder_travel"] > 0.0
+
+
+def test_course_keeping_metrics_on_a_hand_made_run():
+    course = math.radians(10.0)
+    heading = np.radians([10.0, 12.0, 9.0, 370.0 - 2.0])  # the last wraps through north
+    rudder = np.radians([0.0, -2.0, 1.0, 3.0])
+    metrics = course_keeping_metrics(heading, rudder, course, rudder_weight=0.5)
+    squared_errors, squared_rudder = (4.0 + 1.0 + 4.0) / 3.0, (4.0 + 1.0 + 9.0) / 3.0
+    assert metrics == pytest.approx(
+        {
+            "cost": squared_errors + 0.5 * squared_rudder,
+            "mean_squared_heading_error": squared_errors,
+            "mean_squared_rudder": squared_rudder,
+            "rudder_travel": 7.0,
+            "samples": 3,
+        }
+    )
+
+
+def test_the_compass_sees_the_waves_yaw_that_the_criterion_ignores():
+    conditions = Conditions(wave_height=4.0, wave_period=8.0, wave_direction=0.0)
+    env = CourseKeepingEnv(sensor_noise_scale=0.0)
+    _, info = env.reset(seed=2, options={"conditions": conditions, "course_deg": 0.0})
+    assert info["scenario"].disturbance == "custom"
+    wave_yaw = []
+    for _ in range(200):
+        observation, reward, _, _, info = env.step(np.zeros(1, dtype=np.float32))
+        state = info["state"]
+        true_error = -state[S.HEADING]
+        assert observation[OBS_HEADING_ERROR] == pytest.approx(
+            (true_error - state[S.WAVE_HEADING]) / HEADING_SCALE, abs=1e-6
+        )
+        assert reward == pytest.approx(-((true_error / math.radians(10.0)) ** 2))
+        wave_yaw.append(state[S.WAVE_HEADING])
+    assert np.std(wave_yaw) > math.radians(0.05)
+
+
+@pytest.mark.parametrize(
+    ("options", "action"),
+    [
+        ({}, np.array([np.inf])),
+        ({}, np.array([[0.1]])),
+        ({}, None),
+        ({"action_type": "discrete", "rudder_levels": 3}, 3),
+        ({"action_type": "discrete"}, True),
+    ],
+    ids=["inf", "nested", "none", "level-too-high", "bool"],
+)
+def test_bad_actions_raise_value_error(options, action):
+    env = CourseKeepingEnv(**options)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="action"):
+        env.step(action)
+
+
+def test_bad_vector_actions_raise_value_error():
+    envs = CourseKeepingVectorEnv(num_envs=3)
+    envs.reset(seed=0)
+    with pytest.raises(ValueError, match="action"):
+        envs.step(np.array([[0.1], [np.nan], [0.2]]))
+
+
+def test_make_from_a_fresh_interpreter_with_only_the_id_and_kwargs_passing_through(tmp_path):
+    code = (
+        "import sys, gymnasium as gym\n"
+        "assert 'ship_env' not in sys.modules\n"
+        "env = gym.make('ship_env:ship_env/CourseKeeping-v0', rudder_weight=0.5, action_type='discrete')\n"
+        "observation, info = env.reset(seed=1)\n"
+        "env.step(env.action_space.sample())\n"
+        "print(env.spec.max_episode_steps, env.unwrapped.task.rudder_weight, env.action_space, observation.shape)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split() == ["600", "0.5", "Discrete(7)", "(4,)"]
+
+
+def test_rgb_array_render_returns_an_rgb_frame():
+    env = gym.make(ENV_ID, render_mode="rgb_array")
+    env.reset(seed=2)
+    for _ in range(5):
+        env.step(np.full(1, 0.5, dtype=np.float32))
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3
+    env.close()

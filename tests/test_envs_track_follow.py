@@ -1,0 +1,352 @@
+"""TrackFollow-v0: the thesis's tracks, the cross-track geometry, the score, Gymnasium's contract."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from env_contract import assert_same_steps, assert_vector_equals_singles, sail
+from gymnasium.utils.env_checker import check_env
+
+import ship_env  # noqa: F401  (registers the environments)
+from ship_env.envs.batch import PARALLEL_SHIPS
+from ship_env.envs.metrics import THESIS_NAVIGATOR_RMS, track_metrics
+from ship_env.envs.track_follow import TrackFollowEnv
+from ship_env.envs.track_follow_task import (
+    OBS_CROSS_TRACK,
+    OBS_HEADING_ERROR,
+    OBS_NEXT_CHANGE,
+    OBS_RATE_OF_TURN,
+    OBS_WAYPOINT_DISTANCE,
+    THESIS_CONDITIONS,
+)
+from ship_env.envs.track_follow_vector import TrackFollowVectorEnv
+from ship_env.envs.tracks import (
+    NAUTICAL_MILE,
+    TRACK_IDS,
+    build_track,
+    cross_track_error,
+    reference_track,
+    steady_turn_radius,
+)
+from ship_env.model import ShipModel, Simulator
+from ship_env.model import state as S
+
+ENV_ID = "ship_env/TrackFollow-v0"
+#: The thesis's Table 6.1.b written out in degrees, as the brief lists it.
+THESIS_TABLE_6_1_B = {
+    "T1": (75, 45, 30, 105, 15),
+    "T2": (15, 75, 105, 30, 45),
+    "T3": (45, 15, 105, 75, 30),
+    "T4": (105, 30, 75, 15, 45),
+    "T5": (30, 15, 45, 75, 105),
+    "T6": (45, 105, 15, 30, 75),
+}
+WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")
+NO_WIND_EFFECTS = [name for name in ShipModel("container_226m").effects if name not in WIND_EFFECTS]
+
+
+class TrackPD:
+    """A naive fixed-gain track follower on the observation alone (a sanity check, not a baseline).
+
+    PD on the heading error, delta = Kp (psi_d - psi) - Kd r, the desired heading the leg's course
+    corrected towards the track, psi_d = course - atan((e + Ki int e dt) / lookahead) (the integral
+    takes out the current's crab angle); the next leg's course is ordered once the next waypoint is
+    nearer than its arc's tangent length R tan(|change| / 2) plus ``lead``.
+    """
+
+    def __init__(self, task, kp=1.5, kd=40.0, lookahead=500.0, ki=0.01, lead=300.0) -> None:
+        self.task, self.kp, self.kd, self.lookahead, self.ki, self.lead = task, kp, kd, lookahead, ki, lead
+        self.length = task.model.length
+        self.rate_scale = task.full_rudder_rate_per_speed * task.model.service_speed
+        self.radius = float(task.tracks["T1"].turn_radii[0])
+        self.integral = 0.0
+
+    def __call__(self, observation: np.ndarray) -> np.ndarray:
+        cross_track = observation[OBS_CROSS_TRACK] * self.length
+        heading_error = observation[OBS_HEADING_ERROR] * math.pi
+        change = observation[OBS_NEXT_CHANGE] * math.pi
+        if (
+            change
+            and observation[OBS_WAYPOINT_DISTANCE] * NAUTICAL_MILE
+            < self.radius * math.tan(0.5 * abs(change)) + self.lead
+        ):
+            heading_error += change
+        else:
+            self.integral += cross_track * self.task.dt
+        correction = -math.atan((cross_track + self.ki * self.integral) / self.lookahead)
+        rudder = self.kp * (heading_error + correction) - self.kd * observation[OBS_RATE_OF_TURN] * self.rate_scale
+        return np.array([np.clip(rudder / self.task.rudder_limit, -1.0, 1.0)], dtype=np.float32)
+
+
+# -- the reference tracks -----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("track_id", TRACK_IDS)
+def test_reference_tracks_have_the_thesis_course_changes_in_order_and_legs_of_2_to_2_5_nm(track_id):
+    track = reference_track(track_id)
+    legs = np.diff(track.waypoints, axis=0)
+    courses = np.arctan2(legs[:, 1], legs[:, 0])
+    changes = np.degrees((np.diff(courses) + math.pi) % (2.0 * math.pi) - math.pi)
+    np.testing.assert_allclose(np.abs(changes), THESIS_TABLE_6_1_B[track_id], atol=1e-9)
+    np.testing.assert_array_equal(np.sign(changes), [1, -1, 1, -1, 1])  # alternating, starboard first
+    lengths_nm = np.hypot(legs[:, 0], legs[:, 1]) / NAUTICAL_MILE
+    assert lengths_nm.shape == (6,) and np.all((lengths_nm >= 2.0 - 1e-12) & (lengths_nm <= 2.5 + 1e-12))
+    np.testing.assert_allclose(track.waypoints[0], [0.0, 0.0])
+    # The arcs join the legs: the outline runs along the waypoints' polyline except at the corners.
+    assert np.abs(cross_track_error(track.outline(), track)).max() < 1e-9
+
+
+def test_the_arcs_are_the_ships_own_steady_turn_which_it_follows_exactly():
+    """A ship in its steady 10-deg turn, put on an arc's start, stays on the arc (no wind, no current)."""
+    model = ShipModel("container_226m", parameters={"rudder_limit": math.radians(10.0)})
+    linear_radius = model.length / (model.parameter("yaw.gain") * math.radians(10.0))  # L / (K* delta), 6.4.4.2
+    for rudder in (math.radians(10.0), -math.radians(10.0)):
+        radius = steady_turn_radius(model, rudder)
+        assert 1.0 < radius / linear_radius < 1.15  # the Norrbin term widens the linear turn a little
+        simulator = Simulator(model, dt=1.0)
+        simulator.reset(seed=0)
+        for _ in range(3000):
+            simulator.step(rudder)
+        before = simulator.position[0].copy()
+        simulator.step(rudder)
+        chord = simulator.position[0] - before  # parallel to the track at the step's middle
+        drift = simulator.heading[0] - 0.5 * simulator.rate_of_turn[0] - math.atan2(chord[1], chord[0])
+        track = build_track("corner", [math.copysign(0.5 * math.pi, rudder)], [3000.0, 3000.0], radius, radius)
+        simulator.state[0, [S.TIME, S.NORTH, S.EAST, S.HEADING]] = [0.0, 3000.0 - radius, 0.0, drift]
+        positions = [simulator.position[0].copy()]
+        for _ in range(120):  # 90 deg at about 0.6 deg/s
+            simulator.step(rudder)
+            positions.append(simulator.position[0].copy())
+        assert np.abs(cross_track_error(np.array(positions), track)).max() < 1e-3
+
+
+def test_cross_track_error_of_known_points_against_a_hand_made_track():
+    """North 1000 m, a 90-deg turn to starboard on a 200-m arc, east 1000 m."""
+    track = build_track("hand-made", [math.radians(90.0)], [1000.0, 1000.0], 200.0, 300.0)
+    centre = np.array([800.0, 200.0])  # the arc runs from (800, 0) to (1000, 200)
+    np.testing.assert_allclose(track.arc_centres, [centre])
+    diagonal = np.array([math.sqrt(0.5), -math.sqrt(0.5)])  # from the centre to the arc's middle
+    points = np.array(
+        [
+            [400.0, 30.0],  # starboard of the first leg
+            [400.0, -50.0],  # port of it
+            centre + 200.0 * diagonal,  # on the arc
+            centre + 150.0 * diagonal,  # inside the turn: starboard
+            centre + 260.0 * diagonal,  # outside it: port
+            [1000.0, 0.0],  # the waypoint itself: outside the arc
+            [1050.0, 600.0],  # port of the second leg (north of an eastward leg)
+            [950.0, 1000.0],  # starboard of its end
+            [-30.0, 40.0],  # behind the start: the distance to the first waypoint
+        ]
+    )
+    expected = [30.0, -50.0, 0.0, 50.0, -60.0, 200.0 - math.hypot(200.0, 200.0), -50.0, 50.0, 50.0]
+    np.testing.assert_allclose(cross_track_error(points, track), expected, atol=1e-9)
+    assert cross_track_error(points.reshape(3, 3, 2), track).shape == (3, 3)
+    with pytest.raises(ValueError, match="position"):
+        cross_track_error(np.zeros(3), track)
+
+
+def test_build_track_rejects_turns_that_do_not_fit_their_legs():
+    with pytest.raises(ValueError, match="leg 0"):
+        build_track("tight", [math.radians(105.0)], [500.0, 3000.0], 860.0, 860.0)
+
+
+def test_track_metrics_sample_every_two_seconds_from_the_start():
+    track = build_track("straight", [math.radians(30.0)], [5000.0, 5000.0], 500.0, 500.0)
+    time = np.arange(7.0)
+    offsets = np.array([0.0, 100.0, 10.0, 100.0, -20.0, 100.0, 20.0])  # only the even seconds count
+    metrics = track_metrics(time, 10.0 * time, offsets, np.radians([0, 1, 2, 2, 1, 0, 0]), track)
+    assert metrics["rms_cross_track_error"] == pytest.approx(math.sqrt((0.0 + 100.0 + 400.0 + 400.0) / 4.0))
+    assert metrics["max_cross_track_error"] == pytest.approx(20.0)
+    assert metrics["rudder_travel"] == pytest.approx(4.0) and metrics["samples"] == 4
+
+
+# -- the environment ------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "options",
+    [{}, {"track": "T4", "disturbance": "calm"}, {"action_type": "discrete", "rudder_levels": 5}],
+    ids=["random-thesis", "T4-calm", "discrete"],
+)
+def test_check_env_passes_without_warnings(options):
+    env = gym.make(ENV_ID, **options)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env.unwrapped)
+    assert [str(warning.message) for warning in caught] == []
+
+
+def test_seeded_reset_repeats_the_trajectory_and_other_seeds_differ():
+    actions = np.random.default_rng(0).uniform(-1.0, 1.0, size=(40, 1)).astype(np.float32)
+    env = TrackFollowEnv()
+    first = sail(env, actions, seed=11)
+    assert_same_steps(first, sail(env, actions, seed=11))
+    assert_same_steps(first, sail(TrackFollowEnv(), actions, seed=11))
+    other = sail(env, actions, seed=12)
+    assert not np.array_equal(first[-1][-1]["state"], other[-1][-1]["state"])
+    tracks = {TrackFollowEnv().reset(seed=seed)[1]["scenario"].track for seed in range(30)}
+    assert tracks == set(TRACK_IDS)
+
+
+def test_the_first_observation_describes_the_first_leg_in_the_thesis_conditions():
+    env = TrackFollowEnv(sensor_noise_scale=0.0)
+    observation, info = env.reset(seed=0, options={"track": "T1"})
+    scenario = info["scenario"]
+    assert scenario.track == "T1" and scenario.disturbance == "thesis" and scenario.conditions == THESIS_CONDITIONS
+    assert scenario.conditions.current_speed == pytest.approx(1.286, abs=1e-3)  # 2.5 kn
+    assert math.degrees(scenario.conditions.current_direction) == pytest.approx(225.0)  # sets towards SW
+    assert math.degrees(scenario.conditions.wind_direction) == pytest.approx(315.0)  # blows from NW
+    assert observation[OBS_CROSS_TRACK] == 0.0 and observation[OBS_HEADING_ERROR] == 0.0
+    assert observation[OBS_NEXT_CHANGE] == pytest.approx(75.0 / 180.0)
+    assert observation[OBS_WAYPOINT_DISTANCE] == pytest.approx(2.0)
+    assert info["leg"] == 0 and info["cross_track_error"] == 0.0 and info["metrics"]["samples"] == 1
+
+
+def test_zero_rudder_on_a_straight_leg_in_still_water_keeps_zero_cross_track_error():
+    env = TrackFollowEnv(disturbance="calm", effects=NO_WIND_EFFECTS, sensor_noise_scale=0.0)
+    env.reset(seed=3, options={"track": "T2"})
+    for _ in range(300):  # 2.8 km of the first 4.1-km leg, before its turn
+        observation, reward, terminated, _, info = env.step(np.zeros(1, dtype=np.float32))
+        assert info["cross_track_error"] == 0.0 and observation[OBS_CROSS_TRACK] == 0.0 and reward == 0.0
+    assert not terminated and info["leg"] == 0 and info["metrics"]["rms_cross_track_error"] == 0.0
+    assert info["state"][S.NORTH] == pytest.approx(300.0 * env.task.model.service_speed)
+
+
+def test_a_pd_with_cross_track_correction_sails_every_track_to_its_end_and_is_scored():
+    """The task is feasible: a naive PD finishes T1..T6 in the thesis's conditions, nearer than the
+    navigators' 95 m; the score at the end equals ``track_metrics`` of the recorded run."""
+    env = gym.make(ENV_ID)
+    scores = {}
+    for track_id in TRACK_IDS:
+        observation, info = env.reset(seed=1, options={"track": track_id})
+        controller = TrackPD(env.unwrapped.task)
+        states, terminated, truncated = [info["state"]], False, False
+        while not (terminated or truncated):
+            observation, _, terminated, truncated, info = env.step(controller(observation))
+            states.append(info["state"])
+        assert terminated and info["leg"] == 5
+        states = np.array(states)
+        expected = track_metrics(
+            states[:, S.TIME],
+            states[:, S.NORTH],
+            states[:, S.EAST],
+            states[:, S.RUDDER],
+            env.unwrapped.task.tracks[track_id],
+        )
+        assert info["metrics"] == pytest.approx(expected, rel=1e-12)
+        score = info["score"]
+        assert score["rms_cross_track_error"] == info["metrics"]["rms_cross_track_error"]
+        assert {name: score[f"thesis_{name}"] for name in THESIS_NAVIGATOR_RMS} == THESIS_NAVIGATOR_RMS
+        scores[track_id] = score["rms_cross_track_error"]
+    assert max(scores.values()) < THESIS_NAVIGATOR_RMS["ground_speed_vector"], scores
+
+
+def test_vector_env_equals_single_envs_through_terminations_and_autoresets():
+    """Sub-env i of a batch seeded s is a single env seeded s + i: PD-steered ships finish their
+    (random) tracks at different steps, restart, and one is reset alone."""
+    num_envs, seed = 3, 4
+    vector = TrackFollowVectorEnv(num_envs=num_envs)
+    singles = [TrackFollowEnv() for _ in range(num_envs)]
+    controllers = [TrackPD(vector.task) for _ in range(num_envs)]
+
+    def policy(observations: np.ndarray) -> np.ndarray:
+        return np.stack(
+            [controller(observation) for controller, observation in zip(controllers, observations, strict=True)]
+        )
+
+    episodes, elapsed = assert_vector_equals_singles(vector, singles, policy, 3000, seed, partial_reset_at=100)
+    assert episodes.tolist() == [1, 1, 1], "every ship should have finished its track once"
+    assert len(set(elapsed)) == num_envs, "the ships should have finished at different steps"
+
+
+def test_vector_env_truncates_and_the_parallel_update_equals_the_serial_one():
+    vector = gym.make_vec(ENV_ID, num_envs=PARALLEL_SHIPS, vectorization_mode="vector_entry_point", max_episode_steps=3)
+    assert isinstance(vector.unwrapped, TrackFollowVectorEnv)
+    assert vector.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
+    assert vector.observation_space.shape == (PARALLEL_SHIPS, 7) and vector.action_space.shape == (PARALLEL_SHIPS, 1)
+    actions = np.random.default_rng(2).uniform(-1.0, 1.0, size=(4, PARALLEL_SHIPS, 1)).astype(np.float32)
+    observations = [vector.reset(seed=9)[0]]
+    for k in range(4):
+        observation, rewards, terminated, truncated, info = vector.step(actions[k])
+        observations.append(observation)
+        assert truncated.all() == (k == 2) and not terminated.any()
+    assert (rewards == 0.0).all() and info["_scenario"].all()
+    single = sail(TrackFollowEnv(), actions[:3, -1], seed=9 + PARALLEL_SHIPS - 1)
+    np.testing.assert_array_equal(np.array(observations)[:4, -1], [step[0] for step in single])
+
+
+@pytest.mark.parametrize(
+    ("options", "action"),
+    [
+        ({}, np.array([np.nan])),
+        ({}, np.array([0.1, 0.2])),
+        ({}, "port"),
+        ({"action_type": "discrete"}, 7),
+        ({"action_type": "discrete"}, -1),
+        ({"action_type": "discrete"}, 0.5),
+        ({"action_type": "discrete"}, np.array([3])),
+    ],
+    ids=["nan", "two", "text", "level-too-high", "negative-level", "float-level", "array-level"],
+)
+def test_bad_actions_raise_value_error(options, action):
+    env = TrackFollowEnv(**options)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="action"):
+        env.step(action)
+
+
+def test_discrete_levels_order_rudder_angles_from_port_to_starboard_hard_over():
+    env = TrackFollowEnv(action_type="discrete", rudder_levels=5, sensor_noise_scale=0.0)
+    env.reset(seed=0)
+    for _ in range(10):
+        _, _, _, _, info = env.step(np.int64(3))
+    assert info["state"][S.RUDDER] == pytest.approx(math.radians(5.0))
+    vector = TrackFollowVectorEnv(num_envs=2, action_type="discrete", rudder_levels=5)
+    vector.reset(seed=0)
+    for _ in range(10):
+        _, _, _, _, info = vector.step(np.array([0, 4]))
+    np.testing.assert_allclose(info["state"][:, S.RUDDER], np.radians([-10.0, 10.0]))
+
+
+def test_unknown_options_and_tracks_raise():
+    with pytest.raises(ValueError, match="track"):
+        TrackFollowEnv(track="T7")
+    env = TrackFollowEnv()
+    with pytest.raises(ValueError, match="unknown keys"):
+        env.reset(seed=0, options={"course_change_deg": 10.0})
+    with pytest.raises(ValueError, match="track"):
+        env.reset(seed=0, options={"track": "t1"})
+
+
+def test_make_from_a_fresh_interpreter_with_only_the_id_and_kwargs_passing_through(tmp_path):
+    code = (
+        "import sys, gymnasium as gym\n"
+        "assert 'ship_env' not in sys.modules\n"
+        "env = gym.make('ship_env:ship_env/TrackFollow-v0', track='T5', disturbance='calm')\n"
+        "observation, info = env.reset(seed=1)\n"
+        "env.step(env.action_space.sample())\n"
+        "envs = gym.make_vec('ship_env:ship_env/TrackFollow-v0', num_envs=2, vectorization_mode='vector_entry_point')\n"
+        "print(env.spec.max_episode_steps, info['scenario'].track, info['scenario'].disturbance, observation.shape,"
+        " type(envs.unwrapped).__name__, envs.unwrapped.max_episode_steps)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split() == ["3600", "T5", "calm", "(7,)", "TrackFollowVectorEnv", "3600"]
+
+
+def test_rgb_array_render_draws_the_reference_track():
+    env = gym.make(ENV_ID, render_mode="rgb_array", track="T1")
+    env.reset(seed=2)
+    for _ in range(20):
+        env.step(np.full(1, 0.5, dtype=np.float32))
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3 and frame.shape[0] > 100
+    assert len(np.unique(frame.reshape(-1, 3), axis=0)) > 10
+    env.close()

@@ -46,29 +46,42 @@ def test_tidal_current_speed_variation_averages_out_over_a_period():
     assert quarter > 2.0 * period / 4 * 1.2  # faster than the mean in the first quarter
 
 
+def _apparent_wind(heading, north_velocity, east_velocity, wind_speed, wind_direction):
+    """(V_wr, gamma_r) from ``wind.relative_wind``'s speed and direction cosines."""
+    speed, cos_angle, sin_angle = wind.relative_wind(
+        math.cos(heading), math.sin(heading), north_velocity, east_velocity, wind_speed, wind_direction
+    )
+    return speed, math.atan2(sin_angle, cos_angle)
+
+
 def test_relative_wind_is_true_wind_minus_the_ships_velocity():
     """(2.74): no true wind gives a head wind at the ship's speed; vector sum otherwise."""
-    speed, angle = wind.relative_wind(0.3, 9.5 * math.cos(0.3), 9.5 * math.sin(0.3), 0.0, 0.0)
+    speed, angle = _apparent_wind(0.3, 9.5 * math.cos(0.3), 9.5 * math.sin(0.3), 0.0, 0.0)
     assert speed == pytest.approx(9.5) and angle == pytest.approx(0.0, abs=1e-12)
     # Ship heading north at 10 m/s, true wind 10 m/s from the east: apparent 14.1 m/s from 45 deg to starboard.
-    speed, angle = wind.relative_wind(0.0, 10.0, 0.0, 10.0, math.radians(90.0))
+    speed, angle = _apparent_wind(0.0, 10.0, 0.0, 10.0, math.radians(90.0))
     assert speed == pytest.approx(10.0 * math.sqrt(2.0)) and angle == pytest.approx(math.radians(45.0))
-    # Heading east: the same wind is now dead ahead apparent from the bow, 20 m/s.
-    speed, angle = wind.relative_wind(math.radians(90.0), 0.0, 10.0, 10.0, math.radians(90.0))
+    # Heading east: the same wind is now dead ahead, 20 m/s.
+    speed, angle = _apparent_wind(math.radians(90.0), 0.0, 10.0, 10.0, math.radians(90.0))
     assert speed == pytest.approx(20.0) and angle == pytest.approx(0.0, abs=1e-12)
+    # Ship at rest, wind from the port quarter (heading north, wind from 225 deg): gamma_r = -135 deg.
+    speed, angle = _apparent_wind(0.0, 0.0, 0.0, 5.0, math.radians(225.0))
+    assert speed == pytest.approx(5.0) and angle == pytest.approx(math.radians(-135.0))
 
 
 @pytest.mark.parametrize("angle_deg", [0.0, 90.0, -90.0, 180.0])
 def test_wind_moment_vanishes_head_on_beam_on_and_astern(angle_deg):
     """(2.84): C_n = a_n sin(2 gamma_r)."""
     largest = 1e-6 * 15.0**2
-    assert abs(wind_moment.yaw_acceleration(15.0, math.radians(angle_deg), 1e-6)) < 1e-15 * largest
+    angle = math.radians(angle_deg)
+    assert abs(wind_moment.yaw_acceleration(15.0, math.cos(angle), math.sin(angle), 1e-6)) < 1e-15 * largest
 
 
 def test_wind_moment_flips_with_the_side_the_wind_comes_from():
-    starboard = wind_moment.yaw_acceleration(15.0, math.radians(40.0), 1e-6)
-    port = wind_moment.yaw_acceleration(15.0, math.radians(-40.0), 1e-6)
-    assert starboard == pytest.approx(-port) and starboard > 0.0
+    angle = math.radians(40.0)
+    starboard = wind_moment.yaw_acceleration(15.0, math.cos(angle), math.sin(angle), 1e-6)
+    port = wind_moment.yaw_acceleration(15.0, math.cos(-angle), math.sin(-angle), 1e-6)
+    assert starboard == pytest.approx(-port) and starboard == pytest.approx(1e-6 * math.sin(2 * angle) * 15.0**2)
 
 
 def test_still_air_does_not_slow_the_ship():
@@ -105,13 +118,13 @@ def test_leeway_balances_the_wind_side_force():
     assert np.all(history[:, S.HEADING] == 0.0)
     leeway = (history[-1, S.EAST] - history[-2, S.EAST]) / 1.0
     speed = model.service_speed
-    apparent_speed, apparent_angle = wind.relative_wind(0.0, speed, 0.0, 15.0, math.radians(90.0))
+    apparent_speed, apparent_angle = _apparent_wind(0.0, speed, 0.0, 15.0, math.radians(90.0))
     lift, drag, ratio = (model.parameter(f"wind_drift.{k}") for k in ("lift_slope", "crossflow_drag", "force_ratio"))
     residual = (lift * speed + drag * abs(leeway)) * leeway + ratio * apparent_speed**2 * math.sin(apparent_angle)
     assert leeway < 0.0  # wind from starboard pushes to port
     assert residual == pytest.approx(0.0, abs=1e-12)
     # At rest the cross-flow drag alone resists: v = -sqrt(c_y / C_D) V_wr.
-    at_rest = wind_drift.leeway(0.0, 10.0, math.pi / 2, ratio, lift, drag)
+    at_rest = wind_drift.leeway(0.0, 10.0, 1.0, ratio, lift, drag)
     assert at_rest == pytest.approx(-math.sqrt(ratio / drag) * 10.0)
 
 

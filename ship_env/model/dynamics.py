@@ -17,6 +17,8 @@ The actual rudder is not integrated here: the steering machine moves it exactly 
 
 from __future__ import annotations
 
+import math
+
 from ship_env.model import state as S
 from ship_env.model.effects import (
     current,
@@ -60,7 +62,9 @@ def derivatives(state, rudder, conditions, white_noise, wave_yaw, p, out):
     sway_velocity = 0.0
     if p["sway_on"]:
         sway_velocity = sway.velocity(speed, normalised_rate, p["sway_linear"], p["sway_cubic"])
-    north_rate, east_rate = kinematics.velocity_over_ground(speed, sway_velocity, heading)
+    cos_heading = math.cos(heading)
+    sin_heading = math.sin(heading)
+    north_rate, east_rate = kinematics.velocity_over_ground(speed, sway_velocity, cos_heading, sin_heading)
     if p["current_on"]:
         current_north, current_east = current.drift(
             state[S.TIME],
@@ -76,26 +80,26 @@ def derivatives(state, rudder, conditions, white_noise, wave_yaw, p, out):
     wind_yaw = 0.0
     wind_loss = 0.0
     if p["wind_moment_on"] or p["wind_drift_on"]:
-        wind_speed, wind_angle = wind.relative_wind(
-            heading, north_rate, east_rate, conditions[S.WIND_SPEED], conditions[S.WIND_DIRECTION]
+        wind_speed, cos_wind, sin_wind = wind.relative_wind(
+            cos_heading, sin_heading, north_rate, east_rate, conditions[S.WIND_SPEED], conditions[S.WIND_DIRECTION]
         )
         if p["gusts_on"]:
             wind_speed = max(wind_speed + state[S.GUST], 0.0)
         if p["wind_moment_on"]:
-            wind_yaw = wind_moment.yaw_acceleration(wind_speed, wind_angle, p["wind_moment_yaw_coefficient"])
+            wind_yaw = wind_moment.yaw_acceleration(wind_speed, cos_wind, sin_wind, p["wind_moment_yaw_coefficient"])
             wind_loss = wind_moment.speed_loss_rate(
-                wind_speed, wind_angle, scheduling_speed, p["wind_moment_surge_coefficient"], length
+                wind_speed, cos_wind, scheduling_speed, p["wind_moment_surge_coefficient"], length
             )
         if p["wind_drift_on"]:
             drift_velocity = wind_drift.leeway(
                 speed,
                 wind_speed,
-                wind_angle,
+                sin_wind,
                 p["wind_drift_force_ratio"],
                 p["wind_drift_lift_slope"],
                 p["wind_drift_crossflow_drag"],
             )
-            drift_north, drift_east = kinematics.velocity_over_ground(0.0, drift_velocity, heading)
+            drift_north, drift_east = kinematics.velocity_over_ground(0.0, drift_velocity, cos_heading, sin_heading)
             north_rate += drift_north
             east_rate += drift_east
 

@@ -23,7 +23,7 @@ from ship_env.model import state as S
 from ship_env.model.dynamics import derivatives
 from ship_env.model.effects import steering_machine, wave_spectrum
 from ship_env.model.kernel import kernel, parallel_kernel
-from ship_env.model.noise import standard_normal
+from ship_env.model.noise import standard_normal_pair
 
 RK4 = 0
 EULER = 1
@@ -74,9 +74,10 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
     white_noise = work[WORK_NOISE]
     white_noise[:] = 0.0
     if p["wave_filter_on"] or p["gusts_on"]:
-        counter = np.uint64(step_index) * np.uint64(S.NOISE_SIZE)
-        for channel in range(S.NOISE_SIZE):
-            white_noise[channel] = standard_normal(noise_key, counter + np.uint64(channel)) / math.sqrt(dt)
+        # One Box-Muller draw gives both channels (S.NOISE_SIZE == 2) of this step.
+        wave_noise, gust_noise = standard_normal_pair(noise_key, np.uint64(step_index))
+        white_noise[S.NOISE_WAVE] = wave_noise / math.sqrt(dt)
+        white_noise[S.NOISE_GUST] = gust_noise / math.sqrt(dt)
     wave_yaw = 0.0
     if p["wave_spectrum_on"]:
         # The sea's yaw excitation is held over the step, evaluated at mid-step.

@@ -47,11 +47,17 @@ def uniform(key, counter):
 
 
 @kernel
+def standard_normal_pair(key, counter):
+    """Two independent standard normal samples for (key, counter), by Box-Muller on two uniforms."""
+    radius = math.sqrt(-2.0 * math.log(uniform(key, np.uint64(2) * counter)))
+    angle = 2.0 * math.pi * uniform(key, np.uint64(2) * counter + np.uint64(1))
+    return radius * math.cos(angle), radius * math.sin(angle)
+
+
+@kernel
 def standard_normal(key, counter):
-    """A standard normal sample for (key, counter), by Box-Muller on two uniforms."""
-    first = uniform(key, np.uint64(2) * counter)
-    second = uniform(key, np.uint64(2) * counter + np.uint64(1))
-    return math.sqrt(-2.0 * math.log(first)) * math.cos(2.0 * math.pi * second)
+    """A standard normal sample for (key, counter): the first of ``standard_normal_pair``."""
+    return standard_normal_pair(key, counter)[0]
 
 
 def keys_from_seeds(seeds: np.ndarray) -> np.ndarray:

@@ -29,6 +29,8 @@ EFFECT = Effect(
 @kernel
 def drift(time, current_speed, current_direction, variation, swing, period):
     """The current's contribution (dx0/dt, dy0/dt) in m/s at ``time``."""
+    if variation == 0.0 and swing == 0.0:
+        return current_speed * math.cos(current_direction), current_speed * math.sin(current_direction)
     phase = math.sin(2.0 * math.pi * time / period)
     speed = current_speed * (1.0 + variation * phase)
     direction = current_direction + swing * phase

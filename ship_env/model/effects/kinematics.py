@@ -9,8 +9,6 @@ x0 points north, y0 east, psi is clockwise from north; v is positive to starboar
 
 from __future__ import annotations
 
-import math
-
 from ship_env.model.declarations import Effect
 from ship_env.model.kernel import kernel
 
@@ -23,10 +21,8 @@ EFFECT = Effect(
 
 
 @kernel
-def velocity_over_ground(speed, sway_velocity, heading):
-    """(dx0/dt, dy0/dt) in m/s from (2.64, 2.65)."""
-    cos_heading = math.cos(heading)
-    sin_heading = math.sin(heading)
+def velocity_over_ground(speed, sway_velocity, cos_heading, sin_heading):
+    """(dx0/dt, dy0/dt) in m/s from (2.64, 2.65), given cos(psi) and sin(psi)."""
     return (
         speed * cos_heading - sway_velocity * sin_heading,
         speed * sin_heading + sway_velocity * cos_heading,

@@ -17,16 +17,18 @@ from ship_env.model.kernel import kernel
 
 
 @kernel
-def wrap_angle(angle):
-    """An angle wrapped to (-pi, pi]."""
-    return math.atan2(math.sin(angle), math.cos(angle))
+def relative_wind(cos_heading, sin_heading, north_velocity, east_velocity, wind_speed, wind_direction):
+    """(V_wr, cos gamma_r, sin gamma_r): apparent wind speed (m/s) and its angle off the bow (2.74).
 
-
-@kernel
-def relative_wind(heading, north_velocity, east_velocity, wind_speed, wind_direction):
-    """(V_wr, gamma_r): apparent wind speed (m/s) and angle off the bow (rad) from (2.74)."""
+    The angle comes as its cosine and sine, the components of the apparent wind's coming-from
+    direction in ship axes (forward, starboard): the wind forces need only these, and no angle has
+    to be wrapped. ``atan2(sin, cos)`` gives gamma_r itself.
+    """
     air_north = -wind_speed * math.cos(wind_direction) - north_velocity
     air_east = -wind_speed * math.sin(wind_direction) - east_velocity
     speed = math.sqrt(air_north * air_north + air_east * air_east)
-    coming_from = math.atan2(-air_east, -air_north)
-    return speed, wrap_angle(coming_from - heading)
+    if speed == 0.0:
+        return 0.0, 1.0, 0.0
+    forward = -(air_north * cos_heading + air_east * sin_heading)
+    starboard = air_north * sin_heading - air_east * cos_heading
+    return speed, forward / speed, starboard / speed

@@ -36,9 +36,12 @@ EFFECT = Effect(
 
 
 @kernel
-def leeway(speed, relative_wind_speed, relative_wind_angle, force_ratio, lift_slope, crossflow_drag):
-    """Leeway velocity v_w in m/s (positive to starboard) from the lateral force balance."""
-    force = -force_ratio * relative_wind_speed * relative_wind_speed * math.sin(relative_wind_angle)
+def leeway(speed, relative_wind_speed, sin_angle, force_ratio, lift_slope, crossflow_drag):
+    """Leeway velocity v_w in m/s (positive to starboard) from the lateral force balance.
+
+    ``sin_angle`` is sin(gamma_r) of the apparent wind (see ``wind.relative_wind``).
+    """
+    force = -force_ratio * relative_wind_speed * relative_wind_speed * sin_angle
     if force == 0.0:
         return 0.0
     linear = lift_slope * max(speed, 0.0)

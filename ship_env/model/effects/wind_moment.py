@@ -23,8 +23,6 @@ speed-loss equation (2.86) is on.
 
 from __future__ import annotations
 
-import math
-
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -40,13 +38,13 @@ EFFECT = Effect(
 
 
 @kernel
-def yaw_acceleration(relative_wind_speed, relative_wind_angle, yaw_coefficient):
-    """Added dr/dt in rad/s^2 from (2.85, 2.87)."""
-    return yaw_coefficient * math.sin(2.0 * relative_wind_angle) * relative_wind_speed * relative_wind_speed
+def yaw_acceleration(relative_wind_speed, cos_angle, sin_angle, yaw_coefficient):
+    """Added dr/dt in rad/s^2 from (2.85, 2.87); sin(2 gamma_r) = 2 sin(gamma_r) cos(gamma_r)."""
+    return yaw_coefficient * 2.0 * sin_angle * cos_angle * relative_wind_speed * relative_wind_speed
 
 
 @kernel
-def speed_loss_rate(relative_wind_speed, relative_wind_angle, speed, surge_coefficient, length):
+def speed_loss_rate(relative_wind_speed, cos_angle, speed, surge_coefficient, length):
     """Added du*/dt in 1/s from (2.86, 2.88), beyond the still-air resistance in U0."""
-    added = math.cos(relative_wind_angle) * relative_wind_speed * relative_wind_speed - speed * speed
+    added = cos_angle * relative_wind_speed * relative_wind_speed - speed * speed
     return surge_coefficient * length / speed * added

@@ -1,0 +1,577 @@
+"""Fit the De Keizer / Van Leeuwen coefficients of the KVLCC2 preset to shipmmg's MMG model.
+
+Reference: shipmmg 0.0.11 (``shipmmg.mmg_3dof.simulate_mmg_3dof``) with the KVLCC2 parameters of
+Yasukawa & Yoshimura (2015), "Introduction of MMG standard method for ship maneuvering
+predictions", J Mar Sci Technol 20:37-52, Tables 1-3, as shipmmg's own tests use them
+(model L_pp = 7.00 m). The model-scale particulars are Froude-scaled to the full-scale ship
+(lambda = 320 / 7 = 45.714: lengths x lambda, areas x lambda^2, displacement x lambda^3,
+propeller rate / sqrt(lambda)); the MMG equations have no Reynolds-dependent term, so the
+full-scale run is the model-scale run with time and speed scaled by sqrt(lambda).
+
+Manoeuvres, as in SIMMAN 2008/2020 (simman2020.kr, case 1.2): starting at 15.5 kn with the
+propeller at the constant rate that holds 15.5 kn on a straight course, rudder rate 2.32 deg/s:
+35 deg turning circles to starboard and to port (SIMMAN's case 1.2.3) and 10/10 and 20/20
+zig-zags starting to starboard.
+
+shipmmg is stepped closed loop, one ``simulate_mmg_3dof`` call per step (the rudder moves
+linearly over the step, which a two-point natural spline reproduces exactly), and the rudder it
+actually had is replayed into our ``Simulator`` as the order. ``scipy.optimize.least_squares``
+fits K*, tau*, alpha2, the Norrbin cubic alpha3, K_u*, tau_u*, beta3 and gamma1* (alpha1 = 1,
+alpha0 = 0) to heading, rate of turn, speed and drift angle in two stages: first 120-s prediction
+segments started from the MMG state (multiple shooting: robust against the heading error that an
+open-loop replay piles up), then the whole runs replayed (output error), from the first stage's
+result. ``--slipstream`` also fits the propeller-slipstream coefficient, with the propeller held
+at the service rate as in the MMG runs.
+
+Run:  python benchmarks/fit_kvlcc2.py [--dt 0.5] [--quick] [--slipstream]
+"""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import math
+import sys
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ship_env.model import EFFECTS, Conditions, ShipModel, Simulator
+from ship_env.model import state as S
+from ship_env.model.ship import Ship
+
+KNOT = 1852.0 / 3600.0
+MODEL_LENGTH = 7.00  # m, the MMG model of Yasukawa & Yoshimura (2015)
+LENGTH = 320.0  # m, KVLCC2 L_pp full scale
+SCALE = LENGTH / MODEL_LENGTH  # 45.714, SIMMAN's scale
+RHO = 1025.0  # kg/m^3, sea water, used for both the masses and the forces
+SERVICE_SPEED = 15.5 * KNOT  # m/s, SIMMAN approach speed (Fn = 0.142)
+RUDDER_RATE = math.radians(2.32)  # rad/s, SIMMAN full-scale rudder rate
+RUDDER_LIMIT = math.radians(35.0)
+PROPELLER_DIAMETER = 0.216 * SCALE  # m, 9.87 m
+
+#: The effects of the fitted model: the minimal model plus Norrbin, speed loss and sway.
+FIT_EFFECTS = ("yaw", "norrbin", "speed_loss", "sway", "steering_machine", "kinematics")
+
+#: Fitted parameters: (key, start, lower bound, upper bound).
+FIT_PARAMETERS = (
+    ("yaw.gain", 1.5, 0.05, 10.0),
+    ("yaw.time_constant", 2.0, 0.05, 30.0),
+    ("yaw.quadratic", 0.0, -5.0, 5.0),
+    ("norrbin.cubic", 0.5, 0.0, 100.0),
+    ("speed_loss.gain", 0.7, 0.0, 50.0),
+    ("speed_loss.time_constant", 3.0, 0.05, 200.0),
+    ("speed_loss.cubic", 0.5, 0.0, 500.0),
+    ("sway.linear", 0.37, -1.0, 3.0),
+)
+SLIPSTREAM_PARAMETER = ("propeller_slipstream.coefficient", 0.02, 0.0, 3.0)
+
+#: Values of the model's parameters that are not fitted (and the defaults of those that are).
+DEFAULT_VALUES = {
+    "yaw.linear": 1.0,
+    "steering_machine.rudder_rate": RUDDER_RATE,
+    "propeller_slipstream.propeller_diameter": PROPELLER_DIAMETER,
+    **{key: start for key, start, _, _ in (*FIT_PARAMETERS, SLIPSTREAM_PARAMETER)},
+}
+
+#: Prediction horizon of the first (multiple-shooting) stage, s.
+HORIZON = 120.0
+
+#: Residual scales: an error of this size in a channel costs as much as in any other.
+SCALES = {"heading": 2.0, "rate_of_turn": 0.05, "speed": 0.1, "drift": 0.5}  # deg, deg/s, m/s, deg
+
+#: Normalised residual given to each sample after a trial left the model's validity (u* > 1).
+FAILED_RESIDUAL = 20.0
+
+
+@dataclass(frozen=True)
+class Manoeuvre:
+    """A standard manoeuvre: a turning circle (``deviation`` None) or a zig-zag."""
+
+    name: str
+    rudder: float  # deg, positive to starboard (a zig-zag starts with it)
+    deviation: float | None  # deg, zig-zag heading deviation that reverses the rudder
+    duration: float  # s
+
+
+MANOEUVRES = (
+    Manoeuvre("turning_35", 35.0, None, 900.0),
+    Manoeuvre("turning_35_port", -35.0, None, 900.0),
+    Manoeuvre("zigzag_10_10", 10.0, 10.0, 1300.0),
+    Manoeuvre("zigzag_20_20", 20.0, 20.0, 1000.0),
+)
+
+
+# -- shipmmg's KVLCC2 --------------------------------------------------------------------------
+def kvlcc2_mmg(scale: float = SCALE, rho: float = RHO):
+    """shipmmg parameter objects for KVLCC2, Froude-scaled from the 7 m model by ``scale``.
+
+    Model-scale values: Yasukawa & Yoshimura (2015) Tables 1-3, as in shipmmg's tests
+    (``tests/test_mmg_3dof.py``, fixture ``ship_KVLCC2_L7_model``), with x_R' = -0.5. Unlike that
+    fixture (which builds the masses with rho = 1.025 while ``simulate`` integrates the forces
+    with rho = 1025), masses and forces here use the same density.
+    """
+    from shipmmg.mmg_3dof import Mmg3DofBasicParams, Mmg3DofManeuveringParams
+
+    length = MODEL_LENGTH * scale
+    draught = 0.46 * scale
+    propeller_diameter = 0.216 * scale
+    rudder_height = 0.345 * scale
+    mass = rho * 3.27 * scale**3
+    reference = 0.5 * rho * length**2 * draught
+    basic = Mmg3DofBasicParams(
+        L_pp=length,
+        B=1.27 * scale,
+        d=draught,
+        x_G=0.25 * scale,
+        D_p=propeller_diameter,
+        m=mass,
+        I_zG=mass * (0.25 * length) ** 2,
+        A_R=0.0539 * scale**2,
+        η=propeller_diameter / rudder_height,
+        m_x=0.022 * reference,
+        m_y=0.223 * reference,
+        J_z=0.011 * reference * length**2,
+        f_α=2.747,
+        ϵ=1.09,
+        t_R=0.387,
+        x_R=-0.500 * length,
+        a_H=0.312,
+        x_H=-0.464 * length,
+        γ_R_minus=0.395,
+        γ_R_plus=0.640,
+        l_R=-0.710,
+        κ=0.50,
+        t_P=0.220,
+        w_P0=0.40,
+        x_P=-0.690,
+    )
+    maneuvering = Mmg3DofManeuveringParams(
+        k_0=0.2931,
+        k_1=-0.2753,
+        k_2=-0.1385,
+        R_0_dash=0.022,
+        X_vv_dash=-0.040,
+        X_vr_dash=0.002,
+        X_rr_dash=0.011,
+        X_vvvv_dash=0.771,
+        Y_v_dash=-0.315,
+        Y_r_dash=0.083,
+        Y_vvv_dash=-1.607,
+        Y_vvr_dash=0.379,
+        Y_vrr_dash=-0.391,
+        Y_rrr_dash=0.008,
+        N_v_dash=-0.137,
+        N_r_dash=-0.049,
+        N_vvv_dash=-0.030,
+        N_vvr_dash=-0.294,
+        N_vrr_dash=0.055,
+        N_rrr_dash=-0.013,
+    )
+    return basic, maneuvering
+
+
+def equilibrium_propeller_rate(basic, maneuvering, speed: float, rho: float = RHO) -> float:
+    """The propeller rate (rps) at which X_H + X_P = 0 on a straight course at ``speed``."""
+    from scipy.optimize import brentq
+    from shipmmg.mmg_3dof import get_sub_values_from_simulation_result
+
+    def surge_force(rate: float) -> float:
+        x_h, x_r, x_p, *_ = get_sub_values_from_simulation_result(
+            [speed], [0.0], [0.0], [0.0], [rate], basic, maneuvering, ρ=rho
+        )
+        return x_h[0] + x_r[0] + x_p[0]
+
+    return float(brentq(surge_force, 1e-3, 100.0))
+
+
+@functools.lru_cache(maxsize=None)
+def service_propeller_rate(scale: float = SCALE) -> float:
+    """The full-scale propeller rate (rps) that holds KVLCC2 at 15.5 kn (SIMMAN's condition)."""
+    basic, maneuvering = kvlcc2_mmg(scale)
+    return equilibrium_propeller_rate(basic, maneuvering, SERVICE_SPEED * math.sqrt(scale / SCALE))
+
+
+class MmgShip:
+    """shipmmg's MMG ship stepped one call per step, as a closed-loop environment must.
+
+    Each ``step`` integrates ``simulate_mmg_3dof`` over [t, t + dt]; the rudder moves from its
+    present angle towards the order at most ``rudder_rate`` * dt, linearly over the step.
+    """
+
+    def __init__(self, dt: float = 0.5, scale: float = SCALE, rudder_rate: float = RUDDER_RATE, **options):
+        from shipmmg.mmg_3dof import simulate_mmg_3dof
+
+        self._simulate = simulate_mmg_3dof
+        self.basic, self.maneuvering = kvlcc2_mmg(scale)
+        self.speed = SERVICE_SPEED * math.sqrt(scale / SCALE)
+        self.propeller_rate = service_propeller_rate(scale)
+        self.dt = float(dt)
+        self.rudder_rate = rudder_rate
+        self.options = options
+        self.reset()
+
+    def reset(self) -> None:
+        self.time = 0.0
+        self.state = np.array([self.speed, 0.0, 0.0, 0.0, 0.0, 0.0])  # u, v, r, x, y, psi
+        self.rudder = 0.0
+
+    def step(self, order: float) -> None:
+        order = min(max(order, -RUDDER_LIMIT), RUDDER_LIMIT)
+        largest = self.rudder_rate * self.dt
+        rudder = self.rudder + min(max(order - self.rudder, -largest), largest)
+        u, v, r, x, y, psi = self.state
+        solution = self._simulate(
+            self.basic,
+            self.maneuvering,
+            [self.time, self.time + self.dt],
+            [self.rudder, rudder],
+            [self.propeller_rate, self.propeller_rate],
+            u0=u,
+            v0=v,
+            r0=r,
+            x0=x,
+            y0=y,
+            ψ0=psi,
+            ρ=RHO,
+            **self.options,
+        )
+        self.state = np.array(solution.y[:6, -1])
+        self.rudder = rudder
+        self.time += self.dt
+
+
+# -- manoeuvres ----------------------------------------------------------------------------------
+def next_order(manoeuvre: Manoeuvre, heading: float, order: float | None) -> float:
+    """The rudder order after a step: hold, or reverse at the zig-zag's heading deviation."""
+    rudder = math.radians(manoeuvre.rudder)
+    if order is None:
+        return rudder
+    if manoeuvre.deviation is None:
+        return order
+    deviation = math.radians(manoeuvre.deviation)
+    if order > 0.0 and heading >= deviation:
+        return -rudder
+    if order < 0.0 and heading <= -deviation:
+        return rudder
+    return order
+
+
+def _channels(record: np.ndarray) -> dict[str, np.ndarray]:
+    return {
+        "time": record[:, 0],
+        "heading": np.degrees(record[:, 1]),
+        "rate_of_turn": np.degrees(record[:, 2]),
+        "speed": record[:, 3],
+        "drift": np.degrees(record[:, 4]),
+        "north": record[:, 5],
+        "east": record[:, 6],
+        "rudder": record[:, 7],
+    }
+
+
+def run_mmg(manoeuvre: Manoeuvre, dt: float) -> dict[str, np.ndarray]:
+    """shipmmg's KVLCC2 through a manoeuvre, closed loop; channels sampled after each step."""
+    ship = MmgShip(dt=dt, rtol=1e-6, atol=1e-9)
+    steps = int(round(manoeuvre.duration / dt))
+    record = np.zeros((steps, 8))
+    order = next_order(manoeuvre, 0.0, None)
+    for k in range(steps):
+        ship.step(order)
+        u, v, r, x, y, psi = ship.state
+        record[k] = (ship.time, psi, r, u, math.atan2(-v, u), x, y, ship.rudder)
+        order = next_order(manoeuvre, psi, order)
+    return _channels(record)
+
+
+# -- our model -----------------------------------------------------------------------------------
+def kvlcc2_ship(values: dict[str, float] | None = None, slipstream: bool = False) -> Ship:
+    """A ``Ship`` with KVLCC2's principal particulars (independent of the YAML being fitted)."""
+    chosen = {**DEFAULT_VALUES, **(values or {})}
+    effects = fit_effects(slipstream)
+    effect_values = {
+        effect: {
+            parameter.name: float(chosen.get(f"{effect}.{parameter.name}", 0.0))
+            for parameter in EFFECTS[effect].parameters
+        }
+        for effect in effects
+    }
+    return Ship(
+        name="kvlcc2_fit",
+        description="KVLCC2 for fitting",
+        principal={
+            "length": LENGTH,
+            "breadth": 58.0,
+            "draught": 20.8,
+            "service_speed": SERVICE_SPEED,
+            "rudder_limit": RUDDER_LIMIT,
+            "minimum_speed": 0.5,
+        },
+        values=effect_values,
+        enabled=effects,
+    )
+
+
+def fit_effects(slipstream: bool) -> tuple[str, ...]:
+    return FIT_EFFECTS + (("propeller_slipstream",) if slipstream else ())
+
+
+def fit_parameters(slipstream: bool):
+    return FIT_PARAMETERS + ((SLIPSTREAM_PARAMETER,) if slipstream else ())
+
+
+def ours_conditions() -> Conditions:
+    """Calm water, the propeller at the service rate (used only by the slipstream effect)."""
+    return Conditions(propeller_rate=service_propeller_rate())
+
+
+def run_ours(values: dict[str, float], manoeuvre: Manoeuvre, dt: float, slipstream: bool = False):
+    """Our model through a manoeuvre, closed loop; None where it left the model's validity."""
+    sim = Simulator(ShipModel(kvlcc2_ship(values, slipstream), fit_effects(slipstream)), dt=dt)
+    sim.reset(seed=0, conditions=ours_conditions())
+    steps = int(round(manoeuvre.duration / dt))
+    record = np.zeros((steps, 8))
+    state = sim.state[0]
+    order = next_order(manoeuvre, 0.0, None)
+    try:
+        for k in range(steps):
+            sim.step(order)
+            speed = float(sim.speed[0])
+            sway = float(sim.sway_velocity[0])
+            record[k] = (state[0], state[3], state[4], speed, math.atan2(-sway, speed), state[1], state[2], state[6])
+            order = next_order(manoeuvre, state[3], order)
+    except FloatingPointError:
+        return None
+    return _channels(record)
+
+
+# -- fitting -------------------------------------------------------------------------------------
+def segments(references, dt: float, horizon: float | None):
+    """Cut the references into prediction segments of ``horizon`` seconds (multiple shooting).
+
+    ``horizon`` None gives one segment per manoeuvre: the whole run replayed (output error).
+    Each segment starts from the MMG state at its first instant (heading, rate of turn, speed,
+    rudder) and replays the MMG rudder. Returns the start states (segments, 4), the orders
+    (segments, steps), the reference channels (segments, steps; NaN past a short segment's end)
+    and each sample's weight (each manoeuvre counts alike).
+    """
+    pieces = []
+    for _, reference in references:
+        count = len(reference["time"])
+        length = count if horizon is None else min(count, int(round(horizon / dt)))
+        firsts = range(0, count - length + 1, length)
+        for k in firsts:
+            if k == 0:
+                start = (0.0, 0.0, SERVICE_SPEED, 0.0)
+            else:
+                start = (
+                    math.radians(reference["heading"][k - 1]),
+                    math.radians(reference["rate_of_turn"][k - 1]),
+                    reference["speed"][k - 1],
+                    reference["rudder"][k - 1],
+                )
+            pieces.append((start, k, length, reference, 1.0 / math.sqrt(len(firsts) * length)))
+    steps = max(length for _, _, length, _, _ in pieces)
+    starts = np.array([start for start, *_ in pieces])
+    orders = np.zeros((len(pieces), steps))
+    targets = {c: np.full((len(pieces), steps), np.nan) for c in SCALES}
+    weights = np.zeros((len(pieces), 1))
+    for i, (_, k, length, reference, weight) in enumerate(pieces):
+        orders[i, :length] = reference["rudder"][k : k + length]
+        orders[i, length:] = reference["rudder"][k + length - 1]
+        for channel in SCALES:
+            targets[channel][i, :length] = reference[channel][k : k + length]
+        weights[i] = weight
+    return starts, orders, targets, weights
+
+
+def predict(values: dict[str, float], starts: np.ndarray, orders: np.ndarray, dt: float, slipstream: bool = False):
+    """Our model from each start state through its orders, all segments as one batch.
+
+    Returns the channels (segments, steps) and, per segment, the step at which it left the
+    model's validity (u* > 1; ``steps`` where it never did). A ship that leaves is held there.
+    """
+    model = ShipModel(kvlcc2_ship(values, slipstream), fit_effects(slipstream))
+    count, steps = orders.shape
+    sim = Simulator(model, num_ships=count, dt=dt)
+    sim.reset(
+        seed=0, conditions=ours_conditions(), heading=starts[:, 0], rate_of_turn=starts[:, 1], rudder=starts[:, 3]
+    )
+    sim.state[:, S.SPEED_LOSS] = 1.0 - starts[:, 2] / SERVICE_SPEED
+    out = {c: np.zeros((count, steps)) for c in (*SCALES, "north", "east")}
+    failed_at = np.full(count, steps)
+    gamma1 = model.parameter("sway.linear")
+    for j in range(steps):
+        before = sim.state.copy()
+        try:
+            sim.step(np.ascontiguousarray(orders[:, j]))
+        except FloatingPointError:
+            bad = ~np.all(np.isfinite(sim.state), axis=1) | (sim.state[:, S.SPEED_LOSS] >= 1.0)
+            failed_at[bad] = np.minimum(failed_at[bad], j)
+            sim.state[bad] = before[bad]
+        speed = sim.speed
+        normalised_rate = LENGTH * sim.rate_of_turn / np.maximum(speed, 0.5)
+        out["heading"][:, j] = np.degrees(sim.heading)
+        out["rate_of_turn"][:, j] = np.degrees(sim.rate_of_turn)
+        out["speed"][:, j] = speed
+        out["drift"][:, j] = np.degrees(np.arctan(gamma1 * normalised_rate))  # beta = atan(-v/u), v = -u gamma1 r*
+        out["north"][:, j] = sim.position[:, 0]
+        out["east"][:, j] = sim.position[:, 1]
+    return out, failed_at
+
+
+def residuals(vector, keys, starts, orders, targets, weights, dt: float, slipstream: bool) -> np.ndarray:
+    values = dict(zip(keys, (float(v) for v in vector)))
+    ours, failed_at = predict(values, starts, orders, dt, slipstream)
+    failed = np.arange(orders.shape[1])[None, :] >= failed_at[:, None]
+    parts = []
+    for channel, scale in SCALES.items():
+        error = (ours[channel] - targets[channel]) / scale
+        error[failed] = FAILED_RESIDUAL
+        error[np.isnan(targets[channel])] = 0.0
+        parts.append((weights * error).ravel())
+    return np.concatenate(parts)
+
+
+def segment_errors(values, references, dt: float, horizon: float | None, slipstream: bool):
+    """Per manoeuvre: RMS error of each channel over ``horizon``-s predictions, and validity."""
+    result = []
+    for manoeuvre, reference in references:
+        starts, orders, targets, _ = segments([(manoeuvre, reference)], dt, horizon)
+        ours, failed_at = predict(values, starts, orders, dt, slipstream)
+        errors = {c: float(np.sqrt(np.nanmean((ours[c] - targets[c]) ** 2))) for c in SCALES}
+        errors["valid"] = bool(np.all(failed_at == orders.shape[1]))
+        result.append(errors)
+    return result
+
+
+def fit(dt: float = 0.5, manoeuvres=MANOEUVRES, slipstream: bool = False, horizon: float = HORIZON, verbose: bool = True):
+    """Generate the MMG references and fit our coefficients; returns (values, references)."""
+    from scipy.optimize import least_squares
+
+    started = time.perf_counter()
+    references = [(m, run_mmg(m, dt)) for m in manoeuvres]
+    if verbose:
+        steps = sum(len(r["time"]) for _, r in references)
+        print(f"shipmmg references: {steps} closed-loop steps in {time.perf_counter() - started:.1f} s")
+    parameters = fit_parameters(slipstream)
+    keys = [p[0] for p in parameters]
+    vector = np.array([p[1] for p in parameters])
+    bounds = (np.array([p[2] for p in parameters]), np.array([p[3] for p in parameters]))
+    for stage, stage_horizon in (("prediction segments", horizon), ("whole runs", None)):
+        started = time.perf_counter()
+        data = segments(references, dt, stage_horizon)
+        result = least_squares(residuals, vector, bounds=bounds, args=(keys, *data, dt, slipstream), x_scale="jac")
+        vector = result.x
+        if verbose:
+            label = f"{stage} ({stage_horizon:.0f} s)" if stage_horizon else stage
+            print(f"least_squares on {label}: {result.nfev} evaluations, {time.perf_counter() - started:.1f} s, "
+                  f"cost {result.cost:.4g}")
+    return dict(zip(keys, (float(v) for v in vector))), references
+
+
+def rms(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.sqrt(np.mean((a - b) ** 2)))
+
+
+def overshoots(channels: dict[str, np.ndarray], manoeuvre: Manoeuvre, count: int = 2) -> list[float]:
+    """Zig-zag overshoot angles (deg): the heading's excursions beyond the deviation, in order."""
+    heading = channels["heading"]
+    rudder = channels["rudder"]
+    negative = rudder < 0.0
+    # Segments of one rudder sign after the first reversal; the heading peaks within each.
+    edges = np.flatnonzero(negative[1:] != negative[:-1]) + 1
+    result = []
+    for start, stop in zip(edges, list(edges[1:]) + [len(heading)]):
+        segment = heading[start:stop]
+        extreme = segment.max() if negative[start] else -segment.min()
+        result.append(float(extreme - manoeuvre.deviation))
+    return result[:count]
+
+
+def turning_figures(channels: dict[str, np.ndarray]) -> tuple[float, float]:
+    """(advance, tactical diameter) in ship lengths from a turning circle (NaN if not reached)."""
+    heading = np.abs(channels["heading"])
+    figures = []
+    for angle, axis in ((90.0, "north"), (180.0, "east")):
+        reached = np.flatnonzero(heading >= angle)
+        figures.append(abs(channels[axis][reached[0]]) / LENGTH if reached.size else math.nan)
+    return figures[0], figures[1]
+
+
+def validity_check(values, dt: float, slipstream: bool) -> list[str]:
+    """Hard-over turns both ways and long zig-zags: does the fitted model stay valid (u* < 1)?"""
+    lines = []
+    for manoeuvre in (
+        Manoeuvre("turning_35_starboard_1h", 35.0, None, 3600.0),
+        Manoeuvre("turning_35_port_1h", -35.0, None, 3600.0),
+        Manoeuvre("zigzag_35_35_1h", 35.0, 35.0, 3600.0),
+    ):
+        run = run_ours(values, manoeuvre, dt, slipstream)
+        if run is None:
+            lines.append(f"{manoeuvre.name}: INVALID (u* > 1)")
+        else:
+            lowest = run["speed"].min()
+            lines.append(f"{manoeuvre.name}: valid, lowest speed {lowest:.2f} m/s ({lowest / SERVICE_SPEED:.0%} of U0)")
+    return lines
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--dt", type=float, default=0.5, help="step for both models, s (default 0.5)")
+    parser.add_argument("--quick", action="store_true", help="only the first 300 s of each manoeuvre")
+    parser.add_argument("--slipstream", action="store_true", help="also fit the propeller-slipstream coefficient")
+    args = parser.parse_args(argv)
+    try:
+        import shipmmg  # noqa: F401
+    except ImportError:
+        print('shipmmg is not installed; install it with: pip install -e ".[bench]"')
+        return 1
+    manoeuvres = MANOEUVRES
+    if args.quick:
+        manoeuvres = tuple(Manoeuvre(m.name, m.rudder, m.deviation, min(m.duration, 300.0)) for m in MANOEUVRES)
+    print("command: python " + " ".join([sys.argv[0] if argv is None else "benchmarks/fit_kvlcc2.py",
+                                         *(sys.argv[1:] if argv is None else argv)]))
+    mmg = MmgShip(dt=args.dt)
+    print(f"KVLCC2 full scale (lambda = {SCALE:.3f}): L_pp {mmg.basic.L_pp:.1f} m, B {mmg.basic.B:.2f} m, "
+          f"d {mmg.basic.d:.2f} m, U0 {mmg.speed:.3f} m/s, propeller {mmg.propeller_rate * 60:.2f} rpm "
+          f"(equilibrium at U0), rudder rate {math.degrees(RUDDER_RATE):.2f} deg/s, dt {args.dt} s")
+    values, references = fit(args.dt, manoeuvres, args.slipstream)
+    print("\nfitted values (yaw.linear = 1, yaw.asymmetry = 0, sway.cubic = 0 held):")
+    for key, value in values.items():
+        print(f"  {key:34s} {value:.4g}")
+
+    whole = segment_errors(values, references, args.dt, None, args.slipstream)
+    short = segment_errors(values, references, args.dt, HORIZON, args.slipstream)
+    print("\nRMS error of our model against shipmmg (replaying shipmmg's rudder):")
+    print(f"  {'manoeuvre':14s} {'heading deg':>11s} {'r deg/s':>8s} {'u m/s':>6s} {'drift deg':>9s} "
+          f"{'heading deg, 120-s predictions':>31s}")
+    for (manoeuvre, _), run, pieces in zip(references, whole, short):
+        flag = "" if run["valid"] else "  INVALID (u* > 1)"
+        print(f"  {manoeuvre.name:14s} {run['heading']:11.2f} {run['rate_of_turn']:8.4f} {run['speed']:6.3f} "
+              f"{run['drift']:9.2f} {pieces['heading']:31.2f}{flag}")
+
+    print("\nclosed-loop checks (shipmmg | ours):")
+    for manoeuvre, reference in references:
+        ours = run_ours(values, manoeuvre, args.dt, args.slipstream)
+        if ours is None:
+            print(f"  {manoeuvre.name}: ours left the model's validity")
+            continue
+        heading_rms = rms(ours["heading"], reference["heading"])
+        if manoeuvre.deviation is None:
+            a, b = turning_figures(reference), turning_figures(ours)
+            print(f"  {manoeuvre.name}: advance {a[0]:.2f} | {b[0]:.2f} L, tactical diameter {a[1]:.2f} | {b[1]:.2f} L, "
+                  f"steady speed {reference['speed'][-1]:.2f} | {ours['speed'][-1]:.2f} m/s")
+        else:
+            a, b = overshoots(reference, manoeuvre), overshoots(ours, manoeuvre)
+            print(f"  {manoeuvre.name}: overshoots {', '.join(f'{v:.1f}' for v in a)} | "
+                  f"{', '.join(f'{v:.1f}' for v in b)} deg, RMS heading difference {heading_rms:.2f} deg")
+    print("\nvalidity of the fitted model:")
+    for line in validity_check(values, args.dt, args.slipstream):
+        print("  " + line)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

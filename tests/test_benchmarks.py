@@ -1,0 +1,48 @@
+"""The benchmark script runs end to end with tiny counts, so that it cannot rot."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_simulator.py"
+
+
+def _load():
+    spec = importlib.util.spec_from_file_location("bench_simulator", BENCH)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules.setdefault("bench_simulator", module)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_benchmark_functions_run_with_tiny_counts(monkeypatch):
+    bench = _load()
+    results = bench.run(
+        sizes=(1, 8),
+        single_steps=40,
+        batch_budget=32,
+        repeats=1,
+        mmg_steps=2,
+        profile_ships=8,
+    )
+    for name in ("full", "minimal"):
+        assert results["single"][name]["median"] > 0.0
+        assert set(results["batch"][name]) == {"1", "8"}
+        assert all(r["median"] > 0.0 for r in results["batch"][name].values())
+    assert [row["variant"] for row in results["profile"]["rows"]] == [v[0] for v in bench.PROFILE_VARIANTS]
+    assert [v["what"] for v in results["targets"]] == ["single ship, full model", "single ship, minimal model"]
+    if results["shipmmg"] is not None:
+        assert results["shipmmg"]["median"] > 0.0
+        assert results["ratio_ours_to_shipmmg"]["full"] > 0.0
+    report = bench.format_report(results, "python benchmarks/bench_simulator.py --tiny")
+    assert "single ship, Simulator.step(float)" in report and "targets" in report
+    json.dumps(results)  # the --json output is plain JSON
+
+    # Without shipmmg the comparison is skipped, saying how to install it.
+    monkeypatch.setattr(bench, "shipmmg_rate", lambda *args, **kwargs: None)
+    results = bench.run(sizes=(2,), single_steps=10, batch_budget=8, repeats=1, with_profile=False)
+    assert results["shipmmg"] is None
+    assert 'pip install -e ".[bench]"' in bench.format_report(results, "cmd")

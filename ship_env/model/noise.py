@@ -75,9 +75,10 @@ def _keys(seeds):
 
 
 @kernel
-def uniforms(key, domain, count):
-    """``count`` uniform samples from a ship's key in a counter domain (used at reset)."""
-    out = np.empty(count)
-    for i in range(count):
-        out[i] = uniform(key, domain + np.uint64(i))
+def uniform_table(keys, domain, count):
+    """(len(keys), count) uniform samples, row i from ship i's key in a counter domain (at reset)."""
+    out = np.empty((keys.shape[0], count))
+    for i in range(keys.shape[0]):
+        for j in range(count):
+            out[i, j] = uniform(keys[i], domain + np.uint64(j))
     return out

@@ -162,9 +162,13 @@ class Simulator:
         )
         if rate_of_turn is not None:
             self.state[rows, S.RATE_OF_TURN] = self._per_ship_value("rate_of_turn", rate_of_turn, count)
-        for row, c in zip(rows, per_ship) if self._wave_count else ():
-            uniforms = noise.uniforms(self.noise_keys[row], noise.WAVE_DOMAIN, 2 * self._wave_count)
-            self.waves[row] = wave_spectrum.components(c.wave_height, c.wave_period, uniforms.reshape(2, -1))
+        if self._wave_count:
+            uniforms = noise.uniform_table(self.noise_keys[rows], noise.WAVE_DOMAIN, 2 * self._wave_count)
+            self.waves[rows] = wave_spectrum.components(
+                [c.wave_height for c in per_ship],
+                [c.wave_period for c in per_ship],
+                uniforms.reshape(count, 2, self._wave_count),
+            )
 
     def _rows(self, ships: Sequence[int] | np.ndarray) -> np.ndarray:
         rows = np.asarray(ships)

@@ -51,28 +51,30 @@ def spectral_density(frequency: np.ndarray, significant_height: float, peak_peri
     return a * frequency**-5.0 * np.exp(-b * frequency**-4.0)
 
 
-def components(significant_height: float, peak_period: float, uniforms: np.ndarray) -> np.ndarray:
-    """Regular wave components of a Pierson-Moskowitz sea, one per pair of uniform samples.
+def components(significant_height, peak_period, uniforms: np.ndarray) -> np.ndarray:
+    """Regular wave components of Pierson-Moskowitz seas, one per pair of uniform samples.
 
     Frequencies lie in equal bands from 0.6 to 3 times the peak frequency, each placed at random
-    within its band (so the sum does not repeat itself), with random phases.
+    within its band (so the sum does not repeat itself), with random phases. Works for one sea or
+    for a batch of seas at once (leading dimensions broadcast).
 
     Args:
-        significant_height: H_s, m.
-        peak_period: T_p, s.
-        uniforms: (2, count) samples in (0, 1): the places in the bands and the phases.
+        significant_height: H_s, m (a number, or an array of the batch's shape).
+        peak_period: T_p, s (likewise).
+        uniforms: (..., 2, count) samples in (0, 1): the places in the bands and the phases.
 
     Returns:
-        array of shape (3, count): rows frequency (rad/s), amplitude (m), phase (rad).
+        array of shape (..., 3, count): frequency (rad/s), amplitude (m), phase (rad).
     """
-    count = uniforms.shape[1]
-    peak_frequency = 2.0 * math.pi / peak_period
-    edges = np.linspace(0.6 * peak_frequency, 3.0 * peak_frequency, count + 1)
-    band = edges[1] - edges[0]
-    frequency = edges[:-1] + band * uniforms[0]
-    amplitude = np.sqrt(2.0 * spectral_density(frequency, significant_height, peak_period) * band)
-    phase = 2.0 * math.pi * uniforms[1]
-    return np.stack([frequency, amplitude, phase])
+    count = uniforms.shape[-1]
+    height = np.asarray(significant_height, dtype=float)[..., np.newaxis]
+    period = np.asarray(peak_period, dtype=float)[..., np.newaxis]
+    peak_frequency = 2.0 * math.pi / period
+    band = 2.4 * peak_frequency / count
+    frequency = 0.6 * peak_frequency + band * (np.arange(count) + uniforms[..., 0, :])
+    amplitude = np.sqrt(2.0 * spectral_density(frequency, height, period) * band)
+    phase = 2.0 * math.pi * uniforms[..., 1, :]
+    return np.stack([frequency, amplitude, phase], axis=-2)
 
 
 @kernel

@@ -10,8 +10,9 @@
 - :mod:`baselines.track_predictor`, :mod:`baselines.track_scaling`: the adaptive track predictor
   (ch. 3, 5.6); :mod:`baselines.track_plot` draws it;
 - :mod:`baselines.course_changer`: the predictor-based course changer for TrackFollow-v0;
-- :mod:`baselines.identification`, :mod:`baselines.instruments`: the preliminary identification
-  trial and instruments on a bare simulator;
+- :mod:`baselines.identification`: on-line identification of the steering dynamics (the
+  preliminary zig-zag trial; Perera's, Nguyen's, Song's and Passenier's estimators and their
+  comparison); :mod:`baselines.instruments`: instruments on a bare simulator;
 - :mod:`baselines.presys`: the configurations ready for an environment;
 - :mod:`baselines.filter_health`: the filters' guard against bad input and divergence.
 """

@@ -9,7 +9,7 @@ rudder limit) and returns a controller for the leaderboard's loop::
 Prior knowledge: the course-change builders start from the ship preset's K*, tau* (for the
 container ship the thesis's identified values, 6.4.4.1); the track follower identifies the ship
 first with a zig-zag on its model, as the thesis did before its experiment
-(:mod:`baselines.identification`). The actions are continuous (``action_type="continuous"``).
+(:mod:`baselines.identification.zigzag_trial`). The actions are continuous (``action_type="continuous"``).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import math
 from baselines.adaptive_autopilot import IndirectAdaptiveAutopilot
 from baselines.controller import AutopilotController
 from baselines.course_changer import CourseChangerSettings, PredictiveCourseChanger, TrackFollowController
-from baselines.identification import identify_by_zigzag
+from baselines.identification.zigzag_trial import identify_by_zigzag
 from baselines.mrac import ModelReferenceAutopilot
 from baselines.nomoto import NomotoParameters
 from baselines.pd_autopilot import PDAutopilot, PDDesign

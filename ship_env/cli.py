@@ -1,9 +1,10 @@
 """The ``ship-env`` command line.
 
-Each task is a subcommand (``ship-env manoeuvre``; ``train``, ``leaderboard`` and ``fit`` join the
-same way): a function adds its parser and names its handler, and :func:`main` dispatches. Invalid
-arguments end with a message naming the argument and exit status 2, as argparse's own errors do;
-a simulation that leaves the model's validity ends with status 1.
+Each task is a subcommand (``ship-env manoeuvre``; the measurement workbench's ``fit``,
+``compare``, ``diagnose`` and ``improve``; ``train`` and ``leaderboard`` join the same way): a
+function adds its parser and names its handler, and :func:`main` dispatches. Invalid arguments end
+with a message naming the argument and exit status 2, as argparse's own errors do; a simulation
+that leaves the model's validity, or a log that cannot be used, ends with status 1.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import json
 import math
 import re
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
@@ -31,8 +33,35 @@ from ship_env.manoeuvres import (
     turning_circle,
     zigzag,
 )
+from ship_env.identify import (
+    ErrorScales,
+    FitError,
+    FitOptions,
+    FormatError,
+    LogError,
+    LogWarning,
+    ReplayModel,
+    compare,
+    cross_validate,
+    diagnose,
+    fit_each_run,
+    held_out_comparison,
+    improve,
+    load_logs,
+    plot_comparison,
+    write_report,
+)
+from ship_env.identify.fit import NUISANCE
+from ship_env.identify.logs import Log, every_nth
+from ship_env.identify.tables import diagnosis_table, error_table, estimate_table, ladder_table
+from ship_env.identify.terms import default_terms, with_values
+from ship_env.identify.validation import CrossValidation
 from ship_env.manoeuvres.results import KNOT
-from ship_env.model import EFFECTS, ShipModel, list_ships
+from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
+# Learned policies: ``train`` and ``leaderboard`` live in their packages (ship_env.rl, ship_env.leaderboard).
+from baselines.identification.cli import add_parser as add_identify_bench_command
+from ship_env.leaderboard.cli import add_parser as add_leaderboard_command
+from ship_env.rl.cli_train import add_parser as add_train_command
 
 #: The named effect sets of ``--effects``; anything else is a comma-separated list of effects.
 EFFECT_SETS: dict[str, Callable[[str], ShipModel]] = {
@@ -240,16 +269,354 @@ def add_manoeuvre_command(subcommands: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=run_manoeuvres, command_parser=parser)
 
 
+# -- the measurement workbench: fit, compare, diagnose, improve -----------------------------------
+#: ``--model`` also takes "base": the required effects only, the speed-scheduled Nomoto ship (2.54).
+WORKBENCH_MODELS: dict[str, Callable[[str], ShipModel]] = {
+    "base": lambda ship: ShipModel(ship, REQUIRED_EFFECTS),
+    **EFFECT_SETS,
+}
+
+
+def _workbench_model(text: str) -> str:
+    """Check a workbench model name (base, minimal, default, full) or a comma-separated effect list."""
+    return text if text in WORKBENCH_MODELS else _effects(text)
+
+
+def _effect_names(text: str) -> list[str]:
+    """Read a comma-separated list of effects."""
+    names = [name.strip() for name in text.split(",") if name.strip()]
+    unknown = [name for name in names if name not in EFFECTS]
+    if unknown or not names:
+        raise argparse.ArgumentTypeError(
+            f"unknown effect {', '.join(map(repr, unknown)) or repr(text)}; known: {', '.join(EFFECTS)}"
+        )
+    return names
+
+
+def _names(text: str) -> list[str]:
+    """Read a comma-separated list of names (terms, nuisance terms)."""
+    return [name.strip() for name in text.split(",") if name.strip()]
+
+
+def _whole_number(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive whole number, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a positive whole number, got {text!r}")
+    return value
+
+
+def _fraction(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1, got {text!r}") from None
+    if not 0.0 <= value < 1.0:
+        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1, got {text!r}")
+    return value
+
+
+def _workbench_setup(args: argparse.Namespace) -> ReplayModel:
+    """The model to start from: ``--model`` plus ``--add``, or a fit's JSON (``--parameters``)."""
+    if getattr(args, "parameters", None) is not None:
+        return _setup_from_json(args.ship, args.parameters)
+    try:
+        if args.model in WORKBENCH_MODELS:
+            model = WORKBENCH_MODELS[args.model](args.ship)
+        else:
+            model = ShipModel(args.ship, args.model.split(","))
+        added = [name for names in args.add for name in names]
+        return ReplayModel(model.with_effects(*added) if added else model)
+    except (ValueError, TypeError) as error:
+        raise UsageError("--add" if args.add else "--model", str(error)) from None
+
+
+def _setup_from_json(ship: str, path: Path) -> ReplayModel:
+    """A fitted model from the JSON written by ``ship-env fit --json``."""
+    try:
+        document = json.loads(path.read_text())
+        model = ShipModel(ship, document["effects"])
+        return with_values(ReplayModel(model), document["values"])
+    except OSError as error:
+        raise UsageError("--parameters", f"cannot read {str(path)!r}: {error.strerror}") from None
+    except (ValueError, KeyError, TypeError) as error:
+        raise UsageError("--parameters", f"{path} is not a fit written by 'ship-env fit --json': {error}") from None
+
+
+def _workbench_options(args: argparse.Namespace) -> FitOptions:
+    nuisance = tuple(getattr(args, "nuisance", ()))
+    unknown = [name for name in nuisance if name not in NUISANCE]
+    if unknown:
+        raise UsageError("--nuisance", f"unknown nuisance terms {unknown}; known: {', '.join(NUISANCE)}")
+    scales = ErrorScales(math.radians(args.heading_scale), math.radians(args.rate_scale), args.position_scale)
+    return FitOptions(scales=scales, nuisance=nuisance, initial_window=args.window)
+
+
+def _workbench_logs(args: argparse.Namespace) -> list[Log]:
+    """The logs, each loader warning printed as one line on stderr."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", LogWarning)
+        logs = load_logs(args.logs, args.format, args.service_speed)
+    for warning in caught:
+        print(f"ship-env {args.command}: warning: {warning.message}", file=sys.stderr)
+    return [every_nth(log, args.every) for log in logs]
+
+
+def _terms(args: argparse.Namespace, setup: ReplayModel) -> list[str]:
+    """The model's default terms, plus ``--free``, less ``--fix``."""
+    keys = default_terms(setup.model.effects) + [key for key in args.free if key not in default_terms(setup.model.effects)]
+    unknown = [key for key in args.fix if key not in keys]
+    if unknown:
+        raise UsageError("--fix", f"{', '.join(unknown)} not among the fitted terms {', '.join(keys)}")
+    return [key for key in keys if key not in args.fix]
+
+
+def _print_validation(validation: CrossValidation, scales: ErrorScales) -> None:
+    fitted = validation.fit
+    print(f"\nfitted terms ({fitted.evaluations} evaluations; {fitted.message})")
+    print(estimate_table(validation).text())
+    print("\nin-sample RMS errors (fitted to all runs)")
+    print(error_table(fitted.errors, scales, fitted.pooled).text())
+    print("\nheld-out RMS errors (each run replayed by the fit to the other runs, from its measured start)")
+    print(error_table(validation.held_out, scales, validation.pooled).text())
+
+
+def _model_line(setup: ReplayModel, logs: Sequence[Log]) -> str:
+    model = setup.model
+    return f"{model.ship.name}: {len(logs)} runs; effects: {', '.join(model.effects)}"
+
+
+def _fit_json(validation: CrossValidation, scales: ErrorScales) -> dict:
+    fitted = validation.fit
+
+    def errors(errors) -> dict:
+        return {**errors.in_display_units(), "score": errors.score(scales), "samples": errors.samples}
+
+    return {
+        "ship": fitted.setup.model.ship.name,
+        "effects": list(fitted.setup.model.effects),
+        "values": fitted.values(),
+        "std_errors": {e.term.key: e.std_error for e in fitted.estimates},
+        "units": {e.term.key: e.term.unit for e in fitted.estimates},
+        "error_units": {"heading": "deg", "rate_of_turn": "deg/s", "position": "m", "track": "m"},
+        "in_sample": {e.name: errors(e) for e in (*fitted.errors, fitted.pooled)},
+        "held_out": {e.name: errors(e) for e in (*validation.held_out, validation.pooled)},
+    }
+
+
+def run_fit(args: argparse.Namespace) -> int:
+    """``ship-env fit``: fit the model to the logs, validate it leaving one run out."""
+    setup, options = _workbench_setup(args), _workbench_options(args)
+    _prepare_outputs(args.plot, args.json)
+    logs = _workbench_logs(args)
+    keys = _terms(args, setup)
+    print(_model_line(setup, logs) + f"; fitted terms: {', '.join(keys)}")
+    validation = cross_validate(setup, logs, keys, options)
+    _print_validation(validation, options.scales)
+    if args.per_run:
+        fits = fit_each_run(validation.fit.setup, logs, keys, options)
+        print("\neach run fitted on its own (in-sample)")
+        print(error_table([f.errors[0] for f in fits], options.scales).text())
+    if args.plot is not None:
+        plot_comparison(held_out_comparison(validation, logs, options.initial_window), args.plot, "held out")
+        print(f"\nplots written to {args.plot}/")
+    if args.json is not None:
+        args.json.write_text(json.dumps(_fit_json(validation, options.scales), indent=2) + "\n")
+        print(f"fit written to {args.json}")
+    return 0
+
+
+def run_compare(args: argparse.Namespace) -> int:
+    """``ship-env compare``: replay the logs with a model as it is (no fitting)."""
+    setup, options = _workbench_setup(args), _workbench_options(args)
+    _prepare_outputs(args.plot, None)
+    logs = _workbench_logs(args)
+    print(_model_line(setup, logs))
+    comparison = compare(setup, logs, options.initial_window)
+    print(error_table(comparison.errors, options.scales, comparison.pooled).text())
+    if args.plot is not None:
+        plot_comparison(comparison, args.plot, f"{setup.model.ship.name}: {', '.join(setup.model.effects)}")
+        print(f"\nplots written to {args.plot}/")
+    return 0
+
+
+def run_diagnose(args: argparse.Namespace) -> int:
+    """``ship-env diagnose``: rank the effects the model lacks."""
+    setup, options = _workbench_setup(args), _workbench_options(args)
+    logs = _workbench_logs(args)
+    print(_model_line(setup, logs))
+    validation = cross_validate(setup, logs, _terms(args, setup), options)
+    _print_validation(validation, options.scales)
+    diagnosis = diagnose(validation, logs, options, args.candidates, args.refit)
+    print("\nmissing effects, best first (corr, var. expl.: residual evidence; score: held out after adding and refitting)")
+    print(diagnosis_table(diagnosis).text())
+    return 0
+
+
+def run_improve(args: argparse.Namespace) -> int:
+    """``ship-env improve``: add effects while the held-out error falls; the error ladder and a report."""
+    setup, options = _workbench_setup(args), _workbench_options(args)
+    logs = _workbench_logs(args)
+    print(_model_line(setup, logs))
+    ladder = improve(
+        setup, logs, options, args.candidates, args.min_gain, args.max_steps, args.refit,
+        progress=lambda text: print(text, file=sys.stderr),
+    )
+    print("\nerror ladder (held out: leave one run out)")
+    print(ladder_table(ladder).text())
+    print(f"stopped: {ladder.stopped}")
+    print("\nfinal model, fitted to all runs")
+    print(estimate_table(ladder.final).text())
+    report = write_report(ladder, logs, args.report)
+    print(f"\nreport written to {report}")
+    return 0
+
+
+def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = True) -> None:
+    """The arguments the workbench's commands share: logs, format, ship, model, error scales."""
+    parser.add_argument("logs", nargs="+", type=Path, metavar="LOG", help="CSV or Parquet logs, or folders of them")
+    parser.add_argument(
+        "--format", default=None, metavar="NAME",
+        help="log format: esso_osaka, standard, or a YAML file (default: the built-in one the columns fit)",
+    )
+    parser.add_argument(
+        "--ship", type=_ship, default="esso_osaka_model", metavar="NAME",
+        help=f"ship preset ({', '.join(list_ships())}) or a YAML file (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--model", type=_workbench_model, default="base", metavar="SET",
+        help=(
+            f"starting effects: {', '.join(WORKBENCH_MODELS)} (base: the speed-scheduled Nomoto ship, "
+            f"{' + '.join(REQUIRED_EFFECTS)}), or a comma-separated list of effects (default: %(default)s)"
+        ),
+    )
+    parser.add_argument(
+        "--add", type=_effect_names, action="append", default=[], metavar="EFFECT[,EFFECT]",
+        help=f"effects to add to the model: {', '.join(EFFECTS)}",
+    )
+    if fitting:
+        parser.add_argument(
+            "--free", type=_names, default=[], metavar="TERM[,TERM]",
+            help="more terms to fit besides the effects' defaults, e.g. yaw.asymmetry",
+        )
+        parser.add_argument("--fix", type=_names, default=[], metavar="TERM[,TERM]", help="default terms to hold")
+        parser.add_argument(
+            "--nuisance", type=_names, default=[], metavar="NAME[,NAME]",
+            help=f"per-run nuisance terms fitted with the model: {', '.join(NUISANCE)} (initial-state offsets)",
+        )
+    parser.add_argument(
+        "--service-speed", type=_positive_number, default=None, metavar="M/S",
+        help="service speed for logs without a speed channel (default: the ship's)",
+    )
+    parser.add_argument("--every", type=_whole_number, default=1, metavar="N", help="use every N-th sample (default: 1)")
+    parser.add_argument(
+        "--window", type=_positive_number, default=2.0, metavar="S",
+        help="seconds at a run's start from which its initial state is estimated (default: %(default)s)",
+    )
+    parser.add_argument("--heading-scale", type=_positive_number, default=1.0, metavar="DEG",
+                        help="heading error worth one score unit (default: %(default)s)")
+    parser.add_argument("--rate-scale", type=_positive_number, default=0.1, metavar="DEG/S",
+                        help="rate-of-turn error worth one score unit (default: %(default)s)")
+    parser.add_argument("--position-scale", type=_positive_number, default=0.1, metavar="M",
+                        help="track error worth one score unit (default: %(default)s)")
+
+
+def _add_candidate_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument(
+        "--candidates", type=_effect_names, default=None, metavar="EFFECT[,EFFECT]",
+        help="effects that may be added (default: every effect the logs can show)",
+    )
+    parser.add_argument(
+        "--refit", type=_whole_number, default=None, metavar="K",
+        help="refit only the K candidates with the most residual evidence (default: all)",
+    )
+
+
+_WORKBENCH_EPILOG = (
+    "the built-in Esso Osaka data (../shared/data/esso_osaka):\n"
+    "  ship-env fit ../shared/data/esso_osaka/zigzag\n"
+    "  ship-env diagnose ../shared/data/esso_osaka/zigzag\n"
+    "  ship-env fit ../shared/data/esso_osaka/zigzag --add propeller_slipstream,rudder_offset --json fit.json\n"
+    "  ship-env compare ../shared/data/esso_osaka/zigzag --parameters fit.json --plot plots/\n"
+    "  ship-env improve ../shared/data/esso_osaka/zigzag --report report/"
+)
+
+
+def _workbench_parser(subcommands: argparse._SubParsersAction, name: str, help_text: str, description: str) -> argparse.ArgumentParser:
+    return subcommands.add_parser(
+        name, help=help_text, description=description, epilog="examples, " + _WORKBENCH_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+
+
+def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
+    """Register ``ship-env fit``, ``compare``, ``diagnose`` and ``improve``."""
+    parser = _workbench_parser(
+        subcommands, "fit", "fit the model to measured logs and validate it leaving one run out",
+        "Fit the model's parameters to measured runs by output-error simulation (measured rudder, speed,\n"
+        "propeller rate and wind in; heading, rate of turn and track out), print them with standard errors,\n"
+        "the in-sample errors and the held-out errors of leave-one-run-out cross-validation.",
+    )
+    _add_workbench_arguments(parser)
+    parser.add_argument("--per-run", action="store_true", help="also fit each run on its own (in-sample)")
+    parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write a held-out PNG per run into DIR")
+    parser.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the fit to FILE as JSON")
+    parser.set_defaults(handler=run_fit, command_parser=parser)
+
+    parser = _workbench_parser(
+        subcommands, "compare", "replay logs with a model and print its RMS errors",
+        "Replay each run with the model as it is (preset values, or a fit's JSON), from its measured\n"
+        "initial state, and print RMS heading, rate-of-turn, position and track errors per run and pooled.",
+    )
+    _add_workbench_arguments(parser, fitting=False)
+    parser.add_argument("--parameters", type=Path, default=None, metavar="FILE",
+                        help="the fitted model from 'ship-env fit --json FILE' (replaces --model and --add)")
+    parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write a PNG per run into DIR")
+    parser.set_defaults(handler=run_compare, command_parser=parser)
+
+    parser = _workbench_parser(
+        subcommands, "diagnose", "rank the physical effects the model lacks",
+        "Fit and validate the model, then for each effect it lacks: the evidence in the residuals\n"
+        "(correlation with the effect's regressors, variance explained) and the held-out error after\n"
+        "adding it and refitting; best first.",
+    )
+    _add_workbench_arguments(parser)
+    _add_candidate_arguments(parser)
+    parser.set_defaults(handler=run_diagnose, command_parser=parser)
+
+    parser = _workbench_parser(
+        subcommands, "improve", "add effects while the held-out error falls: the error ladder",
+        "Start from the model, add the missing effect with the lowest held-out error while it lowers the\n"
+        "held-out score by at least --min-gain; print the error ladder and write a Markdown report with\n"
+        "its figures.",
+    )
+    _add_workbench_arguments(parser)
+    _add_candidate_arguments(parser)
+    parser.add_argument("--min-gain", type=_fraction, default=0.05, metavar="F",
+                        help="smallest relative fall of the held-out score to add an effect (default: %(default)s)")
+    parser.add_argument("--max-steps", type=_whole_number, default=None, metavar="N", help="add at most N effects")
+    parser.add_argument("--report", type=Path, default=Path("workbench_report"), metavar="DIR",
+                        help="folder for report.md and its figures (default: %(default)s)")
+    parser.set_defaults(handler=run_improve, command_parser=parser)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``ship-env`` parser with all subcommands."""
     parser = argparse.ArgumentParser(
         prog="ship-env",
         description=(
-            "Ship steering simulator (Passenier 1989; De Keizer / Van Leeuwen model): standard manoeuvres and more."
+            "Ship steering simulator (Passenier 1989; De Keizer / Van Leeuwen model): standard manoeuvres, "
+            "and the measurement workbench (fit, compare, diagnose, improve)."
         ),
     )
     subcommands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     add_manoeuvre_command(subcommands)
+    add_workbench_commands(subcommands)
+    add_train_command(subcommands)
+    add_leaderboard_command(subcommands)
+    add_identify_bench_command(subcommands)
     return parser
 
 
@@ -260,6 +627,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return args.handler(args)
     except UsageError as error:
         args.command_parser.error(f"argument {error.argument}: {error}")
+    except (LogError, FormatError, FitError) as error:
+        print(f"ship-env {args.command}: error: {error}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from baselines.adaptive_autopilot import IndirectAdaptiveAutopilot
-from baselines.identification import identify_by_zigzag
+from baselines.identification.zigzag_trial import identify_by_zigzag
 from baselines.instruments import SimulatedInstruments
 from baselines.measurement import Measurement
 from baselines.nomoto import NomotoParameters

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from baselines.filter_health import FilterDivergenceError
-from baselines.identification import zigzag_rudder
+from baselines.identification.zigzag_trial import zigzag_rudder
 from baselines.instruments import SimulatedInstruments
 from baselines.measurement import Measurement
 from baselines.nomoto import NomotoParameters

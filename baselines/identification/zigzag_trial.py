@@ -35,9 +35,9 @@ class IdentifiedShip:
 
 
 def zigzag_rudder(order: float, heading_change: float, angle: float) -> float:
-    """The zig-zag a/a helmsman (a = ``angle``, rad): the rudder ``order`` (+-a), reversed once the
-    heading change from the initial course has reached a to the side the rudder is over to."""
-    return -order if order * heading_change >= angle * angle else order
+    """The zig-zag helmsman: the rudder ``order`` (rad, +-a), reversed once the heading change from
+    the initial course has reached ``angle`` (rad; a for the a/a zig-zag) to the side the rudder is over to."""
+    return -order if order * heading_change >= abs(order) * angle else order
 
 
 def identify_by_zigzag(

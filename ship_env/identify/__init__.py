@@ -1,0 +1,85 @@
+"""The measurement workbench: compare the model with measured runs, see where it fails, learn which
+physical effect is missing, add it and watch the held-out error fall.
+
+::
+
+    from ship_env.identify import load_logs, cross_validate, diagnose, improve
+    from ship_env.model import ShipModel
+
+    logs = load_logs(["../shared/data/esso_osaka/zigzag"])        # built-in Esso Osaka format
+    base = ShipModel("esso_osaka_model", ["yaw", "kinematics"])   # speed-scheduled Nomoto
+    validation = cross_validate(base, logs)                        # fit, then leave one run out
+    diagnosis = diagnose(validation, logs)                         # the missing effects, ranked
+    ladder = improve(base, logs)                                   # add effects while the error falls
+
+Modules: ``formats`` and ``logs`` (reading and checking logs), ``replay`` (the model driven by the
+measured inputs), ``terms`` (what can be fitted), ``errors`` (RMS errors and the score), ``fit``
+(output-error least squares), ``validation`` (leave one run out), ``diagnose``, ``improve`` (the error ladder),
+``compare`` (errors and drawings), ``tables`` and ``report`` (text, Markdown), ``synthetic``
+(logs made by the simulator, for checking the workbench on a known truth).
+"""
+
+from ship_env.identify.compare import (
+    Comparison,
+    compare,
+    held_out_comparison,
+    plot_comparison,
+)
+from ship_env.identify.diagnose import Diagnosis, diagnose
+from ship_env.identify.errors import ErrorScales, RunErrors
+from ship_env.identify.fit import FitError, FitOptions, FitResult, fit, fit_each_run
+from ship_env.identify.formats import (
+    ESSO_OSAKA,
+    FORMATS,
+    STANDARD,
+    Column,
+    FormatError,
+    LogFormat,
+)
+from ship_env.identify.improve import Ladder, improve
+from ship_env.identify.logs import (
+    Log,
+    LogError,
+    LogWarning,
+    load_log,
+    load_logs,
+    write_log,
+)
+from ship_env.identify.replay import ReplayModel, simulate
+from ship_env.identify.report import write_report
+from ship_env.identify.validation import CrossValidation, cross_validate
+
+__all__ = [
+    "ESSO_OSAKA",
+    "FORMATS",
+    "STANDARD",
+    "Column",
+    "Comparison",
+    "CrossValidation",
+    "Diagnosis",
+    "ErrorScales",
+    "FitError",
+    "FitOptions",
+    "FitResult",
+    "FormatError",
+    "Ladder",
+    "Log",
+    "LogError",
+    "LogFormat",
+    "LogWarning",
+    "ReplayModel",
+    "RunErrors",
+    "compare",
+    "cross_validate",
+    "diagnose",
+    "fit",
+    "fit_each_run",
+    "held_out_comparison",
+    "improve",
+    "load_log",
+    "load_logs",
+    "plot_comparison",
+    "simulate",
+    "write_log",
+    "write_report",
+]

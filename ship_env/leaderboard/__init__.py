@@ -1,0 +1,19 @@
+"""The leaderboard: classic autopilots and learned policies on fixed, seeded suites.
+
+- :mod:`ship_env.leaderboard.suites`: the suites (CourseChange per disturbance, TrackFollow) and
+  the robustness conditions (K*, tau* off by 2x, half speed), quick and full;
+- :mod:`ship_env.leaderboard.entrants`: the controllers (:mod:`baselines.presys`, SB3 policy files);
+- :mod:`ship_env.leaderboard.sailing`: the seeded episode loop;
+- :mod:`ship_env.leaderboard.evaluation`: jobs run in this process or on Ray;
+- :mod:`ship_env.leaderboard.tables`, :mod:`ship_env.leaderboard.plots`: ranked tables (markdown,
+  CSV) and drawings;
+- :mod:`ship_env.leaderboard.board`: all of it together; :mod:`ship_env.leaderboard.cli`:
+  ``ship-env leaderboard``.
+
+Only the suites are imported here; the rest brings torch and the baselines and is imported from
+its module.
+"""
+
+from ship_env.leaderboard.suites import SUITE_SPECS, Suite, SuiteSpec
+
+__all__ = ["SUITE_SPECS", "Suite", "SuiteSpec"]

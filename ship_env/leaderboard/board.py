@@ -1,0 +1,126 @@
+"""The whole leaderboard: entrants, suites, evaluation, tables and the files written.
+
+::
+
+    from ship_env.leaderboard import SUITE_SPECS
+    from ship_env.leaderboard.board import run_leaderboard, write_leaderboard
+
+    board = run_leaderboard(SUITE_SPECS["quick"])
+    print(board.markdown())
+    write_leaderboard(board, Path("leaderboard"))
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import gymnasium as gym
+
+from ship_env.leaderboard.entrants import Entrant, classic_entrants, policy_entrants
+from ship_env.leaderboard.evaluation import evaluate, jobs_for
+from ship_env.leaderboard.plots import plot_course_changes, plot_scores, plot_tracks
+from ship_env.leaderboard.sailing import EpisodeResult, sail_recorded
+from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, TRACK_FOLLOW, Suite, SuiteSpec
+from ship_env.leaderboard.tables import Table, markdown, rank, write_csv, write_episodes_csv
+
+#: The scenario every CourseChange controller is drawn on: a 75-deg change in wind and current.
+SAMPLE_COURSE_CHANGE = ("CourseChange wind_current", "+75 deg")
+#: The files :func:`write_leaderboard` writes.
+MARKDOWN_FILE = "leaderboard.md"
+CSV_FILE = "leaderboard.csv"
+EPISODES_FILE = "episodes.csv"
+SCORES_PLOT = "scores.png"
+COURSE_CHANGE_PLOT = "course_change_sample.png"
+TRACK_PLOT = "track_follow_sample.png"
+
+
+@dataclass(frozen=True)
+class Leaderboard:
+    """An evaluated leaderboard.
+
+    Attributes:
+        entrants: the controllers that sailed.
+        suites: the suites sailed.
+        results: every episode, job by job.
+        tables: the ranked table of each suite.
+        wall_time_s: the evaluation's wall-clock time, s.
+    """
+
+    entrants: tuple[Entrant, ...]
+    suites: tuple[Suite, ...]
+    results: tuple[EpisodeResult, ...]
+    tables: tuple[Table, ...]
+    wall_time_s: float
+
+    def table(self, suite_name: str) -> Table:
+        """The table of the suite named ``suite_name`` (``"CourseChange calm | nominal"``)."""
+        for table in self.tables:
+            if table.suite.name == suite_name:
+                return table
+        raise KeyError(f"no suite {suite_name!r}; suites: {', '.join(t.suite.name for t in self.tables)}")
+
+    def markdown(self) -> str:
+        """Every table in markdown."""
+        return "\n\n".join(markdown(table) for table in self.tables)
+
+
+def run_leaderboard(
+    spec: SuiteSpec,
+    policies: Sequence[Path] = (),
+    shipped: bool = True,
+    backend: str = "local",
+    progress: bool = True,
+) -> Leaderboard:
+    """Sail ``spec``'s suites with the classic baselines, the shipped policies (if ``shipped``) and
+    the policy files ``policies``; ``PolicyFileError`` before anything sails if one does not fit."""
+    suites = spec.suites()
+    env_kwargs = {suite.env_id: suite.env_kwargs for suite in suites}
+    env_spaces = {}
+    for env_id, kwargs in env_kwargs.items():
+        env = gym.make(env_id, **kwargs)
+        env_spaces[env_id] = (env.observation_space, env.action_space)
+        env.close()
+    entrants = classic_entrants(list(env_kwargs)) + policy_entrants(policies, env_spaces, shipped)
+    start = time.perf_counter()
+    results = evaluate(jobs_for(suites, entrants), backend, progress)
+    wall_time = time.perf_counter() - start
+    tables = tuple(rank(suite, results) for suite in suites)
+    return Leaderboard(tuple(entrants), tuple(suites), tuple(results), tables, wall_time)
+
+
+def _nominal_suite(board: Leaderboard, task: str) -> Suite | None:
+    return next((s for s in board.suites if s.task == task and s.condition == NOMINAL and s.episodes), None)
+
+
+def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list[Path]:
+    """Write the tables (markdown, CSV), the episodes (CSV) and, with ``plots``, the drawings
+    into ``out``: the scores, and every controller on one course change and on one track."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    written = [out / MARKDOWN_FILE, out / CSV_FILE, out / EPISODES_FILE]
+    written[0].write_text(board.markdown() + "\n")
+    write_csv(board.tables, written[1])
+    write_episodes_csv(board.results, written[2])
+    if not plots:
+        return written
+    written.append(plot_scores(board.tables, out / SCORES_PLOT))
+    task, label = SAMPLE_COURSE_CHANGE
+    suite = _nominal_suite(board, task) or _nominal_suite(board, "CourseChange calm")
+    if suite is not None:
+        episode = next((e for e in suite.episodes if e.label == label), suite.episodes[0])
+        runs = {e.name: sail_recorded(e, suite, episode)[0] for e in board.entrants if e.env_id == COURSE_CHANGE}
+        change = float(episode.options["course_change_deg"])
+        title = f"{suite.name}: {episode.label} (seed {episode.seed})"
+        written.append(plot_course_changes(runs, title, change, out / COURSE_CHANGE_PLOT))
+    suite = _nominal_suite(board, "TrackFollow")
+    if suite is not None:
+        episode = suite.episodes[0]
+        recorded = {e.name: sail_recorded(e, suite, episode) for e in board.entrants if e.env_id == TRACK_FOLLOW}
+        task_sailed = next(iter(recorded.values()))[1]
+        runs = {name: states for name, (states, _) in recorded.items()}
+        title = f"{suite.name}: {episode.label} (seed {episode.seed})"
+        written.append(plot_tracks(runs, task_sailed, episode.options["track"], title, out / TRACK_PLOT))
+    return written

@@ -1,0 +1,138 @@
+"""``ship-env leaderboard``: every controller on the fixed, seeded suites; tables and plots.
+
+Registered by :func:`add_parser`; the evaluation (torch, stable-baselines3, the baselines) is
+imported only when the command runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+from pathlib import Path
+
+from ship_env.envs.tracks import TRACK_IDS
+from ship_env.leaderboard.evaluation import BACKENDS
+from ship_env.leaderboard.suites import CONDITIONS, COURSE_CHANGE_DISTURBANCES, SUITE_SPECS, SuiteSpec
+
+_CONDITIONS_BY_SLUG = {condition.slug: condition for condition in CONDITIONS}
+
+
+def _course_change(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a course change in deg, got {text!r}") from None
+    if not 0.0 < value <= 180.0:
+        raise argparse.ArgumentTypeError(f"expected a course change in (0, 180] deg, got {text!r}")
+    return value
+
+
+def _repetitions(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
+    return value
+
+
+def chosen_spec(args: argparse.Namespace) -> SuiteSpec:
+    """``--suite``'s spec with the subsets the other options choose."""
+    choices = {
+        "course_changes_deg": args.course_changes,
+        "tracks": args.tracks,
+        "conditions": None if args.conditions is None else [_CONDITIONS_BY_SLUG[s] for s in args.conditions],
+        "course_change_disturbances": args.disturbances,
+        "repetitions": args.repetitions,
+    }
+    changes = {
+        name: tuple(value) if isinstance(value, list) else value for name, value in choices.items() if value is not None
+    }
+    return dataclasses.replace(SUITE_SPECS[args.suite], **changes)
+
+
+def run_leaderboard_command(args: argparse.Namespace) -> int:
+    """Evaluate, print the tables and the wall time, write tables and plots into ``--out``."""
+    from ship_env.leaderboard.board import run_leaderboard, write_leaderboard
+    from ship_env.rl.policy_file import PolicyFileError
+
+    try:
+        board = run_leaderboard(
+            chosen_spec(args), args.policies, not args.no_shipped, args.backend, progress=not args.no_progress
+        )
+    except PolicyFileError as error:
+        args.command_parser.error(f"argument --policies: {error}")
+    print(board.markdown())
+    episodes = len(board.results)
+    print(
+        f"\n{episodes} episodes, {len(board.entrants)} controllers, {len(board.suites)} suites: "
+        f"{board.wall_time_s:.1f} s on the {args.backend} backend"
+    )
+    written = write_leaderboard(board, args.out, plots=not args.no_plots)
+    print(f"written to {args.out}/: {', '.join(path.name for path in written)}")
+    return 0
+
+
+def add_parser(subcommands: argparse._SubParsersAction) -> None:
+    """Register ``ship-env leaderboard``."""
+    parser = subcommands.add_parser(
+        "leaderboard",
+        help="rank the classic autopilots and learned policies on fixed, seeded suites",
+        description=(
+            "Sail every controller - fixed and gain-scheduled PD, indirect adaptive PD, MRAC, the predictor\n"
+            "course changer (TrackFollow), the shipped policies and the policy files given - on fixed,\n"
+            "seeded suites: CourseChange (15..105 deg both ways, calm / wind and current / plus waves) and\n"
+            "TrackFollow (T1..T6), on the nominal ship, with its K*, tau* off by 2x from the controllers'\n"
+            "design values, and at half speed. Prints a ranked table per suite and writes it as markdown\n"
+            "and CSV with plots. The same seeds give the same tables to the last digit."
+        ),
+        epilog=(
+            "examples:\n"
+            "  ship-env leaderboard\n"
+            "  ship-env leaderboard --suite full --backend ray --out leaderboard_full\n"
+            "  ship-env leaderboard --policies runs/CourseChange-v0/ppo/seed1 --conditions nominal --tracks"
+        ),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument(
+        "--suite", choices=list(SUITE_SPECS), default="quick",
+        help="quick: each episode once, nominal / K*, tau* x0.5 / half speed; full: three times, all conditions "
+        "(default: %(default)s)",
+    )
+    parser.add_argument(
+        "--policies", type=Path, nargs="+", default=[], metavar="PATH",
+        help="SB3 policy files (model.zip, or a training run's folder) to rank beside the others",
+    )
+    parser.add_argument("--no-shipped", action="store_true", help="leave out the policies shipped with ship_env")
+    parser.add_argument(
+        "--out", type=Path, default=Path("out/leaderboard"), metavar="DIR",
+        help="folder for the tables and plots (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--backend", choices=BACKENDS, default="local",
+        help="local: in this process; ray: one Ray task per controller and suite (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--course-changes", type=_course_change, nargs="+", default=None, metavar="DEG",
+        help="sail only these CourseChange magnitudes, each to both sides (default: 15 30 45 75 105)",
+    )
+    parser.add_argument(
+        "--disturbances", choices=COURSE_CHANGE_DISTURBANCES, nargs="+", default=None, metavar="LEVEL",
+        help=f"sail only these CourseChange levels ({', '.join(COURSE_CHANGE_DISTURBANCES)})",
+    )
+    parser.add_argument(
+        "--tracks", choices=TRACK_IDS, nargs="*", default=None, metavar="ID",
+        help="sail only these TrackFollow tracks (none: no TrackFollow suites)",
+    )
+    parser.add_argument(
+        "--conditions", choices=list(_CONDITIONS_BY_SLUG), nargs="+", default=None, metavar="NAME",
+        help=f"sail only in these ship conditions ({', '.join(_CONDITIONS_BY_SLUG)})",
+    )
+    parser.add_argument(
+        "--repetitions", type=_repetitions, default=None, metavar="N",
+        help="sail each episode N times with other seeds (default: the suite's)",
+    )
+    parser.add_argument("--no-plots", action="store_true", help="write the tables only")
+    parser.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
+    parser.set_defaults(handler=run_leaderboard_command, command_parser=parser)

@@ -1,0 +1,92 @@
+"""Running the leaderboard's jobs in this process or on Ray.
+
+A :class:`Job` is one entrant sailing one suite (:func:`~ship_env.leaderboard.sailing.sail_suite`).
+The backends run the jobs and return their episodes in job order, whatever order they finish in,
+so both give the same table to the last digit:
+
+- ``local`` (the default): one job after another, in this process;
+- ``ray``: one Ray task per job (:func:`run_on_ray`; the optional extra ``ray``). It joins the Ray
+  cluster already initialised, or starts a local one (``ray.init()``). Policy files must be
+  readable by the workers at the same path.
+
+Learned entrants run torch with one intra-op thread (the fastest for one observation at a time).
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from tqdm import tqdm
+
+from ship_env.leaderboard.suites import Suite
+
+if TYPE_CHECKING:  # the entrants and the episode loop bring torch and the baselines: imported when run
+    from ship_env.leaderboard.entrants import Entrant
+    from ship_env.leaderboard.sailing import EpisodeResult
+
+#: ``--backend`` names.
+BACKENDS = ("local", "ray")
+
+
+@dataclass(frozen=True)
+class Job:
+    """One entrant sailing one suite."""
+
+    entrant: Entrant
+    suite: Suite
+
+
+def jobs_for(suites: Sequence[Suite], entrants: Sequence[Entrant]) -> list[Job]:
+    """Every entrant on every suite of its environment, suite by suite."""
+    return [Job(entrant, suite) for suite in suites for entrant in entrants if entrant.env_id == suite.env_id]
+
+
+def run_job(job: Job, on_episode: Callable[[], None] | None = None) -> list[EpisodeResult]:
+    """Sail one job (in this process or a worker's)."""
+    from ship_env.leaderboard.sailing import sail_suite
+
+    if job.entrant.kind == "learned":
+        import torch
+
+        from ship_env.rl.agents import DEFAULT_TORCH_THREADS
+
+        torch.set_num_threads(DEFAULT_TORCH_THREADS)
+    return sail_suite(job.entrant, job.suite, on_episode)
+
+
+def run_locally(jobs: Sequence[Job], advance: Callable[[int], object]) -> list[list[EpisodeResult]]:
+    """Run the jobs one after another in this process; ``advance(n)`` after each episode."""
+    return [run_job(job, lambda: advance(1)) for job in jobs]
+
+
+def run_on_ray(jobs: Sequence[Job], advance: Callable[[int], object]) -> list[list[EpisodeResult]]:
+    """Run each job as a Ray task; ``advance(n)`` with a job's episodes as it finishes."""
+    try:
+        import ray
+    except ImportError:
+        raise RuntimeError("the ray backend needs Ray: pip install 'ship-env[ray]'") from None
+    if not ray.is_initialized():
+        ray.init()
+    remote_job = ray.remote(run_job)
+    pending = {remote_job.remote(job): index for index, job in enumerate(jobs)}
+    results: list[list[EpisodeResult]] = [[] for _ in jobs]
+    while pending:
+        done, _ = ray.wait(list(pending), num_returns=1)
+        index = pending.pop(done[0])
+        results[index] = ray.get(done[0])
+        advance(len(jobs[index].suite.episodes))
+    return results
+
+
+def evaluate(jobs: Sequence[Job], backend: str = "local", progress: bool = True) -> list[EpisodeResult]:
+    """Run ``jobs`` on ``backend`` with a progress bar over episodes; their episodes in job order."""
+    if backend not in BACKENDS:
+        raise ValueError(f"backend: expected one of {', '.join(BACKENDS)}, got {backend!r}")
+    runner = run_locally if backend == "local" else run_on_ray
+    total = sum(len(job.suite.episodes) for job in jobs)
+    with tqdm(total=total, desc="leaderboard", unit="episode", file=sys.stderr, disable=not progress) as bar:
+        per_job = runner(jobs, bar.update)
+    return [result for results in per_job for result in results]

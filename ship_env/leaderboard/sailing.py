@@ -1,0 +1,104 @@
+"""The leaderboard's own seeded episode loop (SB3's ``evaluate_policy`` resets without seeds).
+
+:func:`sail_suite` sails every episode of a suite with one entrant: it makes the sailed
+environment (the suite's, with the condition's ship parameters), designs each episode's fresh
+controller for the nominal ship, resets with the episode's seed and options, and steps until the
+episode ends. The result is a pure function of the entrant, the suite and the episode.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import gymnasium as gym
+import numpy as np
+
+import ship_env  # noqa: F401  (registers the environments)
+from baselines.controller import Controller
+from ship_env.envs.task import ShipTask
+from ship_env.leaderboard.entrants import DesignedTask, Entrant
+from ship_env.leaderboard.suites import Episode, Suite
+from ship_env.model import ShipModel
+
+
+@dataclass(frozen=True)
+class EpisodeResult:
+    """One entrant's episode.
+
+    Attributes:
+        suite: the suite's name.
+        entrant: the entrant's name.
+        kind: the entrant's kind (``"classic"``, ``"learned"``).
+        episode: the episode's label.
+        seed: the episode's seed.
+        metrics: the environment's final metrics (floats).
+        finished: whether the episode ended by termination (TrackFollow: the last waypoint passed)
+            rather than by the time limit.
+    """
+
+    suite: str
+    entrant: str
+    kind: str
+    episode: str
+    seed: int
+    metrics: dict[str, float]
+    finished: bool
+
+
+def sail(
+    env: gym.Env, controller: Controller, episode: Episode, states: list[np.ndarray] | None = None
+) -> tuple[dict, bool]:
+    """Sail one episode; its final metrics and whether it terminated. ``states`` collects the true states."""
+    observation, info = env.reset(seed=episode.seed, options=dict(episode.options))
+    controller.reset(observation, info)
+    terminated = truncated = False
+    while not (terminated or truncated):
+        if states is not None:
+            states.append(info["state"])
+        observation, _, terminated, truncated, info = env.step(controller.act(observation, info))
+    if states is not None:
+        states.append(info["state"])
+    return {name: float(value) for name, value in info["metrics"].items()}, bool(terminated)
+
+
+def suite_envs(suite: Suite) -> tuple[gym.Env, ShipModel]:
+    """The environment the suite sails (with its condition's ship) and the nominal ship's model."""
+    nominal = gym.make(suite.env_id, **suite.env_kwargs)
+    model = nominal.unwrapped.task.model
+    if not suite.condition.scales:
+        return nominal, model
+    nominal.close()
+    ship_parameters = dict(suite.env_kwargs.get("ship_parameters", {}))
+    ship_parameters.update({key: scale * model.parameter(key) for key, scale in suite.condition.scales.items()})
+    return gym.make(suite.env_id, **{**suite.env_kwargs, "ship_parameters": ship_parameters}), model
+
+
+def sail_recorded(entrant: Entrant, suite: Suite, episode: Episode) -> tuple[np.ndarray, ShipTask]:
+    """Sail one episode of ``suite`` with ``entrant``, recording it: the true states at each step
+    (steps + 1, ``STATE_SIZE``; layout :mod:`ship_env.model.state`) and the sailed task (its tracks)."""
+    env, design_model = suite_envs(suite)
+    states: list[np.ndarray] = []
+    try:
+        sail(env, entrant.build(DesignedTask(env.unwrapped.task, design_model)), episode, states)
+    finally:
+        env.close()
+    return np.asarray(states), env.unwrapped.task
+
+
+def sail_suite(entrant: Entrant, suite: Suite, on_episode: Callable[[], None] | None = None) -> list[EpisodeResult]:
+    """Sail every episode of ``suite`` with ``entrant``; ``on_episode`` is called after each."""
+    env, design_model = suite_envs(suite)
+    results = []
+    try:
+        for episode in suite.episodes:
+            controller = entrant.build(DesignedTask(env.unwrapped.task, design_model))
+            metrics, finished = sail(env, controller, episode)
+            results.append(
+                EpisodeResult(suite.name, entrant.name, entrant.kind, episode.label, episode.seed, metrics, finished)
+            )
+            if on_episode is not None:
+                on_episode()
+    finally:
+        env.close()
+    return results

@@ -1,0 +1,221 @@
+"""The leaderboard's fixed, seeded suites of episodes.
+
+A :class:`Suite` is one table of the leaderboard: an environment with its keyword arguments, a
+:class:`Condition` (how the sailed ship differs from the one the controllers were designed for)
+and a tuple of seeded :class:`Episode` s. The same suite gives the same episodes every time: each
+episode's seed and reset options are fixed here.
+
+- **CourseChange**: the thesis experiment's changes {15, 30, 45, 75, 105} deg (Table 6.1.a), to
+  starboard and to port, in calm water, in wind and current, and in wind, current and waves
+  (one suite each); the quick suite sails each change once, the full one three times (other seas,
+  initial headings and instrument noise).
+- **TrackFollow**: the reference tracks T1..T6 in the thesis's wind and current (Table 6.2), once
+  (quick) or three times (full).
+- **Robustness**: the same suites on a ship whose K*, tau* are off by a factor 2 from the values
+  the controllers were designed for (``yaw.gain`` and ``yaw.time_constant`` scaled), or that sails
+  at half its service speed (:data:`CONDITIONS`; at half speed a track may take twice as long).
+
+Seeds: episode k of a suite's r-th repetition has seed ``SEED_STRIDE * r + k``, so the quick
+suite's episodes are the first repetition of the full suite's.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import gymnasium as gym
+
+import ship_env  # noqa: F401  (registers the environments)
+from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG, TRACK_IDS
+
+COURSE_CHANGE = "ship_env/CourseChange-v0"
+TRACK_FOLLOW = "ship_env/TrackFollow-v0"
+#: CourseChange's disturbance levels, one suite each.
+COURSE_CHANGE_DISTURBANCES = ("calm", "wind_current", "wind_current_waves")
+#: The seed distance between repetitions of a suite's episodes.
+SEED_STRIDE = 100
+
+
+@dataclass(frozen=True)
+class Metric:
+    """A figure of a suite's table.
+
+    Attributes:
+        key: the episode metric (``info["metrics"]``, :mod:`ship_env.envs.metrics`).
+        heading: the column's heading, with units.
+        aggregate: how the episodes' values combine: ``"mean"``, ``"max"``, or ``"finite mean"``
+            (the mean over the episodes where it is finite: a settling time is infinite when the
+            ship never settled).
+        digits: decimals shown in the markdown table.
+    """
+
+    key: str
+    heading: str
+    aggregate: str = "mean"
+    digits: int = 1
+
+
+#: The figures of each environment's tables; the first ranks the table (lower is better).
+METRICS: dict[str, tuple[Metric, ...]] = {
+    COURSE_CHANGE: (
+        Metric("integrated_heading_error", "integrated abs heading error [deg s]"),
+        Metric("overshoot", "overshoot [deg]", digits=2),
+        Metric("settling_time", "settling time [s]", "finite mean"),
+        Metric("rudder_travel", "rudder travel [deg]"),
+    ),
+    TRACK_FOLLOW: (
+        Metric("rms_cross_track_error", "RMS track error [m]"),
+        Metric("max_cross_track_error", "max track error [m]", "max"),
+        Metric("rudder_travel", "rudder travel [deg]"),
+    ),
+}
+
+#: What an episode's completion means per environment: CourseChange's ship settled within the
+#: band (a finite settling time), TrackFollow's passed the last waypoint.
+COMPLETION: dict[str, str] = {COURSE_CHANGE: "settled", TRACK_FOLLOW: "reached end"}
+
+
+@dataclass(frozen=True)
+class Condition:
+    """How the sailed ship differs from the ship the controllers were designed for.
+
+    Attributes:
+        name: the condition as the tables name it.
+        slug: its name on the command line.
+        scales: model parameter -> factor applied to the nominal value (``{"yaw.gain": 0.5}``);
+            empty for the nominal ship.
+    """
+
+    name: str
+    slug: str
+    scales: Mapping[str, float] = field(default_factory=dict)
+
+
+NOMINAL = Condition("nominal", "nominal")
+#: The robustness conditions: the ship's K*, tau* half or twice the design values, half speed.
+K_TAU_HALF = Condition("K*, tau* x0.5", "k-tau-half", {"yaw.gain": 0.5, "yaw.time_constant": 0.5})
+K_TAU_DOUBLE = Condition("K*, tau* x2", "k-tau-double", {"yaw.gain": 2.0, "yaw.time_constant": 2.0})
+HALF_SPEED = Condition("half speed", "half-speed", {"service_speed": 0.5})
+CONDITIONS = (NOMINAL, K_TAU_HALF, K_TAU_DOUBLE, HALF_SPEED)
+
+
+@dataclass(frozen=True)
+class Episode:
+    """One seeded episode: ``env.reset(seed=seed, options=options)``.
+
+    Attributes:
+        seed: the reset's seed (the sea, the initial heading, the instruments' noise).
+        options: the reset's options (the course change or the track).
+        label: the episode as the tables and plots name it (``"+45 deg"``, ``"T3"``).
+    """
+
+    seed: int
+    options: Mapping[str, Any]
+    label: str
+
+
+@dataclass(frozen=True)
+class Suite:
+    """One table of the leaderboard.
+
+    Attributes:
+        task: the task's name in the tables (``"CourseChange calm"``).
+        env_id: the environment sailed.
+        env_kwargs: its keyword arguments (before the condition's ship parameters).
+        condition: how the sailed ship differs from the design.
+        episodes: the seeded episodes.
+    """
+
+    task: str
+    env_id: str
+    env_kwargs: Mapping[str, Any]
+    condition: Condition
+    episodes: tuple[Episode, ...]
+
+    @property
+    def name(self) -> str:
+        """``"<task> | <condition>"``, unique on a leaderboard."""
+        return f"{self.task} | {self.condition.name}"
+
+    @property
+    def metrics(self) -> tuple[Metric, ...]:
+        """The figures of this suite's table; the first ranks it."""
+        return METRICS[self.env_id]
+
+
+def track_env_kwargs(condition: Condition) -> dict[str, Any]:
+    """TrackFollow's keywords in ``condition``: a slower ship gets proportionally longer to sail the
+    track (the registration's time limit is for the service speed)."""
+    speed = condition.scales.get("service_speed", 1.0)
+    if speed == 1.0:
+        return {}
+    return {"max_episode_steps": math.ceil(gym.spec(TRACK_FOLLOW).max_episode_steps / speed)}
+
+
+def course_change_episodes(angles_deg: tuple[float, ...], repetitions: int) -> tuple[Episode, ...]:
+    """Each change to starboard and to port, ``repetitions`` times with other seeds."""
+    signed = [sign * angle for angle in angles_deg for sign in (1.0, -1.0)]
+    return tuple(
+        Episode(SEED_STRIDE * repetition + k, {"course_change_deg": change}, f"{change:+g} deg")
+        for repetition in range(repetitions)
+        for k, change in enumerate(signed)
+    )
+
+
+def track_episodes(tracks: tuple[str, ...], repetitions: int) -> tuple[Episode, ...]:
+    """Each track ``repetitions`` times with other seeds (gusts, instrument noise)."""
+    return tuple(
+        Episode(SEED_STRIDE * repetition + k, {"track": track}, track)
+        for repetition in range(repetitions)
+        for k, track in enumerate(tracks)
+    )
+
+
+@dataclass(frozen=True)
+class SuiteSpec:
+    """What ``--suite`` chooses: the episodes per task and the conditions they are sailed in.
+
+    Attributes:
+        course_changes_deg: the CourseChange magnitudes sailed (each to both sides).
+        repetitions: how often each episode is sailed, with other seeds.
+        tracks: the TrackFollow tracks.
+        conditions: the ship conditions.
+        course_change_disturbances: the CourseChange disturbance levels, one suite each.
+    """
+
+    course_changes_deg: tuple[float, ...] = THESIS_COURSE_CHANGES_DEG
+    repetitions: int = 1
+    tracks: tuple[str, ...] = TRACK_IDS
+    conditions: tuple[Condition, ...] = CONDITIONS
+    course_change_disturbances: tuple[str, ...] = COURSE_CHANGE_DISTURBANCES
+
+    def suites(self) -> list[Suite]:
+        """The suites, condition by condition: CourseChange per disturbance, then TrackFollow."""
+        course_changes = course_change_episodes(self.course_changes_deg, self.repetitions)
+        tracks = track_episodes(self.tracks, self.repetitions)
+        suites = []
+        for condition in self.conditions:
+            for disturbance in self.course_change_disturbances:
+                suites.append(
+                    Suite(
+                        f"CourseChange {disturbance}",
+                        COURSE_CHANGE,
+                        {"disturbance": disturbance},
+                        condition,
+                        course_changes,
+                    )
+                )
+            if tracks:
+                suites.append(Suite("TrackFollow", TRACK_FOLLOW, track_env_kwargs(condition), condition, tracks))
+        return suites
+
+
+#: The named suites: ``quick`` sails every episode once on the nominal ship, with the ship's
+#: K*, tau* halved and at half speed; ``full`` three times in every condition.
+SUITE_SPECS: dict[str, SuiteSpec] = {
+    "quick": SuiteSpec(conditions=(NOMINAL, K_TAU_HALF, HALF_SPEED)),
+    "full": SuiteSpec(repetitions=3),
+}

@@ -1,0 +1,10 @@
+"""Learned policies: training stable-baselines3 agents on the environments and loading the results.
+
+- :mod:`ship_env.rl.agents`: the hyper-parameters of ``configs/agents/<algo>.yaml``, keyed by
+  environment id (rl-zoo3's layout);
+- :mod:`ship_env.rl.training`: one training run on the native vector environment, saved as
+  ``model.zip`` beside its ``metadata.json`` (:mod:`ship_env.rl.metadata`);
+- :mod:`ship_env.rl.policy_file`: a saved policy loaded and checked against the environment it
+  is to steer; :mod:`ship_env.rl.shipped` lists the policies that ship with the package;
+- :mod:`ship_env.rl.cli_train`: ``ship-env train``.
+"""

@@ -1,0 +1,38 @@
+"""Fixed input scaling inside a policy network: the environment's observation stays as it is.
+
+The course-change observation holds the heading error as a fraction of pi (design notes 4): a
+1-deg error is 0.0056, too small for a freshly initialised network to act on, while a good
+autopilot's rudder answers it in full (the PD's gain is about 19 rudder limits per unit of that
+observation). :class:`ScaledObservation` multiplies each observation by a fixed factor before the
+policy's and value's layers, so their weights start on the scale the task needs. The factors are
+saved with the policy (a buffer of the module), so a policy file carries them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import torch
+from gymnasium import spaces
+from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
+
+
+class ScaledObservation(BaseFeaturesExtractor):
+    """Features = observation * scales, element by element.
+
+    Args:
+        observation_space: a flat ``Box``.
+        scales: one factor per observation element.
+    """
+
+    def __init__(self, observation_space: spaces.Box, scales: Sequence[float]) -> None:
+        size = int(observation_space.shape[0])
+        if len(observation_space.shape) != 1 or len(scales) != size:
+            raise ValueError(
+                f"scales: expected {size} factors for observations of shape {observation_space.shape}, got {list(scales)}"
+            )
+        super().__init__(observation_space, features_dim=size)
+        self.register_buffer("scales", torch.as_tensor(scales, dtype=torch.float32))
+
+    def forward(self, observations: torch.Tensor) -> torch.Tensor:
+        return observations * self.scales

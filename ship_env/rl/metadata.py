@@ -1,0 +1,85 @@
+"""What a training run records beside its model: ``metadata.json``.
+
+A run's folder holds ``model.zip`` (stable-baselines3's file) and ``metadata.json``: the
+environment id and keyword arguments trained on, the agent config entry, the seed, the steps,
+the wall time, the versions of the packages that made it and the command that reproduces it.
+The leaderboard reads the environment id from it to know which suite a policy sails.
+"""
+
+from __future__ import annotations
+
+import json
+import platform
+from dataclasses import asdict, dataclass, fields
+from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
+from typing import Any
+
+#: The file names of a run's folder.
+MODEL_FILE = "model.zip"
+METADATA_FILE = "metadata.json"
+#: The distributions whose versions a run records.
+RECORDED_PACKAGES = ("ship-env", "stable-baselines3", "torch", "numpy", "gymnasium", "numba")
+
+
+def package_versions() -> dict[str, str]:
+    """The installed versions of :data:`RECORDED_PACKAGES` and Python's."""
+    versions = {"python": platform.python_version()}
+    for package in RECORDED_PACKAGES:
+        try:
+            versions[package] = version(package)
+        except PackageNotFoundError:
+            versions[package] = "not installed"
+    return versions
+
+
+@dataclass(frozen=True)
+class PolicyMetadata:
+    """A training run as ``metadata.json`` records it.
+
+    Attributes:
+        env_id: the Gymnasium id trained on.
+        env_kwargs: the environment's keyword arguments.
+        algo: the algorithm's name (``ppo``, ``sac``).
+        config: the agent config entry used (:meth:`~ship_env.rl.agents.AgentConfig.entry`).
+        config_file: where the entry was read from.
+        seed: the run's seed.
+        steps: the environment steps asked for.
+        timesteps: the environment steps taken (a whole number of rollouts, so at least ``steps``).
+        wall_time_s: the training's wall-clock time, s.
+        torch_threads: torch's intra-op threads during training.
+        versions: package versions (:func:`package_versions`).
+        command: the ``ship-env train`` command line that reproduces the run.
+    """
+
+    env_id: str
+    env_kwargs: dict[str, Any]
+    algo: str
+    config: dict[str, Any]
+    config_file: str
+    seed: int
+    steps: int
+    timesteps: int
+    wall_time_s: float
+    torch_threads: int
+    versions: dict[str, str]
+    command: str
+
+    def write(self, folder: Path) -> Path:
+        """Write ``folder/metadata.json``; returns its path."""
+        path = Path(folder) / METADATA_FILE
+        path.write_text(json.dumps(asdict(self), indent=2) + "\n")
+        return path
+
+    @classmethod
+    def read(cls, path: Path) -> PolicyMetadata:
+        """Read a ``metadata.json``; ``ValueError`` naming the file if it is not one."""
+        try:
+            document = json.loads(Path(path).read_text())
+        except (OSError, json.JSONDecodeError) as error:
+            raise ValueError(f"{path}: cannot read the policy's metadata: {error}") from None
+        names = [item.name for item in fields(cls)]
+        missing = [name for name in names if name not in document] if isinstance(document, dict) else names
+        if missing:
+            raise ValueError(f"{path}: not a training run's metadata, missing {', '.join(missing)}")
+        return cls(**{name: document[name] for name in names})

@@ -1,0 +1,126 @@
+"""A saved stable-baselines3 policy, read and checked against the environment it is to steer.
+
+A policy file is SB3's ``model.zip`` (any algorithm: PPO, SAC, A2C, TD3...), optionally with the
+``metadata.json`` a training run writes beside it (:mod:`ship_env.rl.metadata`), which names the
+environment it was trained on. Only the policy network is rebuilt (its class, keyword arguments
+and weights from the zip), so a policy loads without knowing the algorithm that trained it.
+
+Everything that makes a file unusable raises :class:`PolicyFileError`, whose message names the
+file and the mismatch: not an SB3 zip, trained on another environment, or observation or action
+spaces that differ from the environment's.
+"""
+
+from __future__ import annotations
+
+import inspect
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import torch
+from gymnasium import spaces
+from stable_baselines3.common.policies import BasePolicy
+from stable_baselines3.common.save_util import load_from_zip_file
+
+from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE, PolicyMetadata
+
+#: Saved attributes a policy does not need; not unpickled (their closures may not load elsewhere).
+_SKIPPED_ATTRIBUTES = ("learning_rate", "lr_schedule", "clip_range", "clip_range_vf", "exploration_schedule")
+
+
+class PolicyFileError(ValueError):
+    """A policy file that cannot steer the environment asked for; the message names the file."""
+
+
+def _no_learning_rate(_progress: float) -> float:
+    return 0.0
+
+
+@dataclass(frozen=True)
+class PolicyFile:
+    """A saved policy as read from disk (:func:`read_policy_file`).
+
+    Attributes:
+        path: the ``model.zip``.
+        observation_space, action_space: the spaces the policy was trained with.
+        metadata: the training run's ``metadata.json`` beside it, if there is one.
+    """
+
+    path: Path
+    observation_space: spaces.Space
+    action_space: spaces.Space
+    metadata: PolicyMetadata | None
+    _data: dict[str, Any] = field(repr=False)
+    _parameters: dict[str, Any] = field(repr=False)
+
+    @property
+    def env_id(self) -> str | None:
+        """The environment trained on, from the metadata (``None`` without it)."""
+        return None if self.metadata is None else self.metadata.env_id
+
+    @property
+    def algo(self) -> str:
+        """The algorithm that trained it (``"PPO"``) from the metadata, or without it the policy's class name."""
+        return self.metadata.algo.upper() if self.metadata is not None else self._data["policy_class"].__name__
+
+    def mismatch(self, env_id: str, observation_space: spaces.Space, action_space: spaces.Space) -> str | None:
+        """Why the policy cannot steer ``env_id`` with these spaces, or ``None`` if it can."""
+        if self.env_id is not None and self.env_id != env_id:
+            return f"it was trained on {self.env_id}, not {env_id} (its {METADATA_FILE})"
+        if self.observation_space != observation_space:
+            return f"its observation space {self.observation_space} differs from {env_id}'s {observation_space}"
+        if self.action_space != action_space:
+            return f"its action space {self.action_space} differs from {env_id}'s {action_space}"
+        return None
+
+    def check(self, env_id: str, observation_space: spaces.Space, action_space: spaces.Space) -> None:
+        """:class:`PolicyFileError` if the policy cannot steer ``env_id`` with these spaces."""
+        reason = self.mismatch(env_id, observation_space, action_space)
+        if reason is not None:
+            raise PolicyFileError(f"policy file {self.path}: {reason}")
+
+    def policy(self) -> BasePolicy:
+        """The policy network with its trained weights, in evaluation mode, on the CPU."""
+        policy_class = self._data["policy_class"]
+        kwargs = dict(self._data.get("policy_kwargs") or {})
+        if "use_sde" in inspect.signature(policy_class).parameters:
+            kwargs.setdefault("use_sde", bool(self._data.get("use_sde", False)))
+        try:
+            policy = policy_class(self.observation_space, self.action_space, _no_learning_rate, **kwargs)
+            policy.load_state_dict(self._parameters["policy"])
+        except (KeyError, RuntimeError, TypeError) as error:
+            raise PolicyFileError(
+                f"policy file {self.path}: cannot rebuild its {policy_class.__name__}: {error}"
+            ) from None
+        policy.set_training_mode(False)
+        return policy
+
+
+def model_path(path: str | Path) -> Path:
+    """The ``model.zip`` a path names: the file itself, or ``model.zip`` in a run's folder."""
+    path = Path(path)
+    return path / MODEL_FILE if path.is_dir() else path
+
+
+def read_policy_file(path: str | Path) -> PolicyFile:
+    """Read a policy file (or a training run's folder) and the metadata beside it.
+
+    ``PolicyFileError`` if it is missing, not a stable-baselines3 zip, or its metadata is unreadable.
+    """
+    path = model_path(path)
+    if not path.is_file():
+        raise PolicyFileError(f"policy file {path}: no such file")
+    try:
+        data, parameters, _ = load_from_zip_file(
+            path, custom_objects=dict.fromkeys(_SKIPPED_ATTRIBUTES, None), device=torch.device("cpu")
+        )
+    except Exception as error:  # SB3 raises ValueError, zipfile and pickle errors alike
+        raise PolicyFileError(f"policy file {path}: not a stable-baselines3 model: {error}") from None
+    if not data or not isinstance(data.get("policy_class"), type) or "policy" not in parameters:
+        raise PolicyFileError(f"policy file {path}: not a stable-baselines3 model: no policy class and weights")
+    metadata_path = path.with_name(METADATA_FILE)
+    try:
+        metadata = PolicyMetadata.read(metadata_path) if metadata_path.is_file() else None
+    except ValueError as error:
+        raise PolicyFileError(f"policy file {path}: {error}") from None
+    return PolicyFile(path, data["observation_space"], data["action_space"], metadata, data, parameters)

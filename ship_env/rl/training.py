@@ -1,0 +1,123 @@
+"""One training run: an agent config, the native vector environment, ``model.zip`` and its metadata.
+
+The environment is ``gymnasium.make_vec(env_id, num_envs=n_envs, vectorization_mode=
+"vector_entry_point")``, all ships stepped in one simulator call, presented to stable-baselines3
+by :class:`~ship_env.envs.sb3_adapter.SB3VecEnvAdapter` (design notes 9: SB3's own ``VecEnv``
+API). Torch runs with :data:`~ship_env.rl.agents.DEFAULT_TORCH_THREADS` intra-op threads unless
+told otherwise. With the same seed, thread count and package versions a run repeats exactly.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import gymnasium as gym
+import torch
+from stable_baselines3.common.base_class import BaseAlgorithm
+from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.vec_env import VecEnv, VecMonitor, VecNormalize
+
+import ship_env  # noqa: F401  (registers the environments)
+from ship_env.envs.sb3_adapter import SB3VecEnvAdapter
+from ship_env.rl.agents import DEFAULT_TORCH_THREADS, AgentConfig
+from ship_env.rl.metadata import MODEL_FILE, PolicyMetadata, package_versions
+
+#: The folder under a run's output that holds its TensorBoard logs (when tensorboard is installed).
+TENSORBOARD_FOLDER = "tensorboard"
+
+
+def make_training_env(config: AgentConfig) -> VecEnv:
+    """The native vector environment of ``config`` as an SB3 ``VecEnv`` recording episode returns
+    (the environment's own), with its rewards normalised if the config asks."""
+    vector_env = gym.make_vec(
+        config.env_id, num_envs=config.n_envs, vectorization_mode="vector_entry_point", **config.env_kwargs
+    )
+    env = VecMonitor(SB3VecEnvAdapter(vector_env))
+    if config.normalize_reward:
+        env = VecNormalize(env, norm_obs=False, norm_reward=True, gamma=config.hyperparameters.get("gamma", 0.99))
+    return env
+
+
+def tensorboard_installed() -> bool:
+    """Whether SB3 can write TensorBoard logs here."""
+    return importlib.util.find_spec("tensorboard") is not None
+
+
+@dataclass(frozen=True)
+class TrainingRun:
+    """A finished run: the trained model and what was written.
+
+    Attributes:
+        model: the trained algorithm (its ``policy`` steers).
+        model_path: ``<out>/model.zip``.
+        metadata: what ``<out>/metadata.json`` holds.
+    """
+
+    model: BaseAlgorithm
+    model_path: Path
+    metadata: PolicyMetadata
+
+
+def train(
+    config: AgentConfig,
+    out: Path,
+    command: str,
+    *,
+    steps: int | None = None,
+    seed: int = 0,
+    torch_threads: int = DEFAULT_TORCH_THREADS,
+    progress_bar: bool = True,
+    callback: BaseCallback | None = None,
+) -> TrainingRun:
+    """Train ``config``'s algorithm on its environment and save model and metadata into ``out``.
+
+    Args:
+        config: the algorithm, environment and hyper-parameters.
+        out: the run's folder (created).
+        command: the command line that reproduces the run, recorded in the metadata.
+        steps: environment steps to train (default ``config.n_timesteps``).
+        seed: seeds torch, numpy and the environments (sub-environment i with ``seed + i``).
+        torch_threads: torch's intra-op threads.
+        progress_bar: show SB3's progress bar (tqdm and rich).
+        callback: an SB3 callback (it may stop the run early by returning False).
+    """
+    steps = config.n_timesteps if steps is None else steps
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    torch.set_num_threads(torch_threads)
+    env = make_training_env(config)
+    model = config.algorithm(
+        config.policy,
+        env,
+        seed=seed,
+        device="cpu",
+        tensorboard_log=str(out / TENSORBOARD_FOLDER) if tensorboard_installed() else None,
+        **config.hyperparameters,
+    )
+    start = time.perf_counter()
+    try:
+        model.learn(total_timesteps=steps, callback=callback, progress_bar=progress_bar)
+    finally:
+        env.close()
+    wall_time = time.perf_counter() - start
+    model_path = out / MODEL_FILE
+    model.save(model_path)
+    metadata = PolicyMetadata(
+        env_id=config.env_id,
+        env_kwargs=dict(config.env_kwargs),
+        algo=config.algo,
+        config=config.entry(),
+        config_file=str(config.source),
+        seed=seed,
+        steps=steps,
+        timesteps=int(model.num_timesteps),
+        wall_time_s=round(wall_time, 1),
+        torch_threads=torch_threads,
+        versions=package_versions(),
+        command=command,
+    )
+    metadata.write(out)
+    return TrainingRun(model, model_path, metadata)

@@ -1,0 +1,120 @@
+"""``ship-env train``: agent configs, a short run writing model and metadata, clear errors."""
+
+from __future__ import annotations
+
+import json
+import shlex
+
+import pytest
+import yaml
+from stable_baselines3 import PPO
+
+import ship_env
+from ship_env.cli import main
+from ship_env.rl.agents import ALGORITHMS, load_agent_config
+from ship_env.rl.policy_file import read_policy_file
+
+COURSE_CHANGE = "ship_env/CourseChange-v0"
+
+
+@pytest.mark.parametrize("algo", list(ALGORITHMS))
+def test_shipped_agent_configs_have_a_course_change_entry(algo):
+    config = load_agent_config(algo, COURSE_CHANGE)
+    assert config.env_id == COURSE_CHANGE and config.n_envs >= 1 and config.n_timesteps > 0
+    assert config.algorithm.__name__ == ALGORITHMS[algo]
+
+
+def test_config_errors_name_the_file_and_the_problem(tmp_path):
+    path = tmp_path / "ppo.yaml"
+    path.write_text(yaml.safe_dump({COURSE_CHANGE: {"n_envs": 2, "n_stepz": 64}}))
+    with pytest.raises(ValueError, match=r"ppo\.yaml: ship_env/CourseChange-v0: PPO takes no keyword 'n_stepz'"):
+        load_agent_config("ppo", COURSE_CHANGE, path)
+    with pytest.raises(
+        ValueError, match=r"ppo\.yaml: no entry for 'ship_env/TrackFollow-v0'; entries: ship_env/CourseChange-v0"
+    ):
+        load_agent_config("ppo", "ship_env/TrackFollow-v0", path)
+    path.write_text(yaml.safe_dump({COURSE_CHANGE: {"n_envs": 0}}))
+    with pytest.raises(ValueError, match=r"n_envs: expected a whole number >= 1, got 0"):
+        load_agent_config("ppo", COURSE_CHANGE, path)
+
+
+def test_train_command_writes_model_and_metadata(tmp_path, capsys):
+    config = tmp_path / "ppo.yaml"
+    entry = {
+        "n_envs": 4,
+        "n_timesteps": 10_000,
+        "env_kwargs": {"disturbance": "wind_current", "rudder_travel_weight": 0.5},
+        "n_steps": 64,
+        "batch_size": 128,
+        "n_epochs": 1,
+        "policy_kwargs": {"net_arch": [16, 16]},
+    }
+    config.write_text(yaml.safe_dump({COURSE_CHANGE: entry}))
+    out = tmp_path / "run"
+    argv = ["train", "--algo", "ppo", "--steps", "300", "--seed", "3", "--config", str(config), "--out", str(out)]
+    assert main([*argv, "--no-progress"]) == 0
+    printed = capsys.readouterr().out
+    assert "ppo on ship_env/CourseChange-v0: 512 steps" in printed  # two rollouts of 4 x 64
+    metadata = json.loads((out / "metadata.json").read_text())
+    assert metadata["env_id"] == COURSE_CHANGE and metadata["algo"] == "ppo"
+    assert metadata["env_kwargs"] == entry["env_kwargs"]
+    assert metadata["config"]["n_steps"] == 64 and metadata["config"]["n_envs"] == 4
+    assert (metadata["seed"], metadata["steps"], metadata["timesteps"], metadata["torch_threads"]) == (3, 300, 512, 1)
+    assert metadata["wall_time_s"] > 0.0
+    assert metadata["versions"]["ship-env"] == ship_env.__version__
+    assert {"stable-baselines3", "torch", "numpy", "gymnasium", "python"} <= set(metadata["versions"])
+    assert shlex.split(metadata["command"]) == [
+        "ship-env",
+        "train",
+        "--algo",
+        "ppo",
+        "--env",
+        COURSE_CHANGE,
+        "--seed",
+        "3",
+        "--steps",
+        "300",
+        "--config",
+        str(config),
+        "--out",
+        str(out),
+    ]
+    model = PPO.load(out / "model.zip", device="cpu")
+    assert model.n_envs == 4 and model.num_timesteps == 512
+    assert read_policy_file(out).env_id == COURSE_CHANGE
+
+
+def test_sac_trains_with_its_config(tmp_path):
+    config = tmp_path / "sac.yaml"
+    entry = {"n_envs": 2, "learning_starts": 50, "batch_size": 32, "policy_kwargs": {"net_arch": [16, 16]}}
+    config.write_text(yaml.safe_dump({COURSE_CHANGE: entry}))
+    argv = ["train", "--algo", "sac", "--steps", "100", "--config", str(config), "--out", str(tmp_path / "sac")]
+    assert main([*argv, "--no-progress"]) == 0
+    assert read_policy_file(tmp_path / "sac").algo == "SAC"
+
+
+def test_train_command_rejects_an_environment_without_a_config_entry(tmp_path, capsys):
+    with pytest.raises(SystemExit) as raised:
+        main(["train", "--algo", "ppo", "--env", "ship_env/CourseKeeping-v0", "--out", str(tmp_path)])
+    assert raised.value.code == 2
+    err = capsys.readouterr().err
+    assert "no entry for 'ship_env/CourseKeeping-v0'" in err and "ppo.yaml" in err
+
+
+@pytest.mark.slow
+def test_the_shipped_policys_command_reproduces_it(tmp_path):
+    """Same command, seed, thread count and package versions: the same weights, bit for bit."""
+    import torch
+    from stable_baselines3.common.save_util import load_from_zip_file
+
+    from ship_env.rl.shipped import shipped_folder
+
+    folder = shipped_folder(COURSE_CHANGE, "ppo")
+    words = shlex.split(json.loads((folder / "metadata.json").read_text())["command"])
+    out_index = words.index("--out") + 1
+    words[out_index] = str(tmp_path / "run")
+    assert main([*words[1:], "--no-progress"]) == 0
+    _, shipped, _ = load_from_zip_file(folder / "model.zip", device="cpu", load_data=False)
+    _, again, _ = load_from_zip_file(tmp_path / "run" / "model.zip", device="cpu", load_data=False)
+    assert shipped["policy"].keys() == again["policy"].keys()
+    assert all(torch.equal(shipped["policy"][key], again["policy"][key]) for key in shipped["policy"])

@@ -44,7 +44,7 @@ def plot_scores(tables: Sequence[Table], path: Path) -> Path:
             color=[KIND_COLOURS[standing.kind] for standing in standings],
         )
         finite = [value for value in values if math.isfinite(value)]
-        if finite:  # start the axis near the smallest bar: the differences are a few per cent
+        if finite and max(finite) < 1.5 * min(finite):  # a few per cent apart: start near the smallest bar
             axes.set_xlim(0.9 * min(finite), 1.02 * max(finite))
         axes.set_title(table.suite.name, fontsize="medium")
         axes.set_xlabel(metric.heading, fontsize="small")

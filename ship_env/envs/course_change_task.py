@@ -31,9 +31,10 @@ from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import METRICS_DTYPE, start_metrics, update_metrics
 from ship_env.envs.sensors import (
     MEASURED_HEADING,
-    MEASURED_RATE_OF_TURN,
-    MEASURED_SPEED,
+    RATE_BOUND,
+    SPEED_BOUND,
     measure,
+    observe_motion,
     wrap,
 )
 from ship_env.envs.task import ShipTask
@@ -66,8 +67,6 @@ OBS_SPEED = 3  # log speed / U0
 OBS_TURN_DIRECTION = 4  # +1 change ordered to starboard, -1 to port
 OBSERVATION_SIZE = 5
 #: Bounds of the rate and speed observations (clipped there): well beyond what the rudder can give.
-RATE_BOUND = 4.0
-SPEED_BOUND = 2.0
 OBSERVATION_LOW = np.array([-1.0, -RATE_BOUND, -1.0, 0.0, -1.0], dtype=np.float32)
 OBSERVATION_HIGH = np.array([1.0, RATE_BOUND, 1.0, SPEED_BOUND, 1.0], dtype=np.float32)
 
@@ -260,10 +259,9 @@ def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, e
 
     observation = episode["observation"]
     observation[OBS_HEADING_ERROR] = wrap(episode["new_heading"] - measured[MEASURED_HEADING]) / math.pi
-    steady_rate = p["full_rudder_rate_per_speed"] * service_speed
-    observation[OBS_RATE_OF_TURN] = min(max(measured[MEASURED_RATE_OF_TURN] / steady_rate, -RATE_BOUND), RATE_BOUND)
-    observation[OBS_RUDDER] = rudder / p["rudder_limit"]
-    observation[OBS_SPEED] = min(max(measured[MEASURED_SPEED] / service_speed, 0.0), SPEED_BOUND)
+    observe_motion(
+        observation, OBS_RATE_OF_TURN, measured, rudder, service_speed, p["full_rudder_rate_per_speed"], p["rudder_limit"]
+    )
     observation[OBS_TURN_DIRECTION] = episode["turn_direction"]
 
 

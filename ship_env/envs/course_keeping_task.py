@@ -27,7 +27,14 @@ from ship_env.envs.metrics import (
     start_course_keeping_metrics,
     update_course_keeping_metrics,
 )
-from ship_env.envs.sensors import MEASURED_HEADING, MEASURED_RATE_OF_TURN, MEASURED_SPEED, measure, wrap
+from ship_env.envs.sensors import (
+    MEASURED_HEADING,
+    RATE_BOUND,
+    SPEED_BOUND,
+    measure,
+    observe_motion,
+    wrap,
+)
 from ship_env.envs.task import ShipTask
 from ship_env.envs.weather import (
     CUSTOM_DISTURBANCE,
@@ -58,8 +65,6 @@ OBSERVATION_SIZE = 4
 #: The heading error's unit in the observation: course keeping errors are a few degrees.
 HEADING_SCALE = math.radians(10.0)
 HEADING_BOUND = math.pi / HEADING_SCALE  # 18: the whole circle
-RATE_BOUND = 4.0
-SPEED_BOUND = 2.0
 OBSERVATION_LOW = np.array([-HEADING_BOUND, -RATE_BOUND, -1.0, 0.0], dtype=np.float32)
 OBSERVATION_HIGH = np.array([HEADING_BOUND, RATE_BOUND, 1.0, SPEED_BOUND], dtype=np.float32)
 
@@ -205,10 +210,9 @@ def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, e
 
     observation = episode["observation"]
     observation[OBS_HEADING_ERROR] = wrap(episode["course"] - measured[MEASURED_HEADING]) / HEADING_SCALE
-    steady_rate = p["full_rudder_rate_per_speed"] * service_speed
-    observation[OBS_RATE_OF_TURN] = min(max(measured[MEASURED_RATE_OF_TURN] / steady_rate, -RATE_BOUND), RATE_BOUND)
-    observation[OBS_RUDDER] = rudder / p["rudder_limit"]
-    observation[OBS_SPEED] = min(max(measured[MEASURED_SPEED] / service_speed, 0.0), SPEED_BOUND)
+    observe_motion(
+        observation, OBS_RATE_OF_TURN, measured, rudder, service_speed, p["full_rudder_rate_per_speed"], p["rudder_limit"]
+    )
 
 
 @kernel

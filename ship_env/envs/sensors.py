@@ -118,3 +118,22 @@ def measure(state, service_speed, wave_yaw, key, step, sensors, restarted, measu
         measured[MEASURED_NORTH] = state[S.NORTH] + _sensor_noise(key, step, 3, p["position_noise"])
         measured[MEASURED_EAST] = state[S.EAST] + _sensor_noise(key, step, 4, p["position_noise"])
         measured[MEASURED_FIX_TIME] = time
+
+
+#: Bounds of the normalised rate of turn and speed in every task's observation.
+RATE_BOUND = 4.0
+SPEED_BOUND = 2.0
+
+
+@kernel
+def observe_motion(observation, first, measured, rudder, service_speed, full_rudder_rate_per_speed, rudder_limit):
+    """Write the motion part every task observes into ``observation[first:first + 3]``.
+
+    Rate of turn over the linear full-rudder steady rate K* U0 / L delta_max (clipped to
+    +-RATE_BOUND), actual rudder over the rudder limit, log speed over the service speed (clipped
+    to [0, SPEED_BOUND]).
+    """
+    steady_rate = full_rudder_rate_per_speed * service_speed
+    observation[first] = min(max(measured[MEASURED_RATE_OF_TURN] / steady_rate, -RATE_BOUND), RATE_BOUND)
+    observation[first + 1] = rudder / rudder_limit
+    observation[first + 2] = min(max(measured[MEASURED_SPEED] / service_speed, 0.0), SPEED_BOUND)

@@ -39,9 +39,10 @@ from ship_env.envs.sensors import (
     MEASURED_FIX_TIME,
     MEASURED_HEADING,
     MEASURED_NORTH,
-    MEASURED_RATE_OF_TURN,
-    MEASURED_SPEED,
+    RATE_BOUND,
+    SPEED_BOUND,
     measure,
+    observe_motion,
     wrap,
 )
 from ship_env.envs.task import ShipTask
@@ -89,8 +90,6 @@ OBS_NEXT_CHANGE = 5  # the course change at the leg's end waypoint / pi, 0 on th
 OBS_WAYPOINT_DISTANCE = 6  # distance of the fix to the leg's end waypoint along the leg, nm
 OBSERVATION_SIZE = 7
 CROSS_TRACK_BOUND = 10.0  # ship lengths
-RATE_BOUND = 4.0
-SPEED_BOUND = 2.0
 DISTANCE_BOUNDS = (-1.0, 3.0)  # nm: legs are at most 2.5 nm
 OBSERVATION_LOW = np.array(
     [-CROSS_TRACK_BOUND, -1.0, -RATE_BOUND, -1.0, 0.0, -1.0, DISTANCE_BOUNDS[0]], dtype=np.float32
@@ -269,10 +268,9 @@ def update_ship(
     relative = episode["fix_cross_track_error"] / p["length"]
     observation[OBS_CROSS_TRACK] = min(max(relative, -CROSS_TRACK_BOUND), CROSS_TRACK_BOUND)
     observation[OBS_HEADING_ERROR] = wrap(row[LEG_COURSE] - measured[MEASURED_HEADING]) / math.pi
-    steady_rate = p["full_rudder_rate_per_speed"] * service_speed
-    observation[OBS_RATE_OF_TURN] = min(max(measured[MEASURED_RATE_OF_TURN] / steady_rate, -RATE_BOUND), RATE_BOUND)
-    observation[OBS_RUDDER] = rudder / p["rudder_limit"]
-    observation[OBS_SPEED] = min(max(measured[MEASURED_SPEED] / service_speed, 0.0), SPEED_BOUND)
+    observe_motion(
+        observation, OBS_RATE_OF_TURN, measured, rudder, service_speed, p["full_rudder_rate_per_speed"], p["rudder_limit"]
+    )
     observation[OBS_NEXT_CHANGE] = row[TURN_CHANGE] / math.pi
     to_go_north = (row[LEG_END_NORTH] - fix_north) * row[LEG_DIRECTION_NORTH]
     to_go = to_go_north + (row[LEG_END_EAST] - fix_east) * row[LEG_DIRECTION_EAST]

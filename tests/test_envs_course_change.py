@@ -12,6 +12,8 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
+from env_contract import assert_same_steps, sail
+
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.batch import PARALLEL_SHIPS
 from ship_env.envs.course_change import CourseChangeEnv
@@ -26,22 +28,6 @@ ENV_ID = "ship_env/CourseChange-v0"
 #: ship's own motion over the ground (2.74), which the closed forms below leave out.
 WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")
 NO_WIND_EFFECTS = [name for name in ShipModel("container_226m").effects if name not in WIND_EFFECTS]
-
-
-def sail(env: gym.Env, actions: np.ndarray, seed: int, options: dict | None = None) -> list:
-    """Reset with ``seed`` and step through ``actions``; every returned item, in order."""
-    steps = [env.reset(seed=seed, options=options)]
-    steps.extend(env.step(action) for action in actions)
-    return steps
-
-
-def assert_same_steps(first: list, second: list) -> None:
-    for one, other in zip(first, second, strict=True):
-        np.testing.assert_array_equal(one[0], other[0])
-        np.testing.assert_array_equal(one[-1]["state"], other[-1]["state"])
-        assert one[-1]["measurement"] == other[-1]["measurement"]
-        assert one[-1]["metrics"] == other[-1]["metrics"]
-        assert one[1:-1] == other[1:-1]
 
 
 @pytest.mark.parametrize("disturbance", [*DISTURBANCES, RANDOM_DISTURBANCE])

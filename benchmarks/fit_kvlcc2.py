@@ -58,7 +58,7 @@ FIT_EFFECTS = ("yaw", "norrbin", "speed_loss", "sway", "steering_machine", "kine
 FIT_PARAMETERS = (
     ("yaw.gain", 1.5, 0.05, 10.0),
     ("yaw.time_constant", 2.0, 0.05, 30.0),
-    ("yaw.quadratic", 0.0, -5.0, 5.0),
+    ("asymmetry.quadratic", 0.0, -5.0, 5.0),
     ("norrbin.cubic", 0.5, 0.0, 100.0),
     ("speed_loss.gain", 0.7, 0.0, 50.0),
     ("speed_loss.time_constant", 3.0, 0.05, 200.0),
@@ -538,7 +538,7 @@ def main(argv: list[str] | None = None) -> int:
           f"d {mmg.basic.d:.2f} m, U0 {mmg.speed:.3f} m/s, propeller {mmg.propeller_rate * 60:.2f} rpm "
           f"(equilibrium at U0), rudder rate {math.degrees(RUDDER_RATE):.2f} deg/s, dt {args.dt} s")
     values, references = fit(args.dt, manoeuvres, args.slipstream)
-    print("\nfitted values (yaw.linear = 1, yaw.asymmetry = 0, sway.cubic = 0 held):")
+    print("\nfitted values (yaw.linear = 1, asymmetry.constant = 0, sway.cubic = 0 held):")
     for key, value in values.items():
         print(f"  {key:34s} {value:.4g}")
 

@@ -52,6 +52,7 @@ from ship_env.identify import (
     write_report,
 )
 from ship_env.identify.fit import NUISANCE
+from ship_env.identify.improve import PAIR_WIDTH
 from ship_env.identify.logs import Log, every_nth
 from ship_env.identify.tables import diagnosis_table, error_table, estimate_table, ladder_table
 from ship_env.identify.terms import default_terms, with_values
@@ -298,14 +299,20 @@ def _names(text: str) -> list[str]:
     return [name.strip() for name in text.split(",") if name.strip()]
 
 
-def _whole_number(text: str) -> int:
+def _whole_number(text: str, smallest: int = 1) -> int:
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive whole number, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a positive whole number, got {text!r}")
+        value = smallest - 1
+    if value < smallest:
+        kind = "positive" if smallest == 1 else "non-negative"
+        raise argparse.ArgumentTypeError(f"expected a {kind} whole number, got {text!r}")
     return value
+
+
+def _count(text: str) -> int:
+    """A whole number, 0 or more."""
+    return _whole_number(text, smallest=0)
 
 
 def _fraction(text: str) -> float:
@@ -462,7 +469,7 @@ def run_improve(args: argparse.Namespace) -> int:
     print(_model_line(setup, logs))
     ladder = improve(
         setup, logs, options, args.candidates, args.min_gain, args.max_steps, args.refit,
-        progress=lambda text: print(text, file=sys.stderr),
+        progress=lambda text: print(text, file=sys.stderr), pair_width=args.pairs,
     )
     print("\nerror ladder (held out: leave one run out)")
     print(ladder_table(ladder).text())
@@ -499,7 +506,7 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     if fitting:
         parser.add_argument(
             "--free", type=_names, default=[], metavar="TERM[,TERM]",
-            help="more terms to fit besides the effects' defaults, e.g. yaw.asymmetry",
+            help="more terms to fit besides the effects' defaults, e.g. yaw.linear",
         )
         parser.add_argument("--fix", type=_names, default=[], metavar="TERM[,TERM]", help="default terms to hold")
         parser.add_argument(
@@ -531,6 +538,10 @@ def _add_candidate_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--refit", type=_whole_number, default=None, metavar="K",
         help="refit only the K candidates with the most residual evidence (default: all)",
+    )
+    parser.add_argument(
+        "--pairs", type=_count, default=PAIR_WIDTH, metavar="K",
+        help=f"where no single effect pays, try pairs of the K candidates with most evidence (0: never; default: {PAIR_WIDTH})",
     )
 
 

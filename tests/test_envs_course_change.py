@@ -139,12 +139,12 @@ def test_zero_rudder_in_calm_water_with_a_current_drifts_with_the_current():
 def closed_form_steady_rate(model: ShipModel, rudder: float) -> float:
     """Steady r of the model in calm water: H(r*) = K* delta (2.26, 2.27), u* from (2.55), r = u r* / L."""
     cubic = model.parameter("norrbin.cubic") if model.has("norrbin") else 0.0
-    coefficients = [
-        cubic,
-        model.parameter("yaw.quadratic"),
-        model.parameter("yaw.linear"),
-        model.parameter("yaw.asymmetry") - model.parameter("yaw.gain") * rudder,
-    ]
+    quadratic, constant = (
+        (model.parameter("asymmetry.quadratic"), model.parameter("asymmetry.constant"))
+        if model.has("asymmetry")
+        else (0.0, 0.0)
+    )
+    coefficients = [cubic, quadratic, model.parameter("yaw.linear"), constant - model.parameter("yaw.gain") * rudder]
     roots = np.roots(coefficients)
     normalised_rate = float(roots[np.abs(roots.imag) < 1e-12].real[0])
     speed_loss = 0.0

@@ -43,8 +43,8 @@ def test_fit_prints_terms_and_errors_and_writes_json_and_plots(log_folder, tmp_p
     assert document["effects"] == ["yaw", "kinematics"] and set(document["values"]) == {"yaw.gain", "yaw.time_constant"}
     assert len(list((tmp_path / "plots").glob("*.png"))) == 3
     base = held_out_score(out)
-    assert main(["fit", str(log_folder), "--ship", SHIP, "--add", "rudder_offset", "--free", "yaw.asymmetry",
-                 "--fix", "yaw.asymmetry"]) == 0
+    assert main(["fit", str(log_folder), "--ship", SHIP, "--add", "rudder_offset", "--free", "yaw.linear",
+                 "--fix", "yaw.linear"]) == 0
     assert held_out_score(capsys.readouterr().out) < 0.5 * base
 
 

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -67,20 +68,41 @@ def test_the_base_model_fits_runs_on_their_own_but_generalises_poorly():
     assert held_out.track > 1.5
 
 
+@pytest.fixture(scope="module")
+def ladder():
+    """The error ladder of the nine zig-zags from the base model (about 15 minutes on 2 cores)."""
+    return improve(ShipModel(SHIP, REQUIRED_EFFECTS), zigzags(), FitOptions(), refit=4)
+
+
+@pytest.mark.slow
+def test_the_workbench_finds_the_effects_the_runs_need_and_the_held_out_error_halves(ladder):
+    """The design notes' physics: wind is first-order here, the rudder works harder at high propeller
+    rate, the ship is not symmetric; adding them cuts the held-out heading error by half or more."""
+    print("\n" + ladder_table(ladder).text() + f"\nstopped: {ladder.stopped}")
+    start, final = ladder.rungs[0].validation.pooled, ladder.final.pooled
+    assert {"wind_moment", "propeller_slipstream", "asymmetry", "wind_drift"} <= set(ladder.added)
+    assert final.heading <= 0.5 * start.heading
+    assert final.track <= 0.5 * start.track
+
+
+@pytest.mark.slow
+def test_sway_and_wind_drift_bring_the_held_out_track_error_to_0_8_m(ladder):
+    model = ladder.final.fit.setup.model
+    with_drift = model.with_effects("sway", "wind_drift")
+    validation = cross_validate(replace(ladder.final.fit.setup, model=with_drift), zigzags())
+    print(f"\nheld-out track: {ladder.final.pooled.track:.3f} m ({', '.join(model.effects)}); "
+          f"{validation.pooled.track:.3f} m with sway and wind drift")
+    assert validation.pooled.track <= 0.8
+
+
 @pytest.mark.slow
 @pytest.mark.xfail(
     reason=(
-        "target not reached: with the model's effects the ladder (current, rudder offset) brings the held-out "
-        "heading from 19.7 to 16.4 deg and the track from 2.15 to 0.93 m (0.80 m with wind drift); the runs need "
-        "a yaw moment from the beam wind that the wind-moment effect (C_n ~ sin 2 gamma_r) lacks"
+        "target not reached: the ladder (current, rudder offset, wind moment + propeller slipstream, asymmetry, "
+        "Norrbin, wind drift) brings the held-out heading from 19.7 to 8.4 deg (in-sample 6.0 deg); per-run fits "
+        "reach 1-3 deg, so the model still lacks what differs between runs"
     ),
     strict=False,
 )
-def test_the_workbench_finds_effects_that_bring_the_held_out_errors_down():
-    runs = zigzags()
-    options = FitOptions()
-    ladder = improve(ShipModel(SHIP, REQUIRED_EFFECTS), runs, options, refit=4)
-    print("\n" + ladder_table(ladder).text() + f"\nstopped: {ladder.stopped}")
-    final = ladder.final.pooled
-    assert math.degrees(final.heading) <= 7.0
-    assert final.track <= 0.8
+def test_the_held_out_heading_error_reaches_7_deg(ladder):
+    assert math.degrees(ladder.final.pooled.heading) <= 7.0

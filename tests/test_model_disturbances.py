@@ -74,14 +74,24 @@ def test_wind_moment_vanishes_head_on_beam_on_and_astern(angle_deg):
     """(2.84): C_n = a_n sin(2 gamma_r)."""
     largest = 1e-6 * 15.0**2
     angle = math.radians(angle_deg)
-    assert abs(wind_moment.yaw_acceleration(15.0, math.cos(angle), math.sin(angle), 1e-6)) < 1e-15 * largest
+    assert abs(wind_moment.yaw_acceleration(15.0, math.cos(angle), math.sin(angle), 1e-6, 0.0)) < 1e-15 * largest
+
+
+@pytest.mark.parametrize("angle_deg", [0.0, 180.0])
+def test_beam_wind_moment_vanishes_head_on_and_astern_only(angle_deg):
+    """C_n = b_n sin(gamma_r): no moment head-on or astern; largest beam-on, into the wind for b_n > 0."""
+    angle = math.radians(angle_deg)
+    assert abs(wind_moment.yaw_acceleration(15.0, math.cos(angle), math.sin(angle), 0.0, 1e-6)) < 1e-15 * 1e-6 * 15.0**2
+    beam = math.radians(90.0)
+    assert wind_moment.yaw_acceleration(15.0, math.cos(beam), math.sin(beam), 0.0, 1e-6) == pytest.approx(1e-6 * 15.0**2)
 
 
 def test_wind_moment_flips_with_the_side_the_wind_comes_from():
     angle = math.radians(40.0)
-    starboard = wind_moment.yaw_acceleration(15.0, math.cos(angle), math.sin(angle), 1e-6)
-    port = wind_moment.yaw_acceleration(15.0, math.cos(-angle), math.sin(-angle), 1e-6)
-    assert starboard == pytest.approx(-port) and starboard == pytest.approx(1e-6 * math.sin(2 * angle) * 15.0**2)
+    starboard = wind_moment.yaw_acceleration(15.0, math.cos(angle), math.sin(angle), 1e-6, 3e-7)
+    port = wind_moment.yaw_acceleration(15.0, math.cos(-angle), math.sin(-angle), 1e-6, 3e-7)
+    expected = (1e-6 * math.sin(2 * angle) + 3e-7 * math.sin(angle)) * 15.0**2
+    assert starboard == pytest.approx(-port) and starboard == pytest.approx(expected)
 
 
 def test_still_air_does_not_slow_the_ship():

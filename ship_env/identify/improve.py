@@ -1,9 +1,11 @@
 """Add effects one at a time while the held-out error falls: the error ladder.
 
 Start from a model, validate it (leave one run out), diagnose the missing effects, add the one
-with the lowest held-out error if it lowers the error by at least ``min_gain``, and repeat. Each
-rung of the ladder is a model and its held-out error; the diagnosis made on a rung says why the
-next effect was chosen.
+with the lowest held-out error if it lowers the error by at least ``min_gain``, and repeat. Where
+no single effect does, the strongest candidates are tried two at a time (some effects only pay
+together, :func:`~.diagnose.pairs`) and the best pair is added if it does. Each rung of the ladder
+is a model and its held-out error; the diagnosis made on a rung says why the next effects were
+chosen.
 """
 
 from __future__ import annotations
@@ -11,29 +13,44 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from ship_env.identify.diagnose import Diagnosis, diagnose
+from ship_env.identify.diagnose import CandidateResult, Diagnosis, diagnose, pairs
 from ship_env.identify.errors import ErrorScales
 from ship_env.identify.fit import FitOptions, as_setup
 from ship_env.identify.logs import Log
 from ship_env.identify.replay import ReplayModel
 from ship_env.identify.validation import CrossValidation, cross_validate
-from ship_env.model import ShipModel
+from ship_env.model import EFFECTS, ShipModel
 
 #: Smallest relative fall of the held-out score for which an effect is added.
 MIN_GAIN = 0.05
+#: Where no single effect pays, pairs of this many candidates (those with most evidence) are tried.
+PAIR_WIDTH = 4
 
 
 @dataclass(frozen=True)
 class Rung:
-    """One model of the ladder: the effect added to reach it, its validation and its diagnosis."""
+    """One model of the ladder: the effects added to reach it, its validation and its diagnosis."""
 
-    added: str | None
+    added: tuple[str, ...]
     validation: CrossValidation
     diagnosis: Diagnosis | None = None
+    pairs: tuple[CandidateResult, ...] = ()
 
     @property
     def effects(self) -> tuple[str, ...]:
         return self.validation.fit.setup.model.effects
+
+    @property
+    def label(self) -> str:
+        """'start', or '+ ' and the effects added."""
+        return "+ " + " + ".join(self.added) if self.added else "start"
+
+    @property
+    def title(self) -> str:
+        """The effects added in words (the model's effects on the first rung)."""
+        if not self.added:
+            return ", ".join(self.effects)
+        return "; ".join(EFFECTS[name].title for name in self.added)
 
 
 @dataclass(frozen=True)
@@ -46,7 +63,8 @@ class Ladder:
 
     @property
     def added(self) -> list[str]:
-        return [rung.added for rung in self.rungs if rung.added]
+        """The effects added, in order."""
+        return [name for rung in self.rungs for name in rung.added]
 
     @property
     def final(self) -> CrossValidation:
@@ -62,6 +80,7 @@ def improve(
     max_steps: int | None = None,
     refit: int | None = None,
     progress: Callable[[str], None] | None = None,
+    pair_width: int = PAIR_WIDTH,
 ) -> Ladder:
     """Climb the error ladder greedily (see the module docstring).
 
@@ -73,6 +92,7 @@ def improve(
         min_gain: an effect is added if it lowers the held-out score by at least this fraction.
         max_steps: most effects to add.
         refit: per step, refit only this many candidates with the most evidence.
+        pair_width: where no single effect pays, try pairs of this many candidates (0: never).
         progress: called with a line of text at each step.
     """
     options = options or FitOptions()
@@ -81,23 +101,33 @@ def improve(
     validation = cross_validate(as_setup(model), logs, options=options)
     say(f"start: {', '.join(validation.fit.setup.model.effects)}; held-out score {validation.score(scales):.3g}")
     rungs: list[Rung] = []
-    added: str | None = None
+    added: tuple[str, ...] = ()
     while True:
         if max_steps is not None and len(rungs) >= max_steps:
             rungs.append(Rung(added, validation))
             return Ladder(tuple(rungs), scales, f"reached the most steps, {max_steps}")
         diagnosis = diagnose(validation, logs, options, candidates, refit)
-        rungs.append(Rung(added, validation, diagnosis))
+        score = validation.score(scales)
         best = diagnosis.best
+        tried_pairs: list[CandidateResult] = []
+        if (best is None or _gain(best, score, scales) < min_gain) and pair_width >= 2:
+            tried_pairs = pairs(diagnosis, logs, options, pair_width)
+            if tried_pairs and (best is None or _gain(tried_pairs[0], score, scales) > _gain(best, score, scales)):
+                best = tried_pairs[0]
+        rungs.append(Rung(added, validation, diagnosis, tuple(tried_pairs)))
         if best is None:
             return Ladder(tuple(rungs), scales, "no effect left to add")
-        score, new_score = validation.score(scales), best.held_out.score(scales)
-        if new_score > score * (1.0 - min_gain):
+        if _gain(best, score, scales) < min_gain:
             return Ladder(
                 tuple(rungs),
                 scales,
-                f"the best next effect, {best.effect}, changes the held-out score by "
-                f"{100.0 * (new_score / score - 1.0):+.1f}% (needs -{100.0 * min_gain:.0f}%)",
+                f"the best next {'pair' if len(best.effects) > 1 else 'effect'}, {best.effect}, changes the held-out "
+                f"score by {-100.0 * _gain(best, score, scales):+.1f}% (needs -{100.0 * min_gain:.0f}%)",
             )
-        added, validation = best.effect, best.cross_validation
-        say(f"added {added}: held-out score {score:.3g} -> {new_score:.3g}")
+        added, validation = best.effects, best.cross_validation
+        say(f"added {best.effect}: held-out score {score:.3g} -> {validation.score(scales):.3g}")
+
+
+def _gain(candidate: CandidateResult, score: float, scales: ErrorScales) -> float:
+    """The relative fall of the held-out score from ``score`` with the candidate added."""
+    return 1.0 - candidate.held_out.score(scales) / score

@@ -17,6 +17,7 @@ from matplotlib.figure import Figure as Drawing
 from matplotlib.ticker import FormatStrFormatter
 
 from ship_env.identify.compare import held_out_comparison, plot_comparison
+from ship_env.identify.diagnose import Diagnosis
 from ship_env.identify.improve import Ladder
 from ship_env.identify.logs import Log
 from ship_env.identify.tables import (
@@ -29,7 +30,7 @@ from ship_env.identify.tables import (
 
 def plot_ladder(ladder: Ladder, path: Path) -> Path:
     """The held-out errors after each added effect: heading and track, and the score."""
-    labels = ["start" if rung.added is None else f"+ {rung.added}" for rung in ladder.rungs]
+    labels = [rung.label for rung in ladder.rungs]
     held_out = [rung.validation.pooled for rung in ladder.rungs]
     steps = np.arange(len(labels))
     drawing = Drawing(figsize=(max(6.0, 1.6 * len(labels) + 2.0), 6.5))
@@ -109,8 +110,11 @@ def write_report(ladder: Ladder, logs: Sequence[Log], folder: Path, title: str =
     for rung in ladder.rungs:
         if rung.diagnosis is None:
             continue
-        name = "start" if rung.added is None else f"after adding {rung.added}"
+        name = "start" if not rung.added else f"after adding {' + '.join(rung.added)}"
         lines += [f"### {name}", "", diagnosis_table(rung.diagnosis).markdown(), ""]
+        if rung.pairs:
+            together = Diagnosis(rung.diagnosis.baseline, rung.pairs, ladder.scales)
+            lines += ["Added two at a time (no single effect paid enough):", "", diagnosis_table(together).markdown(), ""]
     lines += ["## Runs, held out: measured against simulated", ""]
     for label, rung in (("start", first), ("final", last)) if len(ladder.rungs) > 1 else (("final", last),):
         comparison = held_out_comparison(rung.validation, logs)

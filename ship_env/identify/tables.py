@@ -14,7 +14,6 @@ from ship_env.identify.errors import ErrorScales, RunErrors
 from ship_env.identify.improve import Ladder
 from ship_env.identify.logs import Log
 from ship_env.identify.validation import CrossValidation
-from ship_env.model import EFFECTS
 
 
 @dataclass(frozen=True)
@@ -148,10 +147,10 @@ def ladder_table(ladder: Ladder) -> Table:
         score = held_out.score(ladder.scales)
         rows.append(
             (
-                "start" if rung.added is None else f"+ {rung.added}",
+                rung.label,
                 *error_cells(held_out, ladder.scales),
                 "" if previous is None else f"{100.0 * (score / previous - 1.0):+.0f}%",
-                ", ".join(rung.effects) if rung.added is None else EFFECTS[rung.added].title,
+                rung.title,
             )
         )
         previous = score

@@ -31,13 +31,14 @@ CURRENT_TERMS = ("current.north", "current.east")
 DEFAULT_TERMS: dict[str, tuple[str, ...]] = {
     "yaw": ("yaw.gain", "yaw.time_constant"),
     "norrbin": ("norrbin.cubic",),
+    "asymmetry": ("asymmetry.side_force", "asymmetry.quadratic"),
     "speed_loss": ("speed_loss.gain", "speed_loss.time_constant"),
     "sway": ("sway.linear",),
     "steering_machine": ("steering_machine.rudder_rate",),
     "rudder_offset": ("rudder_offset.angle",),
     "propeller_slipstream": ("propeller_slipstream.coefficient",),
     "current": CURRENT_TERMS,
-    "wind_moment": ("wind_moment.yaw_coefficient",),
+    "wind_moment": ("wind_moment.yaw_coefficient", "wind_moment.beam_coefficient"),
     "wind_drift": ("wind_drift.force_ratio",),
 }
 
@@ -64,9 +65,10 @@ _DEG = math.pi / 180.0
 _RULES: dict[str, TermRule] = {
     "yaw.gain": TermRule(0.01, 50.0),
     "yaw.time_constant": TermRule(0.01, 100.0),
-    "yaw.asymmetry": TermRule(-2.0, 2.0, 0.0, 0.01),
     "yaw.linear": TermRule(-5.0, 5.0),
-    "yaw.quadratic": TermRule(-5.0, 5.0, 0.0, 0.1),
+    "asymmetry.side_force": TermRule(-1.0, 1.0, 0.0, 0.001),
+    "asymmetry.constant": TermRule(-2.0, 2.0, 0.0, 0.01),
+    "asymmetry.quadratic": TermRule(-5.0, 5.0, 0.0, 0.1),
     "norrbin.cubic": TermRule(0.0, 100.0, 0.0, 0.5),
     "speed_loss.gain": TermRule(0.0, 20.0, 0.0, 0.3),
     "speed_loss.time_constant": TermRule(0.05, 100.0),
@@ -77,6 +79,7 @@ _RULES: dict[str, TermRule] = {
     "rudder_offset.angle": TermRule(-20.0 * _DEG, 20.0 * _DEG, 0.0, 1.0 * _DEG),
     "propeller_slipstream.coefficient": TermRule(0.0, 10.0, 0.0, 0.05),
     "wind_moment.yaw_coefficient": TermRule(-math.inf, math.inf, 0.0, 0.0),
+    "wind_moment.beam_coefficient": TermRule(-math.inf, math.inf, 0.0, 0.0),
     "wind_moment.surge_coefficient": TermRule(-math.inf, math.inf, 0.0, 0.0),
     "wind_drift.force_ratio": TermRule(0.0, math.inf, 0.0, 1e-4),
     "wind_drift.lift_slope": TermRule(1e-3, 100.0, None, 0.1),
@@ -157,6 +160,7 @@ def make_term(key: str, setup: ReplayModel) -> Term:
     natural = {
         # A yaw acceleration from a wind of ten times the ship's speed comparable to (u/L)^2.
         "wind_moment.yaw_coefficient": 1.0 / (100.0 * setup.model.length**2),
+        "wind_moment.beam_coefficient": 1.0 / (100.0 * setup.model.length**2),
         "wind_moment.surge_coefficient": 1.0 / (100.0 * setup.model.length**2),
         "current.north": 0.1 * setup.model.service_speed,
         "current.east": 0.1 * setup.model.service_speed,

@@ -21,6 +21,7 @@ import math
 
 from ship_env.model import state as S
 from ship_env.model.effects import (
+    asymmetry,
     current,
     gusts,
     kinematics,
@@ -86,7 +87,9 @@ def derivatives(state, rudder, conditions, white_noise, wave_yaw, p, out):
         if p["gusts_on"]:
             wind_speed = max(wind_speed + state[S.GUST], 0.0)
         if p["wind_moment_on"]:
-            wind_yaw = wind_moment.yaw_acceleration(wind_speed, cos_wind, sin_wind, p["wind_moment_yaw_coefficient"])
+            wind_yaw = wind_moment.yaw_acceleration(
+                wind_speed, cos_wind, sin_wind, p["wind_moment_yaw_coefficient"], p["wind_moment_beam_coefficient"]
+            )
             wind_loss = wind_moment.speed_loss_rate(
                 wind_speed, cos_wind, scheduling_speed, p["wind_moment_surge_coefficient"], length
             )
@@ -115,11 +118,24 @@ def derivatives(state, rudder, conditions, white_noise, wave_yaw, p, out):
             p["propeller_slipstream_propeller_diameter"],
         )
 
-    restoring = yaw.restoring(normalised_rate, p["yaw_asymmetry"], p["yaw_linear"], p["yaw_quadratic"])
+    restoring = yaw.restoring(normalised_rate, p["yaw_linear"])
+    side_moment = 0.0
+    if p["asymmetry_on"]:
+        restoring += asymmetry.restoring(normalised_rate, p["asymmetry_constant"], p["asymmetry_quadratic"])
+        side_moment = asymmetry.side_force_moment(
+            conditions[S.PROPELLER_RATE], p["propeller_slipstream_propeller_diameter"], p["asymmetry_side_force"]
+        )
     if p["norrbin_on"]:
         restoring += norrbin.restoring(normalised_rate, p["norrbin_cubic"])
     yaw_acceleration = yaw.acceleration(
-        speed, inflow_speed_squared, effective_rudder, restoring, p["yaw_gain"], p["yaw_time_constant"], length
+        speed,
+        inflow_speed_squared,
+        effective_rudder,
+        restoring,
+        side_moment,
+        p["yaw_gain"],
+        p["yaw_time_constant"],
+        length,
     )
     yaw_acceleration += wind_yaw + wave_yaw
 

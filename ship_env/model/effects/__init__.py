@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from ship_env.model.declarations import Effect
 from ship_env.model.effects import (
+    asymmetry,
     current,
     gusts,
     kinematics,
@@ -29,6 +30,7 @@ EFFECTS: dict[str, Effect] = {
     for module in (
         yaw,
         norrbin,
+        asymmetry,
         speed_loss,
         sway,
         steering_machine,

@@ -5,19 +5,25 @@
     N_w* = N_w' (L/u)^2 sin(2 gamma_r) V_wr^2                                         (2.87)
     F_w* = F_w' (L/u)^2 cos(gamma_r) V_wr^2                                           (2.88)
 
-from C_n = a_n sin 2 gamma_r and C_x = a_x cos gamma_r (2.82, 2.84). In the time domain
-(ds* = (u/L) dt) they add to the yaw acceleration and the speed-loss rate:
+from C_n = a_n sin 2 gamma_r and C_x = a_x cos gamma_r (2.82, 2.84). The thesis's C_n holds for
+a wind whose centre of effort is at midships. A ship with its accommodation aft (a tanker) or forward
+has a centre of effort off midships, and a beam wind then turns it: C_n gains a term b_n sin gamma_r
+(the first harmonic of Isherwood's wind-moment coefficients, beyond the thesis), with N_b' made of
+b_n as N_w' is of a_n. In the time domain (ds* = (u/L) dt) they add to the yaw acceleration and the
+speed-loss rate:
 
-    dr/dt  += N_w' sin(2 gamma_r) V_wr^2
+    dr/dt  += (N_w' sin(2 gamma_r) + N_b' sin(gamma_r)) V_wr^2
     du*/dt += F_w' (L/u) (cos(gamma_r) V_wr^2 - u^2)
 
 The service speed U0 is the speed reached in still air, so the air resistance of the ship's own
 motion (a head wind of u, cos(gamma_r) V_wr^2 = u^2) is already in it and is subtracted: only the
 resistance the true wind adds changes the speed.
 
-N_w' (rad/m^2) = 1/2 rho_air a_n S_wy L / I_zz' and F_w' (1/m^2) are constant for a ship. The
-moment vanishes head-on and beam-on and flips sign with the side the wind comes from; a positive
-N_w' turns the bow into a wind from forward of the beam. The wind resistance only acts where the
+N_w' (rad/m^2) = 1/2 rho_air a_n S_wy L / I_zz', N_b' (likewise with b_n) and F_w' (1/m^2) are
+constant for a ship. The N_w' moment vanishes head-on and beam-on; the N_b' moment is largest
+beam-on; both flip sign with the side the wind comes from. A positive N_w' turns the bow into a
+wind from forward of the beam; a positive N_b' turns the bow into the wind from either end (the
+centre of effort aft of midships, as behind a tanker's accommodation). The wind resistance only acts where the
 speed-loss equation (2.86) is on.
 """
 
@@ -32,15 +38,17 @@ EFFECT = Effect(
     equations="(2.82)-(2.88)",
     parameters=(
         Parameter("yaw_coefficient", "rad/m^2", "N_w' of (2.87); sign: + turns the bow into the wind"),
+        Parameter("beam_coefficient", "rad/m^2", "N_b', yaw from a beam wind (centre of effort off midships); + bow into the wind"),
         Parameter("surge_coefficient", "1/m^2", "F_w' of (2.88); + means a head wind slows the ship"),
     ),
 )
 
 
 @kernel
-def yaw_acceleration(relative_wind_speed, cos_angle, sin_angle, yaw_coefficient):
-    """Added dr/dt in rad/s^2 from (2.85, 2.87); sin(2 gamma_r) = 2 sin(gamma_r) cos(gamma_r)."""
-    return yaw_coefficient * 2.0 * sin_angle * cos_angle * relative_wind_speed * relative_wind_speed
+def yaw_acceleration(relative_wind_speed, cos_angle, sin_angle, yaw_coefficient, beam_coefficient):
+    """Added dr/dt in rad/s^2 from (2.85, 2.87) and the beam term; sin(2 gamma_r) = 2 sin(gamma_r) cos(gamma_r)."""
+    coefficient = yaw_coefficient * 2.0 * cos_angle + beam_coefficient
+    return coefficient * sin_angle * relative_wind_speed * relative_wind_speed
 
 
 @kernel

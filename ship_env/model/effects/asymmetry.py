@@ -1,0 +1,45 @@
+"""Port-starboard asymmetry of the turning: the propeller's side force and the even terms of H(r*).
+
+    dr/dt = [ u_R^2 K* delta_e - u^2 H(r*) - c_p (n D)^2 ] / (tau* L^2)              (2.54 + side force)
+    H(r*) = ... + alpha0 + alpha2 r*^2                                               (2.27)
+
+A single-screw ship does not turn alike to port and starboard. Its propeller pushes the stern
+sideways (the side force or "propeller walk", c_p (n D)^2, largest at high propeller rate and low
+speed: a model accelerating from rest), and the asymmetric flow over the stern makes it turn
+tighter to one side (alpha2) or turn at zero rudder (alpha0: steady r* = -alpha0 to first order;
+like a rudder offset, it scales with speed squared, so a fit cannot tell the two apart and
+estimates the offset, ``rudder_offset``). With c_p = alpha0 = alpha2 = 0 the effect vanishes.
+
+Symbols: n propeller rate (rps), D propeller diameter (m, ``propeller_slipstream.propeller_diameter``),
+c_p side-force coefficient (positive turns the ship to port), alpha0 constant and alpha2 quadratic
+coefficients of H(r*).
+"""
+
+from __future__ import annotations
+
+from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.kernel import kernel
+
+EFFECT = Effect(
+    name="asymmetry",
+    title="port-starboard asymmetry (propeller side force, asymmetric stern flow)",
+    equations="(2.27), (2.54) with a propeller side force",
+    parameters=(
+        Parameter("side_force", "-", "c_p, propeller side force per (n D)^2 in the units of K* u^2 delta; + turns to port"),
+        Parameter("constant", "-", "alpha0 of H(r*): steady r* at zero rudder is -alpha0 / alpha1"),
+        Parameter("quadratic", "-", "alpha2 of H(r*): the ship turns tighter to port for alpha2 > 0"),
+    ),
+)
+
+
+@kernel
+def restoring(normalised_rate, constant, quadratic):
+    """The constant and quadratic part of H(r*) (2.27)."""
+    return constant + quadratic * normalised_rate * normalised_rate
+
+
+@kernel
+def side_force_moment(propeller_rate, propeller_diameter, side_force):
+    """c_p (n D)^2, m^2/s^2: the propeller's yaw moment in the units of u_R^2 K* delta."""
+    induced = propeller_rate * propeller_diameter
+    return side_force * induced * induced

@@ -14,14 +14,31 @@ Check: the closed loop is tau psi'' + (1 + K K_d) psi' + K K_p psi = K K_p psi_r
 omega_n^2 = K K_p / tau and 2 zeta omega_n = (1 + K K_d) / tau; with K, tau as above these give
 (5.79) and, since sqrt(K_p K* tau*) = omega_n tau* L/u, (5.80).
 
-Gain scheduling. The predictor of chapter 3 needs the closed loop to be the same in the distance
-domain s* = (u/L) t whatever the speed, which holds when K_p is fixed and K_d = K_d* L/u (3.52).
-(5.79, 5.80) give exactly that when the natural frequency is held constant per ship length,
-omega_n(u) = omega_n* u/L: then K_p = omega_n*^2 tau*/K* and K_d = (L/u)(2 zeta omega_n* tau* - 1)/K*.
-The scheduled autopilot therefore takes omega_n at a design speed U_d and uses
-omega_n(u) = omega_n u / U_d; the fixed-gain variant computes the gains once at U_d. Halving the
-speed halves K and doubles tau, so fixed gains leave the loop with omega_n/2 and damping
-zeta/2 + 1/(4 omega_n tau(U_d)): less damped, more overshoot.
+Gain scheduling. Write s = u/U_d for the speed against the design speed U_d. Gains fixed at U_d
+leave the loop on the ship at speed u with (from the closed loop above, K and 1/tau both times s)
+
+    omega_n(u) = s omega_n,   zeta(u) = s zeta + (1 - s) / (2 omega_n tau(U_d))
+
+so at half speed omega_n halves and, for the baselines' tuning (omega_n = 0.06 rad/s, zeta = 1,
+tau(U_d) = 40 s on the container ship), zeta falls to 0.60: the loop is twice as slow in seconds
+and swings past the new heading. Two schedules keep a closed loop instead:
+
+- ``"time"``: omega_n and zeta held in seconds, (5.79, 5.80) as they stand with the speed
+  measured: K_p grows as (U_d/u)^2 and K_d about as much, since the rudder's moment falls as u^2.
+  The course-changing autopilots use it: the turn and the settling take the same time at any
+  speed, as long as the rudder does not saturate (at full helm the ship turns at K delta_max,
+  proportional to u, whatever the gains).
+- ``"distance"``: the closed loop held in the distance domain s* = (u/L) t, omega_n(u) =
+  omega_n u / U_d: then K_p is fixed and K_d = K_d* L/u (3.52). The track predictor needs this:
+  the predicted track is then the same at any speed (3.55, 3.56). In seconds it has the fixed
+  gains' omega_n(u) with the design damping kept, so at half speed it turns onto the new heading
+  later than the fixed gains, whose damping of 0.60 lets the heading rise sooner.
+
+A gain that grows with 1/u^2 also multiplies the rudder's answer to the instruments' noise: on the
+raw gyro the ``"time"`` schedule at half speed works the rudder about 2.3 times as much as the fixed
+gains in the leaderboard's calm course changes, most of it noise the ship does not feel (the
+manoeuvre itself, noise-free, takes 1.2 to 1.3 times their travel). On filtered signals (the
+adaptive autopilots) the same schedule needs less rudder travel than the fixed PD.
 
 Symbols: psi heading, psi_r ordered heading (rad), r rate of turn (rad/s), delta rudder (rad).
 """
@@ -30,12 +47,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal, get_args
 
 from baselines.measurement import Measurement, wrap_angle
 from baselines.nomoto import NomotoParameters
 
-#: The scheduling speed is floored at this fraction of the design speed: the gains grow as 1/u and
-#: a ship nearly stopped must not get an unbounded derivative gain.
+#: How the gains follow the measured speed: see the module's docstring.
+Schedule = Literal["time", "distance", "fixed"]
+
+#: The scheduling speed is floored at this fraction of the design speed: the gains grow as 1/u or
+#: 1/u^2 and a ship nearly stopped must not get unbounded ones.
 MINIMUM_SPEED_FRACTION = 0.1
 
 
@@ -71,28 +92,34 @@ class PDDesign:
         damping: zeta of the closed loop.
         rudder_limit: delta_max, rad.
         design_speed: U_d, m/s, the speed ``natural_frequency`` is given at.
-        scheduled: True schedules the gains on the speed (omega_n L/u constant, (3.52));
-            False keeps the gains computed at the design speed.
+        schedule: ``"time"`` holds omega_n and zeta in seconds at any speed (5.79, 5.80);
+            ``"distance"`` holds them per ship length sailed, omega_n L/u constant (3.52);
+            ``"fixed"`` keeps the gains computed at the design speed.
     """
 
     natural_frequency: float
     damping: float
     rudder_limit: float
     design_speed: float
-    scheduled: bool = True
+    schedule: Schedule = "time"
 
     def __post_init__(self) -> None:
         for name in ("natural_frequency", "damping", "rudder_limit", "design_speed"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"{name}: expected a positive number, got {value!r}")
+        if self.schedule not in get_args(Schedule):
+            raise ValueError(f"schedule: expected one of {', '.join(get_args(Schedule))}, got {self.schedule!r}")
 
     def gains(self, ship: NomotoParameters, length: float, speed: float) -> PDGains:
         """The gains for a ship of parameters ``ship`` and length ``length`` (m) sailing at ``speed`` (m/s)."""
-        if not self.scheduled:
+        if self.schedule == "fixed":
             return pd_gains(self.natural_frequency, self.damping, ship, length, self.design_speed)
         speed = max(speed, MINIMUM_SPEED_FRACTION * self.design_speed)
-        return pd_gains(self.natural_frequency * speed / self.design_speed, self.damping, ship, length, speed)
+        natural_frequency = self.natural_frequency
+        if self.schedule == "distance":
+            natural_frequency *= speed / self.design_speed
+        return pd_gains(natural_frequency, self.damping, ship, length, speed)
 
     def rudder(self, heading_error: float, rate_of_turn: float, gains: PDGains) -> float:
         """The limited rudder order of (3.45), rad."""
@@ -104,7 +131,7 @@ class PDAutopilot:
     """The PD autopilot on the raw instruments (compass, rate gyro, log), gains from known K*, tau*.
 
     Args:
-        design: the tuning (see :class:`PDDesign`; ``scheduled=False`` is the fixed-gain variant).
+        design: the tuning (see :class:`PDDesign`; ``schedule="fixed"`` is the fixed-gain variant).
         ship: the ship's K*, tau* the gains are computed from.
         length: the ship's length L, m.
     """

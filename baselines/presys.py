@@ -22,13 +22,14 @@ from baselines.course_changer import CourseChangerSettings, PredictiveCourseChan
 from baselines.identification.zigzag_trial import identify_by_zigzag
 from baselines.mrac import ModelReferenceAutopilot
 from baselines.nomoto import NomotoParameters
-from baselines.pd_autopilot import PDAutopilot, PDDesign
+from baselines.pd_autopilot import PDAutopilot, PDDesign, Schedule
 from baselines.position_filter import PositionFilter, PositionFilterNoise
 from baselines.yaw_filter import YawFilter
 from ship_env.model import ShipModel
 
-#: The PD tuning of the baselines: closed-loop natural frequency (rad/s at the service speed) and
-#: damping. About omega_n* = omega_n L/u = 1.4 per ship length: the turn ends briskly, without overshoot.
+#: The PD tuning of the baselines: closed-loop natural frequency (rad/s; at the service speed for
+#: the distance schedule) and damping. About omega_n* = omega_n L/u = 1.4 per ship length at the
+#: service speed: the turn ends briskly, without overshoot.
 NATURAL_FREQUENCY = 0.06
 DAMPING = 1.0
 #: K_R of the MRAC autopilot on course changes: the reference model follows the filter over about
@@ -47,17 +48,18 @@ def preset_parameters(model: ShipModel) -> NomotoParameters:
     return NomotoParameters(model.parameter("yaw.gain"), model.parameter("yaw.time_constant"))
 
 
-def _design(model: ShipModel, rudder_limit: float, scheduled: bool = True) -> PDDesign:
-    return PDDesign(NATURAL_FREQUENCY, DAMPING, rudder_limit, model.service_speed, scheduled)
+def _design(model: ShipModel, rudder_limit: float, schedule: Schedule = "time") -> PDDesign:
+    return PDDesign(NATURAL_FREQUENCY, DAMPING, rudder_limit, model.service_speed, schedule)
 
 
-def pd_controller(task, scheduled: bool = True) -> AutopilotController:
+def pd_controller(task, schedule: Schedule = "time") -> AutopilotController:
     """The PD autopilot on the raw instruments, gains from the preset's K*, tau* (5.79, 5.80).
 
-    ``scheduled=False``: the fixed-gain variant (gains at the service speed).
+    ``schedule``: how the gains follow the speed (:class:`~baselines.pd_autopilot.PDDesign`);
+    ``"fixed"`` is the fixed-gain variant (gains at the service speed).
     """
     model = task.model
-    autopilot = PDAutopilot(_design(model, task.rudder_limit, scheduled), preset_parameters(model), model.length)
+    autopilot = PDAutopilot(_design(model, task.rudder_limit, schedule), preset_parameters(model), model.length)
     return AutopilotController(autopilot, task.rudder_limit)
 
 
@@ -84,6 +86,7 @@ def mrac_controller(task, reference_gain: float = REFERENCE_GAIN) -> AutopilotCo
 def track_follow_controller(task, seed: int = 0) -> TrackFollowController:
     """PRESYS on TrackFollow-v0: identification trial, MRAC with the identified reference model held
     (6.4.4.1: adaptation of the reference switched off), position filter, predictor-based course changer.
+    The autopilot's gains are scheduled in the distance domain (3.52), as the track predictor assumes.
 
     ``seed``: the identification trial's (its sea and instrument noise).
     """
@@ -91,7 +94,7 @@ def track_follow_controller(task, seed: int = 0) -> TrackFollowController:
     identified = identify_by_zigzag(model, preset_parameters(model), seed=seed)
     yaw_filter = YawFilter(model.length, task.dt, identified.parameters)
     autopilot = ModelReferenceAutopilot(
-        _design(model, task.rudder_limit - COMPENSATION_HEADROOM),
+        _design(model, task.rudder_limit - COMPENSATION_HEADROOM, "distance"),
         yaw_filter,
         identified.parameters,
         reference_gain=0.0,

@@ -9,10 +9,18 @@ import numpy as np
 import pytest
 
 import ship_env  # noqa: F401  (registers the environments)
-from baselines.controller import Controller, SB3Controller
+from baselines.controller import AutopilotController, Controller, SB3Controller
 from baselines.nomoto import NomotoParameters
-from baselines.pd_autopilot import PDDesign, pd_gains
-from baselines.presys import indirect_adaptive_controller, mrac_controller, pd_controller
+from baselines.pd_autopilot import PDAutopilot, PDDesign, pd_gains
+from baselines.presys import (
+    DAMPING,
+    NATURAL_FREQUENCY,
+    indirect_adaptive_controller,
+    mrac_controller,
+    pd_controller,
+    preset_parameters,
+)
+from ship_env.leaderboard.tables import TRAVEL_ALLOWANCE
 from ship_env.model import Conditions
 
 SHIP = NomotoParameters(gain=1.6, time_constant=1.7)
@@ -31,18 +39,29 @@ def test_gains_place_the_closed_loop_at_the_design_frequency_and_damping(speed):
     assert (1.0 + gain * gains.derivative) / time_constant == pytest.approx(2.0 * damping * natural_frequency)
 
 
-def test_scheduled_gains_are_those_of_3_52_and_fixed_gains_do_not_move():
-    scheduled = PDDesign(0.05, 0.8, math.radians(20.0), DESIGN_SPEED)
-    fixed = PDDesign(0.05, 0.8, math.radians(20.0), DESIGN_SPEED, scheduled=False)
-    at_design = scheduled.gains(SHIP, LENGTH, DESIGN_SPEED)
-    at_half = scheduled.gains(SHIP, LENGTH, DESIGN_SPEED / 2.0)
-    assert at_half.proportional == pytest.approx(at_design.proportional)  # K_p fixed
-    assert at_half.derivative == pytest.approx(2.0 * at_design.derivative)  # K_d = K_d* L/u
-    assert fixed.gains(SHIP, LENGTH, DESIGN_SPEED / 2.0) == at_design
+def test_each_schedule_holds_its_closed_loop_and_fixed_gains_do_not_move():
+    designs = {
+        schedule: PDDesign(0.05, 0.8, math.radians(20.0), DESIGN_SPEED, schedule)
+        for schedule in ("time", "distance", "fixed")
+    }
+    at_design = pd_gains(0.05, 0.8, SHIP, LENGTH, DESIGN_SPEED)
+    half = DESIGN_SPEED / 2.0
+    for design in designs.values():
+        assert design.gains(SHIP, LENGTH, DESIGN_SPEED) == at_design
+    # "time": omega_n and zeta in seconds, so K_p = omega_n^2 tau/K grows as (U_d/u)^2 (5.79).
+    assert designs["time"].gains(SHIP, LENGTH, half) == pd_gains(0.05, 0.8, SHIP, LENGTH, half)
+    assert designs["time"].gains(SHIP, LENGTH, half).proportional == pytest.approx(4.0 * at_design.proportional)
+    # "distance": K_p fixed, K_d = K_d* L/u (3.52).
+    at_half = designs["distance"].gains(SHIP, LENGTH, half)
+    assert at_half.proportional == pytest.approx(at_design.proportional)
+    assert at_half.derivative == pytest.approx(2.0 * at_design.derivative)
+    assert designs["fixed"].gains(SHIP, LENGTH, half) == at_design
+    with pytest.raises(ValueError, match="schedule"):
+        PDDesign(0.05, 0.8, math.radians(20.0), DESIGN_SPEED, "speed")
 
 
-def course_change(builder, speed: float, change_deg: float, **builder_options) -> dict:
-    env = gym.make("ship_env/CourseChange-v0", max_episode_steps=900)
+def course_change(builder, speed: float, change_deg: float, noise: float = 1.0, **builder_options) -> dict:
+    env = gym.make("ship_env/CourseChange-v0", max_episode_steps=900, sensor_noise_scale=noise)
     controller = builder(env.unwrapped.task, **builder_options)
     observation, info = env.reset(
         seed=0, options={"conditions": Conditions(service_speed=speed), "course_change_deg": change_deg}
@@ -55,16 +74,59 @@ def course_change(builder, speed: float, change_deg: float, **builder_options) -
     return info["metrics"]
 
 
-@pytest.mark.parametrize("change_deg", [45.0, 105.0])
-def test_gain_scheduling_keeps_the_overshoot_small_at_half_the_design_speed(change_deg):
-    scheduled = course_change(pd_controller, DESIGN_SPEED / 2.0, change_deg)
-    fixed = course_change(pd_controller, DESIGN_SPEED / 2.0, change_deg, scheduled=False)
-    at_design = course_change(pd_controller, DESIGN_SPEED, change_deg)
-    assert scheduled["overshoot"] < fixed["overshoot"]
+@pytest.mark.parametrize("change_deg", [15.0, 45.0, 105.0])
+def test_gain_scheduling_turns_faster_at_half_the_design_speed_without_overshoot(change_deg):
+    """Fixed gains at half speed: omega_n halved and zeta 0.60 (module docstring). The time schedule
+    keeps the design's loop: less heading error, no overshoot. Without instrument noise the rudder
+    it works for that stays within the leaderboard's travel allowance of the fixed gains'; on the
+    raw gyro its four-fold derivative gain multiplies the noise's share as well."""
+    half = DESIGN_SPEED / 2.0
+    scheduled = course_change(pd_controller, half, change_deg, noise=0.0)
+    fixed = course_change(pd_controller, half, change_deg, noise=0.0, schedule="fixed")
     print(
-        f"{change_deg:.0f} deg at half speed: overshoot scheduled {scheduled['overshoot']:.2f} deg, fixed "
-        f"{fixed['overshoot']:.2f} deg (at the design speed {at_design['overshoot']:.2f} deg)"
+        f"{change_deg:.0f} deg at half speed, no noise: integrated error scheduled "
+        f"{scheduled['integrated_heading_error']:.0f}, fixed {fixed['integrated_heading_error']:.0f} deg s; overshoot "
+        f"{scheduled['overshoot']:.2f}, {fixed['overshoot']:.2f} deg; rudder travel {scheduled['rudder_travel']:.1f}, "
+        f"{fixed['rudder_travel']:.1f} deg"
     )
+    assert scheduled["integrated_heading_error"] < fixed["integrated_heading_error"]
+    assert scheduled["overshoot"] < fixed["overshoot"]
+    assert scheduled["settling_time"] < fixed["settling_time"]
+    assert scheduled["rudder_travel"] <= TRAVEL_ALLOWANCE * fixed["rudder_travel"]
+
+
+def sail_doubled_ship(controller, change_deg: float) -> dict:
+    """A calm course change by a ship whose K*, tau* are twice the preset's, the leaderboard's K*, tau* x2."""
+    nominal = gym.make("ship_env/CourseChange-v0").unwrapped.task.model
+    doubled = {name: 2.0 * nominal.parameter(name) for name in ("yaw.gain", "yaw.time_constant")}
+    env = gym.make("ship_env/CourseChange-v0", disturbance="calm", ship_parameters=doubled)
+    observation, info = env.reset(seed=0, options={"course_change_deg": change_deg})
+    controller.reset(observation, info)
+    done = False
+    while not done:
+        observation, _, terminated, truncated, info = env.step(controller.act(observation, info))
+        done = terminated or truncated
+    return info["metrics"]
+
+
+@pytest.mark.parametrize("change_deg", [45.0, 105.0])
+def test_fixed_gains_on_a_ship_with_k_and_tau_doubled_turn_faster_than_the_design_loop(change_deg):
+    """K*, tau* doubled: the fixed gains' loop keeps omega_n and falls to zeta = 0.90, which turns
+    the ship onto the new heading sooner than the design's zeta = 1 does, even with gains computed
+    from the true K*, tau*: no autopilot that restores the design loop can beat the fixed PD on the
+    integrated heading error there (the leaderboard's MRAC does not, ``test_leaderboard``)."""
+    env = gym.make("ship_env/CourseChange-v0")
+    task = env.unwrapped.task
+    fixed = pd_controller(task, schedule="fixed")
+    truth = preset_parameters(task.model).scaled(2.0)
+    design = PDDesign(NATURAL_FREQUENCY, DAMPING, task.rudder_limit, task.model.service_speed, "fixed")
+    redesigned = AutopilotController(PDAutopilot(design, truth, task.model.length), task.rudder_limit)
+    detuned, restored = sail_doubled_ship(fixed, change_deg), sail_doubled_ship(redesigned, change_deg)
+    print(
+        f"{change_deg:.0f} deg, K*, tau* x2: integrated error fixed {detuned['integrated_heading_error']:.0f}, "
+        f"designed for the true ship {restored['integrated_heading_error']:.0f} deg s"
+    )
+    assert detuned["integrated_heading_error"] < restored["integrated_heading_error"]
 
 
 class ConstantPolicy:

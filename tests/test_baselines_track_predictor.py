@@ -28,7 +28,7 @@ KNOT = 1852.0 / 3600.0
 SHIP = NomotoParameters(gain=1.6, time_constant=1.7)
 LENGTH = 225.87
 RUDDER_RATE = math.radians(2.5)
-DESIGN = PDDesign(0.05, 1.0, math.radians(20.0), 9.5)
+DESIGN = PDDesign(0.05, 1.0, math.radians(20.0), 9.5, "distance")  # scheduled as the predictor assumes (3.52)
 
 
 def polyline_distance(points: np.ndarray, line: np.ndarray) -> np.ndarray:

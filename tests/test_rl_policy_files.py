@@ -49,7 +49,7 @@ def untrained_policy(env_id: str, folder, metadata_env_id: str | None = None):
 
 def test_shipped_policies_load_with_their_metadata_and_steer():
     paths = shipped_policies()
-    assert paths, "no shipped policy"
+    assert {read_policy_file(path).env_id for path in paths} == {COURSE_CHANGE, TRACK_FOLLOW}
     for path in paths:
         policy_file = read_policy_file(path)
         assert policy_file.metadata is not None and policy_file.metadata.command.startswith("ship-env train ")

@@ -15,12 +15,13 @@ from ship_env.rl.agents import ALGORITHMS, load_agent_config
 from ship_env.rl.policy_file import read_policy_file
 
 COURSE_CHANGE = "ship_env/CourseChange-v0"
+TRACK_FOLLOW = "ship_env/TrackFollow-v0"
 
 
-@pytest.mark.parametrize("algo", list(ALGORITHMS))
-def test_shipped_agent_configs_have_a_course_change_entry(algo):
-    config = load_agent_config(algo, COURSE_CHANGE)
-    assert config.env_id == COURSE_CHANGE and config.n_envs >= 1 and config.n_timesteps > 0
+@pytest.mark.parametrize("algo, env_id", [("ppo", COURSE_CHANGE), ("sac", COURSE_CHANGE), ("ppo", TRACK_FOLLOW)])
+def test_shipped_agent_configs_have_an_entry_per_shipped_task(algo, env_id):
+    config = load_agent_config(algo, env_id)
+    assert config.env_id == env_id and config.n_envs >= 1 and config.n_timesteps > 0
     assert config.algorithm.__name__ == ALGORITHMS[algo]
 
 
@@ -102,14 +103,15 @@ def test_train_command_rejects_an_environment_without_a_config_entry(tmp_path, c
 
 
 @pytest.mark.slow
-def test_the_shipped_policys_command_reproduces_it(tmp_path):
+@pytest.mark.parametrize("env_id", [COURSE_CHANGE, TRACK_FOLLOW])
+def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id):
     """Same command, seed, thread count and package versions: the same weights, bit for bit."""
     import torch
     from stable_baselines3.common.save_util import load_from_zip_file
 
     from ship_env.rl.shipped import shipped_folder
 
-    folder = shipped_folder(COURSE_CHANGE, "ppo")
+    folder = shipped_folder(env_id, "ppo")
     words = shlex.split(json.loads((folder / "metadata.json").read_text())["command"])
     out_index = words.index("--out") + 1
     words[out_index] = str(tmp_path / "run")

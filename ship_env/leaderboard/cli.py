@@ -97,8 +97,8 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--suite", choices=list(SUITE_SPECS), default="quick",
-        help="quick: each episode once, nominal / K*, tau* x0.5 / half speed; full: three times, all conditions "
-        "(default: %(default)s)",
+        help="quick: each episode once in every condition (nominal, K*, tau* x0.5 and x2, half speed); "
+        "full: three times (default: %(default)s)",
     )
     parser.add_argument(
         "--policies", type=Path, nargs="+", default=[], metavar="PATH",

@@ -30,7 +30,7 @@ from ship_env.rl.shipped import shipped_policies
 #: The classic baselines per environment: name -> builder from the task (:mod:`baselines.presys`).
 CLASSIC_BUILDERS: dict[str, dict[str, Callable[[Any], Controller]]] = {
     COURSE_CHANGE: {
-        "PD, fixed gains": partial(pd_controller, scheduled=False),
+        "PD, fixed gains": partial(pd_controller, schedule="fixed"),
         "PD, gain-scheduled": pd_controller,
         "indirect adaptive PD": indirect_adaptive_controller,
         "MRAC": mrac_controller,
@@ -96,14 +96,15 @@ def policy_entrants(
     """Learned entrants: the shipped policies (if ``shipped``) and the policy files ``paths``.
 
     A policy sails the environment its metadata names, or without metadata every environment of
-    ``env_spaces`` (env id -> observation and action space) whose spaces it matches.
-    ``PolicyFileError`` names the file if it fits none of them (another environment, other spaces).
+    ``env_spaces`` (env id -> observation and action space) whose spaces it matches. A shipped
+    policy for an environment the leaderboard does not sail is left out; ``PolicyFileError`` names
+    a given file that fits none of them (another environment, other spaces).
     """
-    labelled = [(path, "shipped") for path in (shipped_policies() if shipped else [])]
-    labelled += [(Path(path), str(path)) for path in paths]
+    shipped_files = [read_policy_file(path) for path in (shipped_policies() if shipped else [])]
+    labelled = [(policy_file, "shipped") for policy_file in shipped_files if policy_file.env_id in env_spaces]
+    labelled += [(read_policy_file(path), str(path)) for path in paths]
     entrants = []
-    for path, label in labelled:
-        policy_file = read_policy_file(path)
+    for policy_file, label in labelled:
         if policy_file.env_id is not None:
             if policy_file.env_id not in env_spaces:
                 raise PolicyFileError(

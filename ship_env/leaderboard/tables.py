@@ -3,7 +3,7 @@
 Each suite's table ranks its entrants by the suite's first metric, lower first (ties by name).
 On the nominal TrackFollow suite the thesis's navigators (Table 6.4: 117 m with parallel
 indexing, 95 m with the ground-speed vector, 33 m with the track predictor) are ranked beside
-them as human rows. Under each CourseChange table with learned entrants, each is compared with
+them as human rows. Under each table with learned entrants, each is compared with
 the best classic baseline (the lowest first metric): it *beats* it when its first metric is lower
 and its rudder travel at most :data:`TRAVEL_ALLOWANCE` times the baseline's.
 """

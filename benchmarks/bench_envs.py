@@ -9,7 +9,11 @@ Measures, best of a few repeats:
    wind and current; CourseKeeping-v0 in wind, current and waves), on the raw env and through
    ``gymnasium.make``'s wrappers (target >= 50k/s with the full model);
 2. the native vector envs' env-steps/s at N = 1024 (target >= 2M/s), with a breakdown of one
-   vector step: the simulator's step, the task's compiled update, the info dicts;
+   vector step: the simulator's step, the task's compiled update, the info dicts. Batches of
+   ``PARALLEL_SHIPS`` (1024) ships step and update on all cores where that is faster
+   (``ship_env.model.simulator.Cores``): on a 2-core machine to itself, about twice as fast as one
+   thread; on one busy with other work (see the load average printed), in one thread.
+   ``NUMBA_NUM_THREADS=1`` measures the one-thread step;
 3. stable-baselines3 PPO training steps/s (rollouts and updates, ``torch.set_num_threads(1)``) on
    the CourseChange vector env through ``SB3VecEnvAdapter``, beside the same PPO on a
    ``DummyVecEnv`` of single envs.

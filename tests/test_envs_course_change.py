@@ -5,9 +5,11 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
+import time
 import warnings
 
 import gymnasium as gym
+import numba
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
@@ -15,13 +17,13 @@ from gymnasium.utils.env_checker import check_env
 from env_contract import assert_same_steps, sail
 
 import ship_env  # noqa: F401  (registers the environments)
-from ship_env.envs.batch import PARALLEL_SHIPS
 from ship_env.envs.course_change import CourseChangeEnv
 from ship_env.envs.course_change_task import DISTURBANCES, OBS_RATE_OF_TURN, RANDOM_DISTURBANCE
 from ship_env.envs.course_change_vector import CourseChangeVectorEnv
 from ship_env.envs.metrics import course_change_metrics
 from ship_env.model import Conditions, ShipModel
 from ship_env.model import state as S
+from ship_env.model.simulator import PARALLEL_SHIPS, batch_loop
 
 ENV_ID = "ship_env/CourseChange-v0"
 #: The preset's effects less the wind's: even in still air the model feels the apparent wind of the
@@ -99,6 +101,27 @@ def test_a_batch_updated_on_all_cores_equals_single_envs():
     for i in (0, num_envs - 1):
         single = sail(CourseChangeEnv(disturbance="wind_current_waves"), actions[:, i], seed=seed + i)
         np.testing.assert_array_equal(np.array(observations)[:, i], np.array([step[0] for step in single]))
+
+
+@pytest.mark.parametrize("slow_way", ["serial", "parallel"])
+def test_a_large_batch_runs_its_loops_the_faster_way(monkeypatch, slow_way):
+    monkeypatch.setattr(numba, "get_num_threads", lambda: 2)
+    calls = {"serial": 0, "parallel": 0}
+
+    def loop(name):
+        def run(value):
+            calls[name] += 1
+            if name == slow_way:
+                time.sleep(0.02)
+            return value
+
+        return run
+
+    serial, parallel = loop("serial"), loop("parallel")
+    assert batch_loop(PARALLEL_SHIPS - 1, serial, parallel) is serial
+    cores = batch_loop(PARALLEL_SHIPS, serial, parallel)
+    assert [cores(k) for k in range(30)] == list(range(30))
+    assert calls[slow_way] == 3  # each way twice (the first call untimed), the faster one, the slower at call 16
 
 
 def test_make_vec_uses_the_vector_entry_point_with_next_step_autoreset():

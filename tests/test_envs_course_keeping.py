@@ -14,7 +14,6 @@ from env_contract import assert_same_steps, assert_vector_equals_singles, sail
 from gymnasium.utils.env_checker import check_env
 
 import ship_env  # noqa: F401  (registers the environments)
-from ship_env.envs.batch import PARALLEL_SHIPS
 from ship_env.envs.course_keeping import CourseKeepingEnv
 from ship_env.envs.course_keeping_task import HEADING_SCALE, OBS_HEADING_ERROR, OBS_RATE_OF_TURN
 from ship_env.envs.course_keeping_vector import CourseKeepingVectorEnv
@@ -22,6 +21,7 @@ from ship_env.envs.metrics import course_keeping_metrics
 from ship_env.envs.weather import DISTURBANCES, RANDOM_DISTURBANCE
 from ship_env.model import Conditions, ShipModel
 from ship_env.model import state as S
+from ship_env.model.simulator import PARALLEL_SHIPS
 
 ENV_ID = "ship_env/CourseKeeping-v0"
 WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")

@@ -14,7 +14,6 @@ from env_contract import assert_same_steps, assert_vector_equals_singles, sail
 from gymnasium.utils.env_checker import check_env
 
 import ship_env  # noqa: F401  (registers the environments)
-from ship_env.envs.batch import PARALLEL_SHIPS
 from ship_env.envs.metrics import THESIS_NAVIGATOR_RMS, track_metrics
 from ship_env.envs.track_follow import TrackFollowEnv
 from ship_env.envs.track_follow_task import (
@@ -36,6 +35,7 @@ from ship_env.envs.tracks import (
 )
 from ship_env.model import ShipModel, Simulator
 from ship_env.model import state as S
+from ship_env.model.simulator import PARALLEL_SHIPS
 
 ENV_ID = "ship_env/TrackFollow-v0"
 #: The thesis's Table 6.1.b written out in degrees, as the brief lists it.

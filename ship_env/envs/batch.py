@@ -4,10 +4,11 @@
 environment (a batch of N) share, so both give the same numbers for the same seeds. A task's
 batch subclass names its episode record (:func:`episode_dtype`), its metrics record, and the two
 compiled loops that update every ship after a step, serially and on all cores: numba cannot cache
-a loop that takes the per-ship update as an argument, so each task writes its own three-line loops
-around its per-ship kernel. Batches of at least ``PARALLEL_SHIPS`` ships update on all cores, like
-the simulator's step; smaller ones in one thread (on a shared 2-core machine the threaded update of
-1024 ships ran 4 to 40 times slower than the serial one).
+a loop that takes the per-ship update as an argument, so each task writes its own four-line loops
+around its per-ship kernel, handing it the arrays as
+:func:`~ship_env.model.integrators.borrowed` views. Batches of at least ``PARALLEL_SHIPS`` ships
+update on all cores where that is faster, like the simulator's step
+(:func:`~ship_env.model.simulator.batch_loop`); smaller ones in one thread.
 
 Each update measures (:func:`ship_env.envs.sensors.measure`), observes, rewards, decides
 termination and keeps the running metrics of every ship, or only of those just restarted.
@@ -23,7 +24,9 @@ import numpy as np
 from ship_env.envs.sensors import MEASUREMENT_NAMES, MEASUREMENT_SIZE
 from ship_env.envs.task import ShipTask
 from ship_env.model import Conditions, Simulator
-from ship_env.model.simulator import PARALLEL_SHIPS  # the simulator's threshold, for the same reasons
+from ship_env.model.integrators import borrowed
+from ship_env.model.kernel import kernel
+from ship_env.model.simulator import batch_loop
 
 
 def episode_dtype(observation_size: int, task_fields: Sequence[tuple]) -> np.dtype:
@@ -48,6 +51,20 @@ def episode_dtype(observation_size: int, task_fields: Sequence[tuple]) -> np.dty
     )
 
 
+@kernel
+def _read_outcomes(episodes, observations, rewards, terminated):
+    """Every ship's observation, reward and termination out of its record, in one pass (numpy
+    copies each strided field in a pass of its own, several times slower)."""
+    episodes, observations = borrowed((episodes, observations))
+    for i in range(episodes.shape[0]):
+        episode = episodes[i]
+        observation = episode["observation"]
+        for k in range(observation.shape[0]):
+            observations[i, k] = observation[k]
+        rewards[i] = episode["reward"]
+        terminated[i] = episode["terminated"]
+
+
 class Scenario(Protocol):
     """What starting an episode needs from a task's scenario."""
 
@@ -62,6 +79,13 @@ def pick(array: np.ndarray, index: Any) -> Any:
     """``array[index]``: a scalar as it is, an array as a copy."""
     value = array[index]
     return value.copy() if isinstance(value, np.ndarray) else value
+
+
+def snapshot(array: np.ndarray, ships: int | slice) -> np.ndarray:
+    """The structured array to read the ships' fields from: for one ship (an index) ``array``
+    itself, whose fields read at the index are values; for all (``slice(None)``) a copy, made as
+    bytes (numpy copies records field by field, and each field on its own, several times slower)."""
+    return array.view(np.uint8).copy().view(array.dtype) if isinstance(ships, slice) else array
 
 
 class ShipBatch:
@@ -86,7 +110,7 @@ class ShipBatch:
         self.scenarios: list[Any] = [None] * self.num_ships
         self.episodes = np.zeros(self.num_ships, dtype=episode_record)
         self.metrics = np.zeros(self.num_ships, dtype=self.metrics_dtype)
-        self._update = type(self).update_parallel if self.num_ships >= PARALLEL_SHIPS else type(self).update_serial
+        self._update = batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
 
     def restart(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
         """Start new episodes for ``ships`` (sorted indices), one scenario each; the others sail on."""
@@ -96,12 +120,12 @@ class ShipBatch:
             heading=np.asarray([scenario.initial_heading for scenario in scenarios]),
             ships=ships,
         )
+        episodes = self.episodes
+        episodes["wave_yaw"][ships] = [scenario.conditions.wave_height > 0.0 for scenario in scenarios]
+        episodes["restarted"][ships] = True
+        episodes["terminated"][ships] = False
         for ship, scenario in zip(ships, scenarios, strict=True):
-            episode = self.episodes[ship]
-            episode["wave_yaw"] = 1.0 if scenario.conditions.wave_height > 0.0 else 0.0
-            episode["restarted"] = True
-            episode["terminated"] = False
-            self.start_episode(episode, scenario)
+            self.start_episode(episodes[ship], scenario)
             self.scenarios[ship] = scenario
 
     def start_episode(self, episode: np.void, scenario: Any) -> None:
@@ -127,33 +151,35 @@ class ShipBatch:
         """(N, observation size) float32, a copy."""
         return self.episodes["observation"].copy()
 
-    @property
-    def rewards(self) -> np.ndarray:
-        """(N,), a copy."""
-        return self.episodes["reward"].copy()
-
-    @property
-    def terminated(self) -> np.ndarray:
-        """(N,) bool, a copy: the ships whose episode reached its terminal state at the last update."""
-        return self.episodes["terminated"].copy()
+    def outcomes(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Copies of the last update's observations (N, observation size) float32, rewards (N,) and
+        terminations (N,) bool (the ships whose episode reached its terminal state)."""
+        observations = np.empty(self.episodes["observation"].shape, dtype=np.float32)
+        rewards = np.empty(self.num_ships)
+        terminated = np.empty(self.num_ships, dtype=np.bool_)
+        _read_outcomes(self.episodes, observations, rewards, terminated)
+        return observations, rewards, terminated
 
     def info(self, ships: int | slice) -> dict[str, Any]:
         """The step's information for one ship (an index: scalars) or all (``slice(None)``: arrays).
 
         ``measurement``: the bridge's instruments (``sensors.MEASUREMENT_NAMES``); ``state``: the
         ship's true state (layout ``ship_env.model.state``); ``metrics``: the episode's metrics so
-        far (final at its last step); then the task's own keys (:meth:`task_info`). Arrays are copies.
+        far (final at its last step); then the task's own keys (:meth:`task_info`). Arrays are
+        copies (the measurements and metrics views of one copy of the records).
         """
-        measurements = self.episodes["measurement"]
+        episodes = snapshot(self.episodes, ships)
+        metrics = snapshot(self.metrics, ships)
+        measurements = episodes["measurement"][ships].T
         return {
-            "measurement": {name: pick(measurements, (ships, k)) for k, name in enumerate(MEASUREMENT_NAMES)},
+            "measurement": {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)},
             "state": pick(self.simulator.state, ships),
-            "metrics": {name: pick(self.metrics[name], ships) for name in self.metrics_dtype.names},
-            **self.task_info(ships),
+            "metrics": {name: metrics[name][ships] for name in self.metrics_dtype.names},
+            **self.task_info(episodes, ships),
         }
 
-    def task_info(self, ships: int | slice) -> dict[str, Any]:
-        """The task's own keys of a step's information."""
+    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
+        """The task's own keys of a step's information, read from the :func:`snapshot` ``episodes``."""
         return {}
 
     def end_info(self, ships: int | slice) -> dict[str, Any]:

@@ -26,7 +26,7 @@ import numpy as np
 from gymnasium import spaces
 from numba import prange
 
-from ship_env.envs.batch import ShipBatch, episode_dtype, pick
+from ship_env.envs.batch import ShipBatch, episode_dtype
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import METRICS_DTYPE, start_metrics, update_metrics
 from ship_env.envs.sensors import (
@@ -51,6 +51,7 @@ from ship_env.envs.weather import (
 )
 from ship_env.model import Conditions
 from ship_env.model import state as S
+from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel, parallel_kernel
 
 #: Uniform numbers drawn per scenario: level, magnitude, sign, initial heading, then the weather's.
@@ -266,17 +267,19 @@ def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, e
 
 
 @kernel
-def update_ships(restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors):
-    """``update_ship`` for every ship of a batch."""
-    for i in range(states.shape[0]):
-        update_ship(i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors)
+def update_ships(restarted_only, *arrays):
+    """``update_ship`` for every ship of a batch (``arrays``: those of ``update_ship``, borrowed)."""
+    arrays = borrowed(arrays)
+    for i in range(arrays[0].shape[0]):
+        update_ship(i, restarted_only, *arrays)
 
 
 @parallel_kernel
-def update_ships_parallel(restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors):
-    """``update_ship`` for every ship of a batch, on all cores."""
-    for i in prange(states.shape[0]):
-        update_ship(i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors)
+def update_ships_parallel(restarted_only, *arrays):
+    """``update_ships`` on all cores."""
+    arrays = borrowed(arrays)
+    for i in prange(arrays[0].shape[0]):
+        update_ship(i, restarted_only, *arrays)
 
 
 class CourseChangeBatch(ShipBatch):
@@ -297,6 +300,6 @@ class CourseChangeBatch(ShipBatch):
         episode["new_heading"] = scenario.new_heading
         episode["turn_direction"] = math.copysign(1.0, scenario.course_change)
 
-    def task_info(self, ships: int | slice) -> dict[str, Any]:
+    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
         """``new_heading``: the ordered heading, rad, unwrapped."""
-        return {"new_heading": pick(self.episodes["new_heading"], ships)}
+        return {"new_heading": episodes["new_heading"][ships]}

@@ -19,7 +19,7 @@ import numpy as np
 from gymnasium import spaces
 from numba import prange
 
-from ship_env.envs.batch import ShipBatch, episode_dtype, pick
+from ship_env.envs.batch import ShipBatch, episode_dtype
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import (
     COURSE_KEEPING_METRICS_DTYPE,
@@ -48,6 +48,7 @@ from ship_env.envs.weather import (
 )
 from ship_env.model import Conditions
 from ship_env.model import state as S
+from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel, parallel_kernel
 
 #: Uniform numbers drawn per scenario: level, course, then the weather's.
@@ -216,17 +217,19 @@ def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, e
 
 
 @kernel
-def update_ships(restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors):
-    """``update_ship`` for every ship of a batch."""
-    for i in range(states.shape[0]):
-        update_ship(i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors)
+def update_ships(restarted_only, *arrays):
+    """``update_ship`` for every ship of a batch (``arrays``: those of ``update_ship``, borrowed)."""
+    arrays = borrowed(arrays)
+    for i in range(arrays[0].shape[0]):
+        update_ship(i, restarted_only, *arrays)
 
 
 @parallel_kernel
-def update_ships_parallel(restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors):
-    """``update_ship`` for every ship of a batch, on all cores."""
-    for i in prange(states.shape[0]):
-        update_ship(i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors)
+def update_ships_parallel(restarted_only, *arrays):
+    """``update_ships`` on all cores."""
+    arrays = borrowed(arrays)
+    for i in prange(arrays[0].shape[0]):
+        update_ship(i, restarted_only, *arrays)
 
 
 class CourseKeepingBatch(ShipBatch):
@@ -246,6 +249,6 @@ class CourseKeepingBatch(ShipBatch):
     def start_episode(self, episode: np.void, scenario: CourseKeepingScenario) -> None:
         episode["course"] = scenario.course
 
-    def task_info(self, ships: int | slice) -> dict[str, Any]:
+    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
         """``course``: the ordered course, rad."""
-        return {"course": pick(self.episodes["course"], ships)}
+        return {"course": episodes["course"][ships]}

@@ -3,8 +3,9 @@
 A compass and a rate gyro that see the high-frequency wave yaw (Fig. 2.13) plus white noise, the
 rudder angle indicator, a log measuring the speed through the water, and position fixes taken
 every ``fix_interval`` seconds (held in between). Their noise comes from the ship's counter-based
-random stream (:mod:`ship_env.model.noise`) in a domain of its own, so a seed repeats it exactly
-and a ship's noise does not depend on the other ships of its batch.
+random stream (:mod:`ship_env.model.noise`) in a domain of its own, one Box-Muller pair per
+instrument pair and step (compass and gyro, log, the fix's north and east), so a seed repeats it
+exactly and a ship's noise does not depend on the other ships of its batch.
 
 :func:`measure` fills one ship's measurement vector (layout ``MEASUREMENT_NAMES``); the
 environments build their observations from it and report it in ``info["measurement"]`` for
@@ -19,7 +20,7 @@ import numpy as np
 
 from ship_env.model import state as S
 from ship_env.model.kernel import kernel
-from ship_env.model.noise import MEASUREMENT_DOMAIN, standard_normal
+from ship_env.model.noise import MEASUREMENT_DOMAIN, standard_normal_pair
 
 # Measurement layout: what the bridge's instruments read.
 MEASUREMENT_NAMES = ("heading", "rate_of_turn", "rudder", "speed", "north", "east", "fix_time")
@@ -56,7 +57,11 @@ SENSORS_DTYPE = np.dtype(
 #: Sample instants closer than this to their due time count as due (the time is a sum of steps).
 TIME_TOLERANCE = 1e-6  # s
 
-_NOISE_CHANNELS = np.uint64(5)  # heading, rate of turn, speed, north, east
+# The instruments' noise draws per step, each a Box-Muller pair of channels.
+_HEADING_AND_RATE = 0
+_SPEED = 1  # the first of its pair
+_POSITION = 2  # north and east
+_NOISE_PAIRS = np.uint64(3)
 
 
 def sensors_record(noise_scale: float, fix_interval: float) -> np.ndarray:
@@ -83,12 +88,12 @@ def sample_due(time, last_sample_time, interval):
 
 
 @kernel
-def _sensor_noise(key, step, channel, deviation):
-    """White sensor noise of one channel at one step, from the ship's random stream."""
-    if deviation == 0.0:
-        return 0.0
-    counter = MEASUREMENT_DOMAIN + np.uint64(step) * _NOISE_CHANNELS + np.uint64(channel)
-    return deviation * standard_normal(key, counter)
+def _sensor_noise(key, step, pair, first_deviation, second_deviation):
+    """White sensor noise of two channels at one step, from one draw of the ship's random stream."""
+    if first_deviation == 0.0 and second_deviation == 0.0:
+        return 0.0, 0.0
+    first, second = standard_normal_pair(key, MEASUREMENT_DOMAIN + np.uint64(step) * _NOISE_PAIRS + np.uint64(pair))
+    return first_deviation * first, second_deviation * second
 
 
 @kernel
@@ -105,18 +110,19 @@ def measure(state, service_speed, wave_yaw, key, step, sensors, restarted, measu
         measured: the measurement vector, written in place; its fix is kept until the next is due.
     """
     p = sensors[0]
-    heading = state[S.HEADING] + wave_yaw * state[S.WAVE_HEADING] + _sensor_noise(key, step, 0, p["heading_noise"])
-    rate = state[S.RATE_OF_TURN] + wave_yaw * state[S.WAVE_RATE] + _sensor_noise(key, step, 1, p["rate_noise"])
+    heading_noise, rate_noise = _sensor_noise(key, step, _HEADING_AND_RATE, p["heading_noise"], p["rate_noise"])
+    heading = state[S.HEADING] + wave_yaw * state[S.WAVE_HEADING] + heading_noise
+    rate = state[S.RATE_OF_TURN] + wave_yaw * state[S.WAVE_RATE] + rate_noise
     measured[MEASURED_HEADING] = heading % (2.0 * math.pi)
     measured[MEASURED_RATE_OF_TURN] = rate
     measured[MEASURED_RUDDER] = state[S.RUDDER]
-    measured[MEASURED_SPEED] = service_speed * (1.0 - state[S.SPEED_LOSS]) + _sensor_noise(
-        key, step, 2, p["speed_noise"]
-    )
+    speed_noise = _sensor_noise(key, step, _SPEED, p["speed_noise"], 0.0)[0]
+    measured[MEASURED_SPEED] = service_speed * (1.0 - state[S.SPEED_LOSS]) + speed_noise
     time = state[S.TIME]
     if restarted or sample_due(time, measured[MEASURED_FIX_TIME], p["fix_interval"]):
-        measured[MEASURED_NORTH] = state[S.NORTH] + _sensor_noise(key, step, 3, p["position_noise"])
-        measured[MEASURED_EAST] = state[S.EAST] + _sensor_noise(key, step, 4, p["position_noise"])
+        north_noise, east_noise = _sensor_noise(key, step, _POSITION, p["position_noise"], p["position_noise"])
+        measured[MEASURED_NORTH] = state[S.NORTH] + north_noise
+        measured[MEASURED_EAST] = state[S.EAST] + east_noise
         measured[MEASURED_FIX_TIME] = time
 
 

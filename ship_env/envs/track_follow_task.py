@@ -61,9 +61,10 @@ from ship_env.envs.tracks import (
     reference_track,
     signed_cross_track,
 )
-from ship_env.envs.weather import CUSTOM_DISTURBANCE, check_conditions
+from ship_env.envs.weather import CALM, CUSTOM_DISTURBANCE, check_conditions
 from ship_env.model import Conditions
 from ship_env.model import state as S
+from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel, parallel_kernel
 
 #: Table 6.2, read as stated in the module docstring.
@@ -210,7 +211,7 @@ class TrackFollowTask(ShipTask):
             disturbance = CUSTOM_DISTURBANCE
         else:
             disturbance = self.disturbance
-            conditions = THESIS_CONDITIONS if disturbance == "thesis" else Conditions()
+            conditions = THESIS_CONDITIONS if disturbance == "thesis" else CALM
         return TrackScenario(track, disturbance, conditions, seed, float(self.tracks[track].courses[0]))
 
 
@@ -278,23 +279,19 @@ def update_ship(
 
 
 @kernel
-def update_ships(restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks):
-    """``update_ship`` for every ship of a batch."""
-    for i in range(states.shape[0]):
-        update_ship(
-            i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks
-        )
+def update_ships(restarted_only, *arrays):
+    """``update_ship`` for every ship of a batch (``arrays``: those of ``update_ship``, borrowed)."""
+    arrays = borrowed(arrays)
+    for i in range(arrays[0].shape[0]):
+        update_ship(i, restarted_only, *arrays)
 
 
 @parallel_kernel
-def update_ships_parallel(
-    restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks
-):
-    """``update_ship`` for every ship of a batch, on all cores."""
-    for i in prange(states.shape[0]):
-        update_ship(
-            i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks
-        )
+def update_ships_parallel(restarted_only, *arrays):
+    """``update_ships`` on all cores."""
+    arrays = borrowed(arrays)
+    for i in prange(arrays[0].shape[0]):
+        update_ship(i, restarted_only, *arrays)
 
 
 class TrackFollowBatch(ShipBatch):
@@ -316,12 +313,9 @@ class TrackFollowBatch(ShipBatch):
         episode["track"] = TRACK_IDS.index(scenario.track)
         episode["leg"] = 0
 
-    def task_info(self, ships: int | slice) -> dict[str, Any]:
+    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
         """``leg``: the leg being sailed (0-based); ``cross_track_error``: true, m, positive to starboard."""
-        return {
-            "leg": pick(self.episodes["leg"], ships),
-            "cross_track_error": pick(self.episodes["cross_track_error"], ships),
-        }
+        return {"leg": episodes["leg"][ships], "cross_track_error": episodes["cross_track_error"][ships]}
 
     def end_info(self, ships: int | slice) -> dict[str, Any]:
         """``score``: the episode's ``rms_cross_track_error`` (m, eq. 6.5) beside the thesis's

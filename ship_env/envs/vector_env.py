@@ -124,13 +124,13 @@ class ShipVectorEnv(VectorEnv):
         ships = np.flatnonzero(self._autoreset)
         scenarios = self._restart(ships, {}) if ships.size else []
         self.batch.update()
-        terminated = self.batch.terminated
+        observations, rewards, terminated = self.batch.outcomes()
         truncated = self._elapsed_steps >= self.max_episode_steps
         self._autoreset = terminated | truncated
         info = self._info(ships, scenarios, self._all_envs)
         if terminated.any():
             info.update(_with_masks(self.batch.end_info(slice(None)), terminated))
-        return self.batch.observations, self.batch.rewards, terminated, truncated, info
+        return observations, rewards, terminated, truncated, info
 
     def _restart(self, ships: np.ndarray, options: dict[str, Any]) -> list[Any]:
         """Draw and start new episodes for ``ships``."""

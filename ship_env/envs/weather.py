@@ -19,6 +19,8 @@ DISTURBANCES = ("calm", "wind_current", "wind_current_waves")
 RANDOM_DISTURBANCE = "random"
 #: The level reported for an episode whose conditions were given in ``reset(options=...)``.
 CUSTOM_DISTURBANCE = "custom"
+#: Still water and air, shared by every calm episode (``Conditions`` is frozen).
+CALM = Conditions()
 
 #: Effects added to a preset's defaults when the disturbance level can have waves: the HF yaw the
 #: compass sees (Fig. 2.13) and the sea's yaw moment (2.89-2.91).
@@ -67,7 +69,7 @@ class WeatherRanges:
         wind's direction +-30 deg. ``"calm"`` is still water and air.
         """
         if disturbance == "calm":
-            return Conditions()
+            return CALM
         wind_direction = 2.0 * math.pi * draws[1]
         weather = {
             "wind_speed": _within(self.wind_speed_range, draws[0]),

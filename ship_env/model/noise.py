@@ -2,7 +2,8 @@
 
 Each ship has a 64-bit key derived from its seed. The random numbers it needs at step k are a
 pure function of (key, k): the SplitMix64 finaliser (Steele, Lea & Flood 2014) hashes the counter
-into 64 random bits, two such draws make a standard normal sample by the Box-Muller transform.
+into 64 random bits, two such draws make two independent standard normal samples by the
+Box-Muller transform (a caller needing several samples takes them in pairs).
 This is the counter-based design of Random123/Philox: a ship's stream does not depend on how many
 other ships share the batch or in which order they are stepped, so a batch of N ships gives
 exactly the numbers of N single runs, and no generator state has to be kept or copied.
@@ -52,12 +53,6 @@ def standard_normal_pair(key, counter):
     radius = math.sqrt(-2.0 * math.log(uniform(key, np.uint64(2) * counter)))
     angle = 2.0 * math.pi * uniform(key, np.uint64(2) * counter + np.uint64(1))
     return radius * math.cos(angle), radius * math.sin(angle)
-
-
-@kernel
-def standard_normal(key, counter):
-    """A standard normal sample for (key, counter): the first of ``standard_normal_pair``."""
-    return standard_normal_pair(key, counter)[0]
 
 
 def keys_from_seeds(seeds: np.ndarray) -> np.ndarray:

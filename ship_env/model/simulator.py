@@ -2,7 +2,8 @@
 
 :class:`Simulator` holds the batch's state ``(N, STATE_SIZE)``, the conditions each ship sails in,
 the sea each one meets and a random generator per ship. ``step`` advances all ships in one compiled
-call; with ``N = 1`` it takes a lighter path. Ship ``i`` of a batch seeded with ``seed`` draws its
+call, a large batch on all cores where that is faster (:class:`Cores`); with ``N = 1`` it takes a
+lighter path. Ship ``i`` of a batch seeded with ``seed`` draws its
 randomness from ``seed + i`` (as Gymnasium's vector environments do), so a batch gives the same
 numbers as single runs with those seeds (see ``noise``).
 """
@@ -10,9 +11,12 @@ numbers as single runs with those seeds (see ``noise``).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass, fields
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
 
+import numba
 import numpy as np
 
 from ship_env.model import noise
@@ -22,10 +26,72 @@ from ship_env.model.effects import wave_spectrum
 from ship_env.model.integrators import METHODS, new_workspace, step_ship, step_ships, step_ships_parallel
 from ship_env.model.ship import ShipModel
 
-#: Batches at least this large step on all cores; smaller ones in one thread (no thread start-up
-#: cost, and no competition with a learner's own threads on a small machine).
-PARALLEL_SHIPS = 4096
+#: Batches at least this large may step on all cores (:func:`batch_loop`); smaller ones step in one thread.
+PARALLEL_SHIPS = 1024
+#: A batch that may use all cores runs the way it did not choose after 16, 32, 64, ... calls, then
+#: once in this many, to time it afresh.
+RETIME_CALLS = 1024
+#: The weight of a call's log time in its way's running mean: a slow call now and then does not
+#: turn the choice, a few in a row do.
+TIME_WEIGHT = 0.1
 
+#: The conditions that must not be negative.
+_NOT_NEGATIVE = frozenset({"service_speed", "propeller_rate", "current_speed", "wind_speed", "wave_height"})
+
+
+class Cores:
+    """A batch's compiled loop that runs in one thread or on all cores, whichever has lately been faster.
+
+    On a 2-core machine to itself, two threads step or update 1024 ships 1.7 to 1.9 times faster
+    than one (``benchmarks/bench_envs.py``, with torch in the process or not). Where other work keeps
+    the cores busy the threads wait for each other, often a scheduler time slice (milliseconds) a
+    call, many times the one-thread time. So the loop times its calls: each way keeps a running
+    mean of its log call time (``TIME_WEIGHT``) and the faster way runs, but now and then
+    (``RETIME_CALLS``) the other way runs and its mean restarts from that call's time. A way's
+    first call (which starts the threads) is not timed. Both ways give the same numbers.
+
+    Args:
+        serial: the loop in one thread.
+        parallel: the same loop on all cores.
+    """
+
+    def __init__(self, serial: Callable[..., Any], parallel: Callable[..., Any]) -> None:
+        self._ways = (serial, parallel)
+        self._log_seconds: list[float | None] = [None, None]
+        self._started = [False, False]
+        self._calls = 0
+        self._next_retime = 16
+
+    def __call__(self, *args: Any) -> Any:
+        """The loop on ``args``, one way or the other (the same result)."""
+        self._calls += 1
+        retime = self._calls == self._next_retime
+        if retime:
+            self._next_retime += min(self._next_retime, RETIME_CALLS)
+        one, all_cores = self._log_seconds
+        if all_cores is None or one is None:
+            way = 1 if all_cores is None else 0
+        else:
+            way = int(all_cores < one) ^ retime
+        start = time.perf_counter()
+        result = self._ways[way](*args)
+        log_seconds = math.log(max(time.perf_counter() - start, 1e-9))
+        mean = self._log_seconds[way]
+        if not self._started[way]:
+            self._started[way] = True
+        elif mean is None or retime:
+            self._log_seconds[way] = log_seconds
+        else:
+            self._log_seconds[way] = mean + TIME_WEIGHT * (log_seconds - mean)
+        return result
+
+
+def batch_loop(num_ships: int, serial: Callable[..., Any], parallel: Callable[..., Any]) -> Callable[..., Any]:
+    """The loop a batch of ``num_ships`` runs: ``serial`` below ``PARALLEL_SHIPS`` ships or with one
+    numba thread (``NUMBA_NUM_THREADS=1``), else :class:`Cores` choosing between the two."""
+    if num_ships < PARALLEL_SHIPS or numba.get_num_threads() == 1:
+        return serial
+    return Cores(serial, parallel)
 
 
 @dataclass(frozen=True)
@@ -52,17 +118,16 @@ class Conditions:
     wave_direction: float = 0.0
 
     def __post_init__(self) -> None:
-        for item in fields(self):
-            value = getattr(self, item.name)
-            if value is None and item.name == "service_speed":
+        for name, value in vars(self).items():
+            if value is None and name == "service_speed":
                 continue
-            if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-                raise TypeError(f"conditions.{item.name}: expected a number, got {value!r}")
+            if type(value) is not float and (
+                isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer))
+            ):
+                raise TypeError(f"conditions.{name}: expected a number, got {value!r}")
             if not math.isfinite(value):
-                raise ValueError(f"conditions.{item.name}: must be finite, got {value!r}")
-        for name in ("service_speed", "propeller_rate", "current_speed", "wind_speed", "wave_height"):
-            value = getattr(self, name)
-            if value is not None and value < 0.0:
+                raise ValueError(f"conditions.{name}: must be finite, got {value!r}")
+            if value < 0.0 and name in _NOT_NEGATIVE:
                 raise ValueError(f"conditions.{name}: must not be negative, got {value!r}")
         if self.wave_period <= 0.0:
             raise ValueError(f"conditions.wave_period: must be positive, got {self.wave_period!r}")
@@ -121,6 +186,7 @@ class Simulator:
         self._orders = np.zeros(self.num_ships)
         self._valid = np.ones(self.num_ships, dtype=np.bool_)
         self._work = new_workspace()
+        self._step_ships = batch_loop(self.num_ships, step_ships, step_ships_parallel)
         self._state0 = self.state[0]
         self._conditions0 = self.conditions[0]
         self._waves0 = self.waves[0]
@@ -257,8 +323,7 @@ class Simulator:
         if not np.all(np.isfinite(orders)):
             bad = int(np.flatnonzero(~np.isfinite(orders))[0])
             raise ValueError(f"ordered_rudder[{bad}]: must be a finite angle in rad, got {orders[bad]!r}")
-        stepper = step_ships_parallel if self.num_ships >= PARALLEL_SHIPS else step_ships
-        stepper(
+        self._step_ships(
             self.state,
             orders,
             self.conditions,

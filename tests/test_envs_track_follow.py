@@ -270,7 +270,7 @@ def test_vector_env_truncates_and_the_parallel_update_equals_the_serial_one():
     vector = gym.make_vec(ENV_ID, num_envs=PARALLEL_SHIPS, vectorization_mode="vector_entry_point", max_episode_steps=3)
     assert isinstance(vector.unwrapped, TrackFollowVectorEnv)
     assert vector.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
-    assert vector.observation_space.shape == (PARALLEL_SHIPS, 7) and vector.action_space.shape == (PARALLEL_SHIPS, 1)
+    assert vector.observation_space.shape == (PARALLEL_SHIPS, 8) and vector.action_space.shape == (PARALLEL_SHIPS, 1)
     actions = np.random.default_rng(2).uniform(-1.0, 1.0, size=(4, PARALLEL_SHIPS, 1)).astype(np.float32)
     observations = [vector.reset(seed=9)[0]]
     for k in range(4):
@@ -338,7 +338,7 @@ def test_make_from_a_fresh_interpreter_with_only_the_id_and_kwargs_passing_throu
     )
     result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
-    assert result.stdout.split() == ["3600", "T5", "calm", "(7,)", "TrackFollowVectorEnv", "3600"]
+    assert result.stdout.split() == ["3600", "T5", "calm", "(8,)", "TrackFollowVectorEnv", "3600"]
 
 
 def test_rgb_array_render_draws_the_reference_track():

@@ -36,7 +36,7 @@ class TrackFollowEnv(ShipEnv):
 
     ## Observation Space
 
-    ``Box(7,) float32``, from the bridge's instruments (the latest position fix, taken every
+    ``Box(8,) float32``, from the bridge's instruments (the latest position fix, taken every
     ``fix_interval`` = 2 s, compass, gyro, log), relative to the leg being sailed:
 
     | Num | Observation       | Definition                                                   | Min | Max |
@@ -48,13 +48,16 @@ class TrackFollowEnv(ShipEnv):
     | 4   | speed             | log speed / service speed U0, clipped                        | 0   | 2   |
     | 5   | next course change| the change at the leg's end waypoint / pi, 0 on the last leg | -1  | 1   |
     | 6   | waypoint distance | fix to the leg's end waypoint along the leg, nm, clipped     | -1  | 3   |
+    | 7   | cross-track rate  | the fixes' cross-track error's rate, filtered (30 s) / U0    | -1  | 1   |
 
     The cross-track error is positive with the ship to starboard of the track (steer to port);
     L = 225.87 m for the container ship. The leg advances when the ship crosses the bisector of
     the corner at the leg's end (the line through the waypoint and the turn's centre), so the
     heading error jumps by the course change there; observations 5 and 6 let a policy put the
     rudder over before it (the wheel-over point lies about a turning radius' tangent plus the
-    ship's reaction distance ahead of the arc).
+    ship's reaction distance ahead of the arc). The cross-track rate (a track pilot's cross-track
+    speed) is what the set of the current and the wind shows as: holding it at zero with the
+    cross-track error at zero needs the heading off the leg's course by the drift angle.
 
     ## Rewards
 

@@ -89,14 +89,19 @@ OBS_RUDDER = 3  # actual rudder / delta_max
 OBS_SPEED = 4  # log speed / U0
 OBS_NEXT_CHANGE = 5  # the course change at the leg's end waypoint / pi, 0 on the last leg
 OBS_WAYPOINT_DISTANCE = 6  # distance of the fix to the leg's end waypoint along the leg, nm
-OBSERVATION_SIZE = 7
+OBS_CROSS_TRACK_RATE = 7  # the fixes' cross-track error's rate, filtered, / U0
+OBSERVATION_SIZE = 8
 CROSS_TRACK_BOUND = 10.0  # ship lengths
 DISTANCE_BOUNDS = (-1.0, 3.0)  # nm: legs are at most 2.5 nm
+#: s: time constant of the first-order filter on the rate of the fixes' cross-track error (the
+#: cross-track speed a track pilot shows); it takes out the fixes' noise (5 m every 2 s: 3.5 m/s
+#: raw, about 0.6 m/s filtered) and lags a change of drift by about this time.
+CROSS_TRACK_RATE_TIME = 30.0
 OBSERVATION_LOW = np.array(
-    [-CROSS_TRACK_BOUND, -1.0, -RATE_BOUND, -1.0, 0.0, -1.0, DISTANCE_BOUNDS[0]], dtype=np.float32
+    [-CROSS_TRACK_BOUND, -1.0, -RATE_BOUND, -1.0, 0.0, -1.0, DISTANCE_BOUNDS[0], -1.0], dtype=np.float32
 )
 OBSERVATION_HIGH = np.array(
-    [CROSS_TRACK_BOUND, 1.0, RATE_BOUND, 1.0, SPEED_BOUND, 1.0, DISTANCE_BOUNDS[1]], dtype=np.float32
+    [CROSS_TRACK_BOUND, 1.0, RATE_BOUND, 1.0, SPEED_BOUND, 1.0, DISTANCE_BOUNDS[1], 1.0], dtype=np.float32
 )
 
 #: Per-ship episode data: the common record plus the track's fields.
@@ -107,6 +112,8 @@ EPISODE_DTYPE = episode_dtype(
         ("leg", np.int64),  # the leg being sailed: it advances across the bisector of its end corner
         ("cross_track_error", np.float64),  # m, true position, positive to starboard of the track
         ("fix_cross_track_error", np.float64),  # m, of the latest position fix
+        ("fix_cross_track_rate", np.float64),  # m/s, its rate, filtered over CROSS_TRACK_RATE_TIME
+        ("fix_time", np.float64),  # s, of the latest position fix
     ],
 )
 
@@ -264,7 +271,16 @@ def update_ship(
     row = legs[leg]
     fix_north, fix_east = measured[MEASURED_NORTH], measured[MEASURED_EAST]
     if measured[MEASURED_FIX_TIME] == state[S.TIME]:  # a new fix
-        episode["fix_cross_track_error"] = signed_cross_track(fix_north, fix_east, legs)
+        fix_error = signed_cross_track(fix_north, fix_east, legs)
+        if restarted:
+            episode["fix_cross_track_rate"] = 0.0
+        else:
+            interval = state[S.TIME] - episode["fix_time"]
+            raw_rate = (fix_error - episode["fix_cross_track_error"]) / interval
+            weight = interval / (CROSS_TRACK_RATE_TIME + interval)
+            episode["fix_cross_track_rate"] += weight * (raw_rate - episode["fix_cross_track_rate"])
+        episode["fix_cross_track_error"] = fix_error
+        episode["fix_time"] = state[S.TIME]
     observation = episode["observation"]
     relative = episode["fix_cross_track_error"] / p["length"]
     observation[OBS_CROSS_TRACK] = min(max(relative, -CROSS_TRACK_BOUND), CROSS_TRACK_BOUND)
@@ -276,6 +292,7 @@ def update_ship(
     to_go_north = (row[LEG_END_NORTH] - fix_north) * row[LEG_DIRECTION_NORTH]
     to_go = to_go_north + (row[LEG_END_EAST] - fix_east) * row[LEG_DIRECTION_EAST]
     observation[OBS_WAYPOINT_DISTANCE] = min(max(to_go / NAUTICAL_MILE, DISTANCE_BOUNDS[0]), DISTANCE_BOUNDS[1])
+    observation[OBS_CROSS_TRACK_RATE] = min(max(episode["fix_cross_track_rate"] / service_speed, -1.0), 1.0)
 
 
 @kernel
@@ -297,7 +314,7 @@ def update_ships_parallel(restarted_only, *arrays):
 class TrackFollowBatch(ShipBatch):
     """N ships following reference tracks (:class:`~ship_env.envs.batch.ShipBatch`).
 
-    Each ship's ``episodes`` record holds ``observation`` float32 (7,), ``measurement``,
+    Each ship's ``episodes`` record holds ``observation`` float32 (8,), ``measurement``,
     ``reward``, ``terminated``, its ``track`` and ``leg`` and its true ``cross_track_error``;
     ``metrics`` the running track metrics (the score).
     """

@@ -15,6 +15,8 @@ from baselines.nomoto import NomotoParameters
 from baselines.pd_autopilot import PDDesign
 from baselines.presys import indirect_adaptive_controller, pd_controller
 from baselines.yaw_filter import YawFilter
+from ship_env.leaderboard.sailing import sail
+from ship_env.leaderboard.suites import Episode
 from ship_env.model import Conditions, ShipModel, Simulator
 
 SHIP = NomotoParameters(gain=1.6, time_constant=1.7)
@@ -111,13 +113,7 @@ def test_a_held_reference_model_keeps_compensating():
 def course_change_metrics(builder, seed: int) -> dict:
     env = gym.make("ship_env/CourseChange-v0", disturbance="wind_current_waves")
     controller = builder(env.unwrapped.task)
-    observation, info = env.reset(seed=seed, options={"course_change_deg": 45.0})
-    controller.reset(observation, info)
-    done = False
-    while not done:
-        observation, _, terminated, truncated, info = env.step(controller.act(observation, info))
-        done = terminated or truncated
-    return info["metrics"]
+    return sail(env, controller, Episode(seed, {"course_change_deg": 45.0}, "+45 deg"))[0]
 
 
 @pytest.mark.parametrize("seed", [0, 1])

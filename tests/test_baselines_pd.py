@@ -20,6 +20,8 @@ from baselines.presys import (
     pd_controller,
     preset_parameters,
 )
+from ship_env.leaderboard.sailing import sail
+from ship_env.leaderboard.suites import Episode
 from ship_env.leaderboard.tables import TRAVEL_ALLOWANCE
 from ship_env.model import Conditions
 
@@ -63,15 +65,8 @@ def test_each_schedule_holds_its_closed_loop_and_fixed_gains_do_not_move():
 def course_change(builder, speed: float, change_deg: float, noise: float = 1.0, **builder_options) -> dict:
     env = gym.make("ship_env/CourseChange-v0", max_episode_steps=900, sensor_noise_scale=noise)
     controller = builder(env.unwrapped.task, **builder_options)
-    observation, info = env.reset(
-        seed=0, options={"conditions": Conditions(service_speed=speed), "course_change_deg": change_deg}
-    )
-    controller.reset(observation, info)
-    done = False
-    while not done:
-        observation, _, terminated, truncated, info = env.step(controller.act(observation, info))
-        done = terminated or truncated
-    return info["metrics"]
+    options = {"conditions": Conditions(service_speed=speed), "course_change_deg": change_deg}
+    return sail(env, controller, Episode(0, options, f"{change_deg:+.0f} deg"))[0]
 
 
 @pytest.mark.parametrize("change_deg", [15.0, 45.0, 105.0])
@@ -100,13 +95,7 @@ def sail_doubled_ship(controller, change_deg: float) -> dict:
     nominal = gym.make("ship_env/CourseChange-v0").unwrapped.task.model
     doubled = {name: 2.0 * nominal.parameter(name) for name in ("yaw.gain", "yaw.time_constant")}
     env = gym.make("ship_env/CourseChange-v0", disturbance="calm", ship_parameters=doubled)
-    observation, info = env.reset(seed=0, options={"course_change_deg": change_deg})
-    controller.reset(observation, info)
-    done = False
-    while not done:
-        observation, _, terminated, truncated, info = env.step(controller.act(observation, info))
-        done = terminated or truncated
-    return info["metrics"]
+    return sail(env, controller, Episode(0, {"course_change_deg": change_deg}, f"{change_deg:+.0f} deg"))[0]
 
 
 @pytest.mark.parametrize("change_deg", [45.0, 105.0])

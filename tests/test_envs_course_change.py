@@ -167,6 +167,8 @@ def closed_form_steady_rate(model: ShipModel, rudder: float) -> float:
         if model.has("asymmetry")
         else (0.0, 0.0)
     )
+    odd_quadratic = model.parameter("norrbin.odd_quadratic") if model.has("norrbin") else 0.0
+    quadratic += math.copysign(odd_quadratic, rudder)  # |r*| r* = sign(r*) r*^2, r* turning with the rudder
     coefficients = [cubic, quadratic, model.parameter("yaw.linear"), constant - model.parameter("yaw.gain") * rudder]
     roots = np.roots(coefficients)
     normalised_rate = float(roots[np.abs(roots.imag) < 1e-12].real[0])

@@ -80,7 +80,7 @@ def test_the_workbench_finds_the_effects_the_runs_need_and_the_held_out_error_ha
     rate, the ship is not symmetric; adding them cuts the held-out heading error by half or more."""
     print("\n" + ladder_table(ladder).text() + f"\nstopped: {ladder.stopped}")
     start, final = ladder.rungs[0].validation.pooled, ladder.final.pooled
-    assert {"wind_moment", "propeller_slipstream", "asymmetry", "wind_drift"} <= set(ladder.added)
+    assert {"wind_moment", "propeller_slipstream", "asymmetry", "norrbin", "wind_drift"} <= set(ladder.added)
     assert final.heading <= 0.5 * start.heading
     assert final.track <= 0.5 * start.track
 
@@ -96,13 +96,6 @@ def test_sway_and_wind_drift_bring_the_held_out_track_error_to_0_8_m(ladder):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    reason=(
-        "target not reached: the ladder (current, rudder offset, wind moment + propeller slipstream, asymmetry, "
-        "Norrbin, wind drift) brings the held-out heading from 19.7 to 8.4 deg (in-sample 6.0 deg); per-run fits "
-        "reach 1-3 deg, so the model still lacks what differs between runs"
-    ),
-    strict=False,
-)
 def test_the_held_out_heading_error_reaches_7_deg(ladder):
+    """Without per-run refitting: the ladder ends at 6.97 deg (in-sample 5.0 deg)."""
     assert math.degrees(ladder.final.pooled.heading) <= 7.0

@@ -30,7 +30,7 @@ CURRENT_TERMS = ("current.north", "current.east")
 #: The terms fitted when an effect is in the model.
 DEFAULT_TERMS: dict[str, tuple[str, ...]] = {
     "yaw": ("yaw.gain", "yaw.time_constant"),
-    "norrbin": ("norrbin.cubic",),
+    "norrbin": ("norrbin.cubic", "norrbin.odd_quadratic"),
     "asymmetry": ("asymmetry.side_force", "asymmetry.quadratic"),
     "speed_loss": ("speed_loss.gain", "speed_loss.time_constant"),
     "sway": ("sway.linear",),
@@ -70,6 +70,7 @@ _RULES: dict[str, TermRule] = {
     "asymmetry.constant": TermRule(-2.0, 2.0, 0.0, 0.01),
     "asymmetry.quadratic": TermRule(-5.0, 5.0, 0.0, 0.1),
     "norrbin.cubic": TermRule(0.0, 100.0, 0.0, 0.5),
+    "norrbin.odd_quadratic": TermRule(-100.0, 100.0, 0.0, 0.5),
     "speed_loss.gain": TermRule(0.0, 20.0, 0.0, 0.3),
     "speed_loss.time_constant": TermRule(0.05, 100.0),
     "speed_loss.cubic": TermRule(0.0, 100.0, 0.0, 1.0),

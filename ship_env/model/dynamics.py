@@ -126,7 +126,7 @@ def derivatives(state, rudder, conditions, white_noise, wave_yaw, p, out):
             conditions[S.PROPELLER_RATE], p["propeller_slipstream_propeller_diameter"], p["asymmetry_side_force"]
         )
     if p["norrbin_on"]:
-        restoring += norrbin.restoring(normalised_rate, p["norrbin_cubic"])
+        restoring += norrbin.restoring(normalised_rate, p["norrbin_cubic"], p["norrbin_odd_quadratic"])
     yaw_acceleration = yaw.acceleration(
         speed,
         inflow_speed_squared,

@@ -1,10 +1,14 @@
-"""Norrbin non-linearity: the cubic term of H(r*) (thesis 2.27, 2.28, 2.45).
+"""Norrbin non-linearity: the odd non-linear terms of H(r*) (thesis 2.27, 2.28, 2.45).
 
-    H(r*) = ... + alpha3 r*^3
+    H(r*) = ... + alpha2' |r*| r* + alpha3 r*^3
 
-It bends the spiral characteristic: large rudder angles give less rate of turn than the linear
+They bend the spiral characteristic: large rudder angles give less rate of turn than the linear
 model, and a negative linear term (see ``yaw``) with alpha3 > 0 describes a course-unstable ship.
-Steady turn: r* + alpha3 r*^3 = K* delta (2.26).
+Steady turn: r* + alpha2' |r*| r* + alpha3 r*^3 = K* delta (2.26). The |r*| r* term is Norrbin's
+quadratic form of the hull's non-linear yaw damping; a negative alpha2' with alpha3 > 0 flattens
+the spiral at moderate rates of turn, as in a full-form tanker that is only just course-stable
+(the slope dH/dr* dips towards zero between small and large turns). With alpha2' = alpha3 = 0
+the effect vanishes.
 """
 
 from __future__ import annotations
@@ -14,13 +18,17 @@ from ship_env.model.kernel import kernel
 
 EFFECT = Effect(
     name="norrbin",
-    title="non-linear yaw damping at large rate of turn (Norrbin cubic term)",
+    title="non-linear yaw damping (Norrbin's |r| r and cubic terms: the spiral curve's shape)",
     equations="(2.27), (2.28)",
-    parameters=(Parameter("cubic", "-", "alpha3 of H(r*), the cubic coefficient", minimum=0.0),),
+    parameters=(
+        Parameter("cubic", "-", "alpha3 of H(r*), the cubic coefficient", minimum=0.0),
+        Parameter("odd_quadratic", "-", "alpha2' of H(r*), the coefficient of |r*| r*"),
+    ),
 )
 
 
 @kernel
-def restoring(normalised_rate, cubic):
-    """The cubic part of H(r*) (2.27)."""
-    return cubic * normalised_rate * normalised_rate * normalised_rate
+def restoring(normalised_rate, cubic, odd_quadratic):
+    """The |r*| r* and cubic part of H(r*) (2.27)."""
+    cubic_part = cubic * normalised_rate * normalised_rate * normalised_rate
+    return cubic_part + odd_quadratic * abs(normalised_rate) * normalised_rate

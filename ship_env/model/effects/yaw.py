@@ -1,7 +1,7 @@
 """Yaw: De Keizer's speed-scheduled rate-of-turn equation (thesis 2.54, 2.27).
 
     tau* (L/u) dr/dt + (u/L) H(r*) = K* (u/L) delta                                (2.54)
-    H(r*) = alpha1 r*  (+ alpha0 + alpha2 r*^2, see ``asymmetry``; + alpha3 r*^3, ``norrbin``)  (2.27)
+    H(r*) = alpha1 r*  (+ alpha0 + alpha2 r*^2, ``asymmetry``; + alpha2' |r*| r* + alpha3 r*^3, ``norrbin``)  (2.27)
     r* = L r / u                                                                    (2.40)
 
 Solved for the yaw acceleration:

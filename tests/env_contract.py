@@ -8,6 +8,8 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
+from ship_env.model.simulator import PARALLEL_SHIPS
+
 #: Keys of a single env's info that the vector env reports in its own way.
 EPISODE_KEYS = ("scenario", "score")
 
@@ -90,3 +92,24 @@ def assert_vector_equals_singles(
             ended[i] = terminated[i] or truncated[i]
             episodes[i] += ended[i]
     return episodes, elapsed
+
+
+def assert_all_core_vector_truncates_like_a_single_env(
+    env_id: str, vector_class: type, single: gym.Env, observation_size: int
+) -> None:
+    """``make_vec`` with ``PARALLEL_SHIPS`` envs (the all-core update) truncates every ship after 3
+    steps with NEXT_STEP autoreset, and its last ship's observations equal a single env's."""
+    vector = gym.make_vec(env_id, num_envs=PARALLEL_SHIPS, vectorization_mode="vector_entry_point", max_episode_steps=3)
+    assert isinstance(vector.unwrapped, vector_class)
+    assert vector.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
+    assert vector.observation_space.shape == (PARALLEL_SHIPS, observation_size)
+    assert vector.action_space.shape == (PARALLEL_SHIPS, 1)
+    actions = np.random.default_rng(2).uniform(-1.0, 1.0, size=(4, PARALLEL_SHIPS, 1)).astype(np.float32)
+    observations = [vector.reset(seed=9)[0]]
+    for k in range(4):
+        observation, rewards, terminated, truncated, info = vector.step(actions[k])
+        observations.append(observation)
+        assert truncated.all() == (k == 2) and not terminated.any()
+    assert (rewards == 0.0).all() and info["_scenario"].all()
+    steps = sail(single, actions[:3, -1], seed=9 + PARALLEL_SHIPS - 1)
+    np.testing.assert_array_equal(np.array(observations)[:4, -1], [step[0] for step in steps])

@@ -10,7 +10,12 @@ import warnings
 import gymnasium as gym
 import numpy as np
 import pytest
-from env_contract import assert_same_steps, assert_vector_equals_singles, sail
+from env_contract import (
+    assert_all_core_vector_truncates_like_a_single_env,
+    assert_same_steps,
+    assert_vector_equals_singles,
+    sail,
+)
 from gymnasium.utils.env_checker import check_env
 
 import ship_env  # noqa: F401  (registers the environments)
@@ -21,7 +26,6 @@ from ship_env.envs.metrics import course_keeping_metrics
 from ship_env.envs.weather import DISTURBANCES, RANDOM_DISTURBANCE
 from ship_env.model import Conditions, ShipModel
 from ship_env.model import state as S
-from ship_env.model.simulator import PARALLEL_SHIPS
 
 ENV_ID = "ship_env/CourseKeeping-v0"
 WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")
@@ -87,19 +91,7 @@ def test_vector_env_equals_single_envs_seeded_s_plus_i_across_resets():
 
 
 def test_make_vec_uses_the_vector_entry_point_on_all_cores_like_single_envs():
-    vector = gym.make_vec(ENV_ID, num_envs=PARALLEL_SHIPS, vectorization_mode="vector_entry_point", max_episode_steps=3)
-    assert isinstance(vector.unwrapped, CourseKeepingVectorEnv)
-    assert vector.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
-    assert vector.observation_space.shape == (PARALLEL_SHIPS, 4) and vector.action_space.shape == (PARALLEL_SHIPS, 1)
-    actions = np.random.default_rng(2).uniform(-1.0, 1.0, size=(4, PARALLEL_SHIPS, 1)).astype(np.float32)
-    observations = [vector.reset(seed=9)[0]]
-    for k in range(4):
-        observation, rewards, terminated, truncated, info = vector.step(actions[k])
-        observations.append(observation)
-        assert truncated.all() == (k == 2) and not terminated.any()
-    assert (rewards == 0.0).all() and info["_scenario"].all()
-    single = sail(CourseKeepingEnv(), actions[:3, -1], seed=9 + PARALLEL_SHIPS - 1)
-    np.testing.assert_array_equal(np.array(observations)[:4, -1], [step[0] for step in single])
+    assert_all_core_vector_truncates_like_a_single_env(ENV_ID, CourseKeepingVectorEnv, CourseKeepingEnv(), 4)
 
 
 def test_still_water_with_the_rudder_amidships_costs_nothing():

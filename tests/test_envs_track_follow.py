@@ -10,7 +10,12 @@ import warnings
 import gymnasium as gym
 import numpy as np
 import pytest
-from env_contract import assert_same_steps, assert_vector_equals_singles, sail
+from env_contract import (
+    assert_all_core_vector_truncates_like_a_single_env,
+    assert_same_steps,
+    assert_vector_equals_singles,
+    sail,
+)
 from gymnasium.utils.env_checker import check_env
 
 import ship_env  # noqa: F401  (registers the environments)
@@ -35,7 +40,6 @@ from ship_env.envs.tracks import (
 )
 from ship_env.model import ShipModel, Simulator
 from ship_env.model import state as S
-from ship_env.model.simulator import PARALLEL_SHIPS
 
 ENV_ID = "ship_env/TrackFollow-v0"
 #: The thesis's Table 6.1.b written out in degrees, as the brief lists it.
@@ -267,19 +271,7 @@ def test_vector_env_equals_single_envs_through_terminations_and_autoresets():
 
 
 def test_vector_env_truncates_and_the_parallel_update_equals_the_serial_one():
-    vector = gym.make_vec(ENV_ID, num_envs=PARALLEL_SHIPS, vectorization_mode="vector_entry_point", max_episode_steps=3)
-    assert isinstance(vector.unwrapped, TrackFollowVectorEnv)
-    assert vector.metadata["autoreset_mode"] == gym.vector.AutoresetMode.NEXT_STEP
-    assert vector.observation_space.shape == (PARALLEL_SHIPS, 8) and vector.action_space.shape == (PARALLEL_SHIPS, 1)
-    actions = np.random.default_rng(2).uniform(-1.0, 1.0, size=(4, PARALLEL_SHIPS, 1)).astype(np.float32)
-    observations = [vector.reset(seed=9)[0]]
-    for k in range(4):
-        observation, rewards, terminated, truncated, info = vector.step(actions[k])
-        observations.append(observation)
-        assert truncated.all() == (k == 2) and not terminated.any()
-    assert (rewards == 0.0).all() and info["_scenario"].all()
-    single = sail(TrackFollowEnv(), actions[:3, -1], seed=9 + PARALLEL_SHIPS - 1)
-    np.testing.assert_array_equal(np.array(observations)[:4, -1], [step[0] for step in single])
+    assert_all_core_vector_truncates_like_a_single_env(ENV_ID, TrackFollowVectorEnv, TrackFollowEnv(), 8)
 
 
 @pytest.mark.parametrize(

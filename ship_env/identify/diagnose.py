@@ -60,6 +60,11 @@ class Evidence:
     linearised: dict[str, float]
 
 
+def in_words(effects: Sequence[str]) -> str:
+    """The effects as a naval engineer names them (their titles), joined by '; '."""
+    return "; ".join(EFFECTS[name].title for name in effects)
+
+
 @dataclass(frozen=True)
 class CandidateResult:
     """One missing effect (or several added together): evidence and the held-out error with it added.
@@ -80,7 +85,7 @@ class CandidateResult:
     @property
     def title(self) -> str:
         """The effect in words."""
-        return "; ".join(EFFECTS[name].title for name in self.effects)
+        return in_words(self.effects)
 
     @property
     def held_out(self) -> RunErrors | None:

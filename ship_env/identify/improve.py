@@ -13,13 +13,13 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from ship_env.identify.diagnose import CandidateResult, Diagnosis, diagnose, pairs
+from ship_env.identify.diagnose import CandidateResult, Diagnosis, diagnose, in_words, pairs
 from ship_env.identify.errors import ErrorScales
 from ship_env.identify.fit import FitOptions, as_setup
 from ship_env.identify.logs import Log
 from ship_env.identify.replay import ReplayModel
 from ship_env.identify.validation import CrossValidation, cross_validate
-from ship_env.model import EFFECTS, ShipModel
+from ship_env.model import ShipModel
 
 #: Smallest relative fall of the held-out score for which an effect is added.
 MIN_GAIN = 0.05
@@ -50,7 +50,7 @@ class Rung:
         """The effects added in words (the model's effects on the first rung)."""
         if not self.added:
             return ", ".join(self.effects)
-        return "; ".join(EFFECTS[name].title for name in self.added)
+        return in_words(self.added)
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,7 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from baselines.identification.scenarios import SCENARIOS
+from ship_env.baselines.online_estimators.scenarios import SCENARIOS
 
 
 def measure(scenario: str, repeats: int, scale: float) -> dict[str, dict[str, float]]:

@@ -147,7 +147,9 @@ def _median_rate(run: Callable[[], None], work: int, repeats: int) -> dict:
     }
 
 
-def single_ship_rate(model: ShipModel, steps: int = 200_000, repeats: int = 5, conditions: Conditions | None = None) -> dict:
+def single_ship_rate(
+    model: ShipModel, steps: int = 200_000, repeats: int = 5, conditions: Conditions | None = None
+) -> dict:
     """Steps/s of ``Simulator.step(float)`` for one ship."""
     sim = Simulator(model, num_ships=1, dt=DT)
     sim.reset(seed=0, conditions=conditions or bench_conditions())
@@ -162,7 +164,9 @@ def single_ship_rate(model: ShipModel, steps: int = 200_000, repeats: int = 5, c
     return _median_rate(run, steps, repeats)
 
 
-def batch_rate(model: ShipModel, ships: int, steps: int = 20, repeats: int = 5, conditions: Conditions | None = None) -> dict:
+def batch_rate(
+    model: ShipModel, ships: int, steps: int = 20, repeats: int = 5, conditions: Conditions | None = None
+) -> dict:
     """Ship-steps/s of one ``Simulator.step(orders)`` call for ``ships`` ships."""
     sim = Simulator(model, num_ships=ships, dt=DT)
     started = time.perf_counter()
@@ -311,7 +315,12 @@ def _verdicts(results: dict, sizes: Sequence[int]) -> list[dict]:
         for name in ("full", "minimal"):
             rate = results["batch"][name][largest]["median"]
             verdicts.append(
-                {"what": f"N = {int(largest):,}, {name} model", "rate": rate, "target": TARGET_BATCH, "pass": rate >= TARGET_BATCH}
+                {
+                    "what": f"N = {int(largest):,}, {name} model",
+                    "rate": rate,
+                    "target": TARGET_BATCH,
+                    "pass": rate >= TARGET_BATCH,
+                }
             )
     return verdicts
 

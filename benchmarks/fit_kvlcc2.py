@@ -186,7 +186,7 @@ def equilibrium_propeller_rate(basic, maneuvering, speed: float, rho: float = RH
     return float(brentq(surge_force, 1e-3, 100.0))
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def service_propeller_rate(scale: float = SCALE) -> float:
     """The full-scale propeller rate (rps) that holds KVLCC2 at 15.5 kn (SIMMAN's condition)."""
     basic, maneuvering = kvlcc2_mmg(scale)
@@ -446,7 +446,9 @@ def segment_errors(values, references, dt: float, horizon: float | None, slipstr
     return result
 
 
-def fit(dt: float = 0.5, manoeuvres=MANOEUVRES, slipstream: bool = False, horizon: float = HORIZON, verbose: bool = True):
+def fit(
+    dt: float = 0.5, manoeuvres=MANOEUVRES, slipstream: bool = False, horizon: float = HORIZON, verbose: bool = True
+):
     """Generate the MMG references and fit our coefficients; returns (values, references)."""
     from scipy.optimize import least_squares
 
@@ -466,8 +468,10 @@ def fit(dt: float = 0.5, manoeuvres=MANOEUVRES, slipstream: bool = False, horizo
         vector = result.x
         if verbose:
             label = f"{stage} ({stage_horizon:.0f} s)" if stage_horizon else stage
-            print(f"least_squares on {label}: {result.nfev} evaluations, {time.perf_counter() - started:.1f} s, "
-                  f"cost {result.cost:.4g}")
+            print(
+                f"least_squares on {label}: {result.nfev} evaluations, {time.perf_counter() - started:.1f} s, "
+                f"cost {result.cost:.4g}"
+            )
     return dict(zip(keys, (float(v) for v in vector))), references
 
 
@@ -531,12 +535,18 @@ def main(argv: list[str] | None = None) -> int:
     manoeuvres = MANOEUVRES
     if args.quick:
         manoeuvres = tuple(Manoeuvre(m.name, m.rudder, m.deviation, min(m.duration, 300.0)) for m in MANOEUVRES)
-    print("command: python " + " ".join([sys.argv[0] if argv is None else "benchmarks/fit_kvlcc2.py",
-                                         *(sys.argv[1:] if argv is None else argv)]))
+    print(
+        "command: python "
+        + " ".join(
+            [sys.argv[0] if argv is None else "benchmarks/fit_kvlcc2.py", *(sys.argv[1:] if argv is None else argv)]
+        )
+    )
     mmg = MmgShip(dt=args.dt)
-    print(f"KVLCC2 full scale (lambda = {SCALE:.3f}): L_pp {mmg.basic.L_pp:.1f} m, B {mmg.basic.B:.2f} m, "
-          f"d {mmg.basic.d:.2f} m, U0 {mmg.speed:.3f} m/s, propeller {mmg.propeller_rate * 60:.2f} rpm "
-          f"(equilibrium at U0), rudder rate {math.degrees(RUDDER_RATE):.2f} deg/s, dt {args.dt} s")
+    print(
+        f"KVLCC2 full scale (lambda = {SCALE:.3f}): L_pp {mmg.basic.L_pp:.1f} m, B {mmg.basic.B:.2f} m, "
+        f"d {mmg.basic.d:.2f} m, U0 {mmg.speed:.3f} m/s, propeller {mmg.propeller_rate * 60:.2f} rpm "
+        f"(equilibrium at U0), rudder rate {math.degrees(RUDDER_RATE):.2f} deg/s, dt {args.dt} s"
+    )
     values, references = fit(args.dt, manoeuvres, args.slipstream)
     print("\nfitted values (yaw.linear = 1, asymmetry.constant = 0, sway.cubic = 0 held):")
     for key, value in values.items():
@@ -545,12 +555,16 @@ def main(argv: list[str] | None = None) -> int:
     whole = segment_errors(values, references, args.dt, None, args.slipstream)
     short = segment_errors(values, references, args.dt, HORIZON, args.slipstream)
     print("\nRMS error of our model against shipmmg (replaying shipmmg's rudder):")
-    print(f"  {'manoeuvre':14s} {'heading deg':>11s} {'r deg/s':>8s} {'u m/s':>6s} {'drift deg':>9s} "
-          f"{'heading deg, 120-s predictions':>31s}")
+    print(
+        f"  {'manoeuvre':14s} {'heading deg':>11s} {'r deg/s':>8s} {'u m/s':>6s} {'drift deg':>9s} "
+        f"{'heading deg, 120-s predictions':>31s}"
+    )
     for (manoeuvre, _), run, pieces in zip(references, whole, short):
         flag = "" if run["valid"] else "  INVALID (u* > 1)"
-        print(f"  {manoeuvre.name:14s} {run['heading']:11.2f} {run['rate_of_turn']:8.4f} {run['speed']:6.3f} "
-              f"{run['drift']:9.2f} {pieces['heading']:31.2f}{flag}")
+        print(
+            f"  {manoeuvre.name:14s} {run['heading']:11.2f} {run['rate_of_turn']:8.4f} {run['speed']:6.3f} "
+            f"{run['drift']:9.2f} {pieces['heading']:31.2f}{flag}"
+        )
 
     print("\nclosed-loop checks (shipmmg | ours):")
     for manoeuvre, reference in references:
@@ -561,12 +575,16 @@ def main(argv: list[str] | None = None) -> int:
         heading_rms = rms(ours["heading"], reference["heading"])
         if manoeuvre.deviation is None:
             a, b = turning_figures(reference), turning_figures(ours)
-            print(f"  {manoeuvre.name}: advance {a[0]:.2f} | {b[0]:.2f} L, tactical diameter {a[1]:.2f} | {b[1]:.2f} L, "
-                  f"steady speed {reference['speed'][-1]:.2f} | {ours['speed'][-1]:.2f} m/s")
+            print(
+                f"  {manoeuvre.name}: advance {a[0]:.2f} | {b[0]:.2f} L, tactical diameter {a[1]:.2f} | {b[1]:.2f} L, "
+                f"steady speed {reference['speed'][-1]:.2f} | {ours['speed'][-1]:.2f} m/s"
+            )
         else:
             a, b = overshoots(reference, manoeuvre), overshoots(ours, manoeuvre)
-            print(f"  {manoeuvre.name}: overshoots {', '.join(f'{v:.1f}' for v in a)} | "
-                  f"{', '.join(f'{v:.1f}' for v in b)} deg, RMS heading difference {heading_rms:.2f} deg")
+            print(
+                f"  {manoeuvre.name}: overshoots {', '.join(f'{v:.1f}' for v in a)} | "
+                f"{', '.join(f'{v:.1f}' for v in b)} deg, RMS heading difference {heading_rms:.2f} deg"
+            )
     print("\nvalidity of the fitted model:")
     for line in validity_check(values, args.dt, args.slipstream):
         print("  " + line)

@@ -1,7 +1,7 @@
 """ship_env: ship steering simulation (De Keizer / Van Leeuwen), Gymnasium environments, baselines."""
 
-from ship_env.model import Conditions, ShipModel, Simulator
 import ship_env.envs  # noqa: F401  (registers the Gymnasium environments)
+from ship_env.model import Conditions, ShipModel, Simulator
 
 __version__ = "0.1.0"
 

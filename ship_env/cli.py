@@ -20,6 +20,9 @@ from pathlib import Path
 
 from tqdm import tqdm
 
+# Learned policies: ``train`` and ``leaderboard`` live in their packages (ship_env.rl, ship_env.leaderboard).
+from ship_env.baselines.online_estimators.cli import add_parser as add_identify_bench_command
+from ship_env.leaderboard.cli import add_parser as add_leaderboard_command
 from ship_env.manoeuvres import (
     ManoeuvreResult,
     TrialSettings,
@@ -33,7 +36,10 @@ from ship_env.manoeuvres import (
     turning_circle,
     zigzag,
 )
-from ship_env.identify import (
+from ship_env.manoeuvres.results import KNOT
+from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
+from ship_env.rl.cli_train import add_parser as add_train_command
+from ship_env.workbench import (
     ErrorScales,
     FitError,
     FitOptions,
@@ -51,18 +57,12 @@ from ship_env.identify import (
     plot_comparison,
     write_report,
 )
-from ship_env.identify.fit import NUISANCE
-from ship_env.identify.improve import PAIR_WIDTH
-from ship_env.identify.logs import Log, every_nth
-from ship_env.identify.tables import diagnosis_table, error_table, estimate_table, ladder_table
-from ship_env.identify.terms import default_terms, with_values
-from ship_env.identify.validation import CrossValidation
-from ship_env.manoeuvres.results import KNOT
-from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
-# Learned policies: ``train`` and ``leaderboard`` live in their packages (ship_env.rl, ship_env.leaderboard).
-from baselines.identification.cli import add_parser as add_identify_bench_command
-from ship_env.leaderboard.cli import add_parser as add_leaderboard_command
-from ship_env.rl.cli_train import add_parser as add_train_command
+from ship_env.workbench.fit import NUISANCE
+from ship_env.workbench.improve import PAIR_WIDTH
+from ship_env.workbench.logs import Log, every_nth
+from ship_env.workbench.tables import diagnosis_table, error_table, estimate_table, ladder_table
+from ship_env.workbench.terms import default_terms, with_values
+from ship_env.workbench.validation import CrossValidation
 
 #: The named effect sets of ``--effects``; anything else is a comma-separated list of effects.
 EFFECT_SETS: dict[str, Callable[[str], ShipModel]] = {
@@ -237,30 +237,50 @@ def add_manoeuvre_command(subcommands: argparse._SubParsersAction) -> None:
     # Python 3.13 on; before that only plain negative numbers such as "-35" were.
     parser._negative_number_matcher = re.compile(r"^-\.?\d")
     parser.add_argument(
-        "--ship", type=_ship, default="container_226m", metavar="NAME",
+        "--ship",
+        type=_ship,
+        default="container_226m",
+        metavar="NAME",
         help=f"ship preset ({', '.join(list_ships())}) or a YAML file (default: %(default)s)",
     )
     parser.add_argument(
-        "--effects", type=_effects, default="default", metavar="SET",
+        "--effects",
+        type=_effects,
+        default="default",
+        metavar="SET",
         help=(
             f"model effects: {', '.join(EFFECT_SETS)} (the preset's own set), or a comma-separated list "
             f"of: {', '.join(EFFECTS)} (default: %(default)s)"
         ),
     )
     parser.add_argument(
-        "--speed", type=_positive_number, default=None, metavar="KN",
+        "--speed",
+        type=_positive_number,
+        default=None,
+        metavar="KN",
         help="approach speed in knots (default: the ship's service speed)",
     )
     parser.add_argument(
-        "--dt", type=_positive_number, default=0.5, metavar="S",
+        "--dt",
+        type=_positive_number,
+        default=0.5,
+        metavar="S",
         help="integration step in seconds (default: %(default)s)",
     )
     parser.add_argument(
-        "--turn-angle", type=_turn_angle, nargs="+", default=[35.0], metavar="DEG",
+        "--turn-angle",
+        type=_turn_angle,
+        nargs="+",
+        default=[35.0],
+        metavar="DEG",
         help="rudder angles of the turning circles in deg, negative to port (default: 35)",
     )
     parser.add_argument(
-        "--zigzag", type=_zigzag, nargs="+", default=[(10.0, 10.0), (20.0, 20.0)], metavar="A/B",
+        "--zigzag",
+        type=_zigzag,
+        nargs="+",
+        default=[(10.0, 10.0), (20.0, 20.0)],
+        metavar="A/B",
         help="zig-zag tests as rudder/heading change in deg, -A/-B starts to port (default: 10/10 20/20)",
     )
     parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write a PNG per manoeuvre into DIR")
@@ -373,7 +393,9 @@ def _workbench_logs(args: argparse.Namespace) -> list[Log]:
 
 def _terms(args: argparse.Namespace, setup: ReplayModel) -> list[str]:
     """The model's default terms, plus ``--free``, less ``--fix``."""
-    keys = default_terms(setup.model.effects) + [key for key in args.free if key not in default_terms(setup.model.effects)]
+    keys = default_terms(setup.model.effects) + [
+        key for key in args.free if key not in default_terms(setup.model.effects)
+    ]
     unknown = [key for key in args.fix if key not in keys]
     if unknown:
         raise UsageError("--fix", f"{', '.join(unknown)} not among the fitted terms {', '.join(keys)}")
@@ -457,7 +479,9 @@ def run_diagnose(args: argparse.Namespace) -> int:
     validation = cross_validate(setup, logs, _terms(args, setup), options)
     _print_validation(validation, options.scales)
     diagnosis = diagnose(validation, logs, options, args.candidates, args.refit)
-    print("\nmissing effects, best first (corr, var. expl.: residual evidence; score: held out after adding and refitting)")
+    print(
+        "\nmissing effects, best first (corr, var. expl.: residual evidence; score: held out after adding and refitting)"
+    )
     print(diagnosis_table(diagnosis).text())
     return 0
 
@@ -468,8 +492,15 @@ def run_improve(args: argparse.Namespace) -> int:
     logs = _workbench_logs(args)
     print(_model_line(setup, logs))
     ladder = improve(
-        setup, logs, options, args.candidates, args.min_gain, args.max_steps, args.refit,
-        progress=lambda text: print(text, file=sys.stderr), pair_width=args.pairs,
+        setup,
+        logs,
+        options,
+        args.candidates,
+        args.min_gain,
+        args.max_steps,
+        args.refit,
+        progress=lambda text: print(text, file=sys.stderr),
+        pair_width=args.pairs,
     )
     print("\nerror ladder (held out: leave one run out)")
     print(ladder_table(ladder).text())
@@ -485,62 +516,112 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     """The arguments the workbench's commands share: logs, format, ship, model, error scales."""
     parser.add_argument("logs", nargs="+", type=Path, metavar="LOG", help="CSV or Parquet logs, or folders of them")
     parser.add_argument(
-        "--format", default=None, metavar="NAME",
+        "--format",
+        default=None,
+        metavar="NAME",
         help="log format: esso_osaka, standard, or a YAML file (default: the built-in one the columns fit)",
     )
     parser.add_argument(
-        "--ship", type=_ship, default="esso_osaka_model", metavar="NAME",
+        "--ship",
+        type=_ship,
+        default="esso_osaka_model",
+        metavar="NAME",
         help=f"ship preset ({', '.join(list_ships())}) or a YAML file (default: %(default)s)",
     )
     parser.add_argument(
-        "--model", type=_workbench_model, default="base", metavar="SET",
+        "--model",
+        type=_workbench_model,
+        default="base",
+        metavar="SET",
         help=(
             f"starting effects: {', '.join(WORKBENCH_MODELS)} (base: the speed-scheduled Nomoto ship, "
             f"{' + '.join(REQUIRED_EFFECTS)}), or a comma-separated list of effects (default: %(default)s)"
         ),
     )
     parser.add_argument(
-        "--add", type=_effect_names, action="append", default=[], metavar="EFFECT[,EFFECT]",
+        "--add",
+        type=_effect_names,
+        action="append",
+        default=[],
+        metavar="EFFECT[,EFFECT]",
         help=f"effects to add to the model: {', '.join(EFFECTS)}",
     )
     if fitting:
         parser.add_argument(
-            "--free", type=_names, default=[], metavar="TERM[,TERM]",
+            "--free",
+            type=_names,
+            default=[],
+            metavar="TERM[,TERM]",
             help="more terms to fit besides the effects' defaults, e.g. yaw.linear",
         )
         parser.add_argument("--fix", type=_names, default=[], metavar="TERM[,TERM]", help="default terms to hold")
         parser.add_argument(
-            "--nuisance", type=_names, default=[], metavar="NAME[,NAME]",
+            "--nuisance",
+            type=_names,
+            default=[],
+            metavar="NAME[,NAME]",
             help=f"per-run nuisance terms fitted with the model: {', '.join(NUISANCE)} (initial-state offsets)",
         )
     parser.add_argument(
-        "--service-speed", type=_positive_number, default=None, metavar="M/S",
+        "--service-speed",
+        type=_positive_number,
+        default=None,
+        metavar="M/S",
         help="service speed for logs without a speed channel (default: the ship's)",
     )
-    parser.add_argument("--every", type=_whole_number, default=1, metavar="N", help="use every N-th sample (default: 1)")
     parser.add_argument(
-        "--window", type=_positive_number, default=2.0, metavar="S",
+        "--every", type=_whole_number, default=1, metavar="N", help="use every N-th sample (default: 1)"
+    )
+    parser.add_argument(
+        "--window",
+        type=_positive_number,
+        default=2.0,
+        metavar="S",
         help="seconds at a run's start from which its initial state is estimated (default: %(default)s)",
     )
-    parser.add_argument("--heading-scale", type=_positive_number, default=1.0, metavar="DEG",
-                        help="heading error worth one score unit (default: %(default)s)")
-    parser.add_argument("--rate-scale", type=_positive_number, default=0.1, metavar="DEG/S",
-                        help="rate-of-turn error worth one score unit (default: %(default)s)")
-    parser.add_argument("--position-scale", type=_positive_number, default=0.1, metavar="M",
-                        help="track error worth one score unit (default: %(default)s)")
+    parser.add_argument(
+        "--heading-scale",
+        type=_positive_number,
+        default=1.0,
+        metavar="DEG",
+        help="heading error worth one score unit (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--rate-scale",
+        type=_positive_number,
+        default=0.1,
+        metavar="DEG/S",
+        help="rate-of-turn error worth one score unit (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--position-scale",
+        type=_positive_number,
+        default=0.1,
+        metavar="M",
+        help="track error worth one score unit (default: %(default)s)",
+    )
 
 
 def _add_candidate_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
-        "--candidates", type=_effect_names, default=None, metavar="EFFECT[,EFFECT]",
+        "--candidates",
+        type=_effect_names,
+        default=None,
+        metavar="EFFECT[,EFFECT]",
         help="effects that may be added (default: every effect the logs can show)",
     )
     parser.add_argument(
-        "--refit", type=_whole_number, default=None, metavar="K",
+        "--refit",
+        type=_whole_number,
+        default=None,
+        metavar="K",
         help="refit only the K candidates with the most residual evidence (default: all)",
     )
     parser.add_argument(
-        "--pairs", type=_count, default=PAIR_WIDTH, metavar="K",
+        "--pairs",
+        type=_count,
+        default=PAIR_WIDTH,
+        metavar="K",
         help=f"where no single effect pays, try pairs of the K candidates with most evidence (0: never; default: {PAIR_WIDTH})",
     )
 
@@ -555,9 +636,14 @@ _WORKBENCH_EPILOG = (
 )
 
 
-def _workbench_parser(subcommands: argparse._SubParsersAction, name: str, help_text: str, description: str) -> argparse.ArgumentParser:
+def _workbench_parser(
+    subcommands: argparse._SubParsersAction, name: str, help_text: str, description: str
+) -> argparse.ArgumentParser:
     return subcommands.add_parser(
-        name, help=help_text, description=description, epilog="examples, " + _WORKBENCH_EPILOG,
+        name,
+        help=help_text,
+        description=description,
+        epilog="examples, " + _WORKBENCH_EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
 
@@ -565,7 +651,9 @@ def _workbench_parser(subcommands: argparse._SubParsersAction, name: str, help_t
 def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
     """Register ``ship-env fit``, ``compare``, ``diagnose`` and ``improve``."""
     parser = _workbench_parser(
-        subcommands, "fit", "fit the model to measured logs and validate it leaving one run out",
+        subcommands,
+        "fit",
+        "fit the model to measured logs and validate it leaving one run out",
         "Fit the model's parameters to measured runs by output-error simulation (measured rudder, speed,\n"
         "propeller rate and wind in; heading, rate of turn and track out), print them with standard errors,\n"
         "the in-sample errors and the held-out errors of leave-one-run-out cross-validation.",
@@ -577,18 +665,27 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=run_fit, command_parser=parser)
 
     parser = _workbench_parser(
-        subcommands, "compare", "replay logs with a model and print its RMS errors",
+        subcommands,
+        "compare",
+        "replay logs with a model and print its RMS errors",
         "Replay each run with the model as it is (preset values, or a fit's JSON), from its measured\n"
         "initial state, and print RMS heading, rate-of-turn, position and track errors per run and pooled.",
     )
     _add_workbench_arguments(parser, fitting=False)
-    parser.add_argument("--parameters", type=Path, default=None, metavar="FILE",
-                        help="the fitted model from 'ship-env fit --json FILE' (replaces --model and --add)")
+    parser.add_argument(
+        "--parameters",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="the fitted model from 'ship-env fit --json FILE' (replaces --model and --add)",
+    )
     parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write a PNG per run into DIR")
     parser.set_defaults(handler=run_compare, command_parser=parser)
 
     parser = _workbench_parser(
-        subcommands, "diagnose", "rank the physical effects the model lacks",
+        subcommands,
+        "diagnose",
+        "rank the physical effects the model lacks",
         "Fit and validate the model, then for each effect it lacks: the evidence in the residuals\n"
         "(correlation with the effect's regressors, variance explained) and the held-out error after\n"
         "adding it and refitting; best first.",
@@ -598,18 +695,30 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
     parser.set_defaults(handler=run_diagnose, command_parser=parser)
 
     parser = _workbench_parser(
-        subcommands, "improve", "add effects while the held-out error falls: the error ladder",
+        subcommands,
+        "improve",
+        "add effects while the held-out error falls: the error ladder",
         "Start from the model, add the missing effect with the lowest held-out error while it lowers the\n"
         "held-out score by at least --min-gain; print the error ladder and write a Markdown report with\n"
         "its figures.",
     )
     _add_workbench_arguments(parser)
     _add_candidate_arguments(parser)
-    parser.add_argument("--min-gain", type=_fraction, default=0.05, metavar="F",
-                        help="smallest relative fall of the held-out score to add an effect (default: %(default)s)")
+    parser.add_argument(
+        "--min-gain",
+        type=_fraction,
+        default=0.05,
+        metavar="F",
+        help="smallest relative fall of the held-out score to add an effect (default: %(default)s)",
+    )
     parser.add_argument("--max-steps", type=_whole_number, default=None, metavar="N", help="add at most N effects")
-    parser.add_argument("--report", type=Path, default=Path("workbench_report"), metavar="DIR",
-                        help="folder for report.md and its figures (default: %(default)s)")
+    parser.add_argument(
+        "--report",
+        type=Path,
+        default=Path("workbench_report"),
+        metavar="DIR",
+        help="folder for report.md and its figures (default: %(default)s)",
+    )
     parser.set_defaults(handler=run_improve, command_parser=parser)
 
 

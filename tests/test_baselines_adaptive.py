@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 
 import ship_env  # noqa: F401  (registers the environments)
-from baselines.instruments import SimulatedInstruments
-from baselines.mrac import ModelReferenceAutopilot
-from baselines.nomoto import NomotoParameters
-from baselines.pd_autopilot import PDDesign
-from baselines.presys import indirect_adaptive_controller, pd_controller
-from baselines.yaw_filter import YawFilter
+from ship_env.baselines.instruments import SimulatedInstruments
+from ship_env.baselines.mrac import ModelReferenceAutopilot
+from ship_env.baselines.nomoto import NomotoParameters
+from ship_env.baselines.pd_autopilot import PDDesign
+from ship_env.baselines.presys import indirect_adaptive_controller, pd_controller
+from ship_env.baselines.yaw_filter import YawFilter
 from ship_env.leaderboard.sailing import sail
 from ship_env.leaderboard.suites import Episode
 from ship_env.model import Conditions, ShipModel, Simulator

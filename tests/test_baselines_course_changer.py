@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import ship_env  # noqa: F401  (registers the environments)
-from baselines.presys import track_follow_controller
+from ship_env.baselines.presys import track_follow_controller
 from ship_env.envs.tracks import TRACK_IDS
 
 #: Table 6.4: the navigators' mean RMS track error with the track predictor, m.

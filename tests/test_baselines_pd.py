@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import ship_env  # noqa: F401  (registers the environments)
-from baselines.controller import AutopilotController, Controller, SB3Controller
-from baselines.nomoto import NomotoParameters
-from baselines.pd_autopilot import PDAutopilot, PDDesign, pd_gains
-from baselines.presys import (
+from ship_env.baselines.controller import AutopilotController, Controller, SB3Controller
+from ship_env.baselines.nomoto import NomotoParameters
+from ship_env.baselines.pd_autopilot import PDAutopilot, PDDesign, pd_gains
+from ship_env.baselines.presys import (
     DAMPING,
     NATURAL_FREQUENCY,
     indirect_adaptive_controller,

@@ -7,13 +7,13 @@ import math
 import numpy as np
 import pytest
 
-from baselines.filter_health import FilterDivergenceError
-from baselines.identification.zigzag_trial import zigzag_rudder
-from baselines.instruments import InstrumentNoise, SimulatedInstruments
-from baselines.measurement import Measurement
-from baselines.nomoto import NomotoParameters
-from baselines.position_filter import PositionFilter, PositionFilterNoise
-from baselines.yaw_filter import YawFilter
+from ship_env.baselines.filter_health import FilterDivergenceError
+from ship_env.baselines.instruments import InstrumentNoise, SimulatedInstruments
+from ship_env.baselines.measurement import Measurement
+from ship_env.baselines.nomoto import NomotoParameters
+from ship_env.baselines.online_estimators.zigzag_trial import zigzag_rudder
+from ship_env.baselines.position_filter import PositionFilter, PositionFilterNoise
+from ship_env.baselines.yaw_filter import YawFilter
 from ship_env.model import Conditions, ShipModel, Simulator
 
 KNOT = 1852.0 / 3600.0

@@ -11,17 +11,17 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from baselines.adaptive_autopilot import IndirectAdaptiveAutopilot
-from baselines.identification.zigzag_trial import identify_by_zigzag
-from baselines.instruments import SimulatedInstruments
-from baselines.measurement import Measurement
-from baselines.nomoto import NomotoParameters
-from baselines.pd_autopilot import PDAutopilot, PDDesign
-from baselines.position_filter import PositionFilter
-from baselines.track_plot import plot_track_prediction
-from baselines.track_predictor import PredictedTrack, ShipSituation, TrackPredictor
-from baselines.track_scaling import TrackScalingEstimator
-from baselines.yaw_filter import YawFilter
+from ship_env.baselines.adaptive_autopilot import IndirectAdaptiveAutopilot
+from ship_env.baselines.instruments import SimulatedInstruments
+from ship_env.baselines.measurement import Measurement
+from ship_env.baselines.nomoto import NomotoParameters
+from ship_env.baselines.online_estimators.zigzag_trial import identify_by_zigzag
+from ship_env.baselines.pd_autopilot import PDAutopilot, PDDesign
+from ship_env.baselines.position_filter import PositionFilter
+from ship_env.baselines.track_plot import plot_track_prediction
+from ship_env.baselines.track_predictor import PredictedTrack, ShipSituation, TrackPredictor
+from ship_env.baselines.track_scaling import TrackScalingEstimator
+from ship_env.baselines.yaw_filter import YawFilter
 from ship_env.model import Conditions, ShipModel, Simulator
 
 KNOT = 1852.0 / 3600.0

@@ -7,12 +7,12 @@ import math
 import numpy as np
 import pytest
 
-from baselines.filter_health import FilterDivergenceError
-from baselines.identification.zigzag_trial import zigzag_rudder
-from baselines.instruments import SimulatedInstruments
-from baselines.measurement import Measurement
-from baselines.nomoto import NomotoParameters
-from baselines.yaw_filter import YawFilter
+from ship_env.baselines.filter_health import FilterDivergenceError
+from ship_env.baselines.instruments import SimulatedInstruments
+from ship_env.baselines.measurement import Measurement
+from ship_env.baselines.nomoto import NomotoParameters
+from ship_env.baselines.online_estimators.zigzag_trial import zigzag_rudder
+from ship_env.baselines.yaw_filter import YawFilter
 from ship_env.model import ShipModel, Simulator
 
 SHIP = NomotoParameters(gain=1.6, time_constant=1.7)  # thesis 6.4.4.1, the preset's values

@@ -44,8 +44,23 @@ def test_manoeuvre_options_choose_runs_and_write_plots_and_json(tmp_path, capsys
     json_file = tmp_path / "figures.json"
     status = main(
         [
-            "manoeuvre", "--effects", "minimal", "--speed", "15", "--dt", "1", "--turn-angle", "-35", "20",
-            "--zigzag", "10/10", "-10/-10", "--plot", str(tmp_path / "plots"), "--json", str(json_file),
+            "manoeuvre",
+            "--effects",
+            "minimal",
+            "--speed",
+            "15",
+            "--dt",
+            "1",
+            "--turn-angle",
+            "-35",
+            "20",
+            "--zigzag",
+            "10/10",
+            "-10/-10",
+            "--plot",
+            str(tmp_path / "plots"),
+            "--json",
+            str(json_file),
         ]
     )
     assert status == 0
@@ -54,7 +69,12 @@ def test_manoeuvre_options_choose_runs_and_write_plots_and_json(tmp_path, capsys
     assert "35 deg port" in out and "20 deg stbd" in out and "-10/-10" in out
     report = json.loads(json_file.read_text())
     assert [m["manoeuvre"] for m in report["manoeuvres"]] == [
-        "turning circle", "turning circle", "zig-zag", "zig-zag", "pull-out", "reversed spiral",
+        "turning circle",
+        "turning circle",
+        "zig-zag",
+        "zig-zag",
+        "pull-out",
+        "reversed spiral",
     ]
     circle = report["manoeuvres"][0]["figures"]
     assert circle["tactical_diameter_lengths"]["unit"] == "L"
@@ -64,8 +84,12 @@ def test_manoeuvre_options_choose_runs_and_write_plots_and_json(tmp_path, capsys
     assert len(report["manoeuvres"][-1]["table"]) == 13
     plots = sorted(p.name for p in (tmp_path / "plots").iterdir())
     assert plots == [
-        "pull-out_20_deg.png", "reversed_spiral.png", "turning_circle_20_deg_stbd.png",
-        "turning_circle_35_deg_port.png", "zig-zag_-10_-10.png", "zig-zag_10_10.png",
+        "pull-out_20_deg.png",
+        "reversed_spiral.png",
+        "turning_circle_20_deg_stbd.png",
+        "turning_circle_35_deg_port.png",
+        "zig-zag_-10_-10.png",
+        "zig-zag_10_10.png",
     ]
 
 

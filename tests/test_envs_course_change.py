@@ -12,9 +12,8 @@ import gymnasium as gym
 import numba
 import numpy as np
 import pytest
-from gymnasium.utils.env_checker import check_env
-
 from env_contract import assert_same_steps, sail
+from gymnasium.utils.env_checker import check_env
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.course_change import CourseChangeEnv

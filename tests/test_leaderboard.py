@@ -58,7 +58,7 @@ def robustness():
 @pytest.mark.parametrize("disturbance", ["calm", "wind_current"])
 def test_gain_scheduled_pd_beats_the_fixed_pd_at_half_speed(robustness, disturbance):
     """Fixed gains at half speed leave the loop at half its natural frequency and with damping 0.60
-    (:mod:`baselines.pd_autopilot`); the scheduled PD holds omega_n and zeta in seconds: less
+    (:mod:`ship_env.baselines.pd_autopilot`); the scheduled PD holds omega_n and zeta in seconds: less
     heading error, no overshoot, settled sooner. The four-fold gains that takes also answer the raw
     gyro's noise four-fold, so its rudder travel is the larger (without noise it is within the travel
     allowance: ``test_baselines_pd``); the adaptive autopilots, scheduled alike but on the yaw

@@ -160,7 +160,9 @@ def test_symmetric_ship_pulls_out_to_zero_rate(default_results):
 
 def test_asymmetric_ship_settles_to_one_rate_from_both_sides(default):
     asymmetry = 0.02  # alpha0 of H(r*) (2.27): steady r* = -alpha0 (to first order) at zero rudder
-    test = pull_out(default.with_effects("asymmetry").with_parameters({"asymmetry.constant": asymmetry}), settings=SETTINGS)
+    test = pull_out(
+        default.with_effects("asymmetry").with_parameters({"asymmetry.constant": asymmetry}), settings=SETTINGS
+    )
     rate_at_zero_rudder = test.residual_rate_starboard  # positive: keeps turning to starboard
     assert rate_at_zero_rudder < 0.0 < test.residual_rate_port
     assert rate_at_zero_rudder == pytest.approx(-test.residual_rate_port, rel=1e-3)
@@ -170,9 +172,15 @@ def test_asymmetric_ship_settles_to_one_rate_from_both_sides(default):
 
 def test_residual_rates_to_either_side_mean_course_instability():
     unstable = PullOut(
-        ship=CONTAINER, length=226.0, approach_speed=9.5, time_series=pd.DataFrame(),
-        rudder_angle=math.radians(20.0), steady_rate_starboard=0.02, steady_rate_port=0.02,
-        residual_rate_starboard=0.005, residual_rate_port=0.005,
+        ship=CONTAINER,
+        length=226.0,
+        approach_speed=9.5,
+        time_series=pd.DataFrame(),
+        rudder_angle=math.radians(20.0),
+        steady_rate_starboard=0.02,
+        steady_rate_port=0.02,
+        residual_rate_starboard=0.005,
+        residual_rate_port=0.005,
     )
     assert not unstable.course_stable
     assert unstable.figures()[-1].value == "no"

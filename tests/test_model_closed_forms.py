@@ -6,8 +6,8 @@ import math
 
 import numpy as np
 import pytest
-
 from conftest import CONTAINER, SPEED, run
+
 from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
 
@@ -92,7 +92,9 @@ def test_speed_loss_steady_value_and_rate_of_turn_overshoot():
     history = run(with_loss, math.radians(20.0), duration=1500.0, dt=0.5)
     rate, speed = history[:, S.RATE_OF_TURN], history[:, SPEED]
     normalised_rate = with_loss.length * rate[-1] / speed[-1]
-    assert history[-1, S.SPEED_LOSS] == pytest.approx(with_loss.parameter("speed_loss.gain") * normalised_rate**2, rel=1e-5)
+    assert history[-1, S.SPEED_LOSS] == pytest.approx(
+        with_loss.parameter("speed_loss.gain") * normalised_rate**2, rel=1e-5
+    )
     assert rate.max() > 1.05 * rate[-1]  # overshoot of Fig. 2.7
     assert speed[-1] < 0.9 * speed[0]
 

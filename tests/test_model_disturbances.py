@@ -6,9 +6,9 @@ import math
 
 import numpy as np
 import pytest
+from conftest import CONTAINER, SPEED, run
 from scipy import signal
 
-from conftest import CONTAINER, SPEED, run
 from ship_env.model import Conditions, ShipModel
 from ship_env.model import state as S
 from ship_env.model.effects import wave_spectrum, wind, wind_drift, wind_moment
@@ -32,8 +32,12 @@ def test_current_adds_to_the_ships_own_velocity():
     conditions = Conditions(current_speed=1.0, current_direction=math.radians(300.0))
     history = run(model, 0.0, duration=300.0, dt=1.0, conditions=conditions, heading=heading)
     speed, t = model.service_speed, history[-1, S.TIME]
-    assert history[-1, S.NORTH] == pytest.approx(t * (speed * math.cos(heading) + math.cos(math.radians(300.0))), abs=1e-8)
-    assert history[-1, S.EAST] == pytest.approx(t * (speed * math.sin(heading) + math.sin(math.radians(300.0))), abs=1e-8)
+    assert history[-1, S.NORTH] == pytest.approx(
+        t * (speed * math.cos(heading) + math.cos(math.radians(300.0))), abs=1e-8
+    )
+    assert history[-1, S.EAST] == pytest.approx(
+        t * (speed * math.sin(heading) + math.sin(math.radians(300.0))), abs=1e-8
+    )
 
 
 def test_tidal_current_speed_variation_averages_out_over_a_period():
@@ -83,7 +87,9 @@ def test_beam_wind_moment_vanishes_head_on_and_astern_only(angle_deg):
     angle = math.radians(angle_deg)
     assert abs(wind_moment.yaw_acceleration(15.0, math.cos(angle), math.sin(angle), 0.0, 1e-6)) < 1e-15 * 1e-6 * 15.0**2
     beam = math.radians(90.0)
-    assert wind_moment.yaw_acceleration(15.0, math.cos(beam), math.sin(beam), 0.0, 1e-6) == pytest.approx(1e-6 * 15.0**2)
+    assert wind_moment.yaw_acceleration(15.0, math.cos(beam), math.sin(beam), 0.0, 1e-6) == pytest.approx(
+        1e-6 * 15.0**2
+    )
 
 
 def test_wind_moment_flips_with_the_side_the_wind_comes_from():
@@ -111,8 +117,12 @@ def test_head_wind_on_a_straight_ship_leaves_it_straight_and_slows_it():
 
 def test_wind_from_either_bow_gives_mirrored_tracks():
     model = ShipModel(CONTAINER).without_effects("gusts")
-    starboard = run(model, 0.0, duration=600.0, dt=1.0, conditions=Conditions(wind_speed=12.0, wind_direction=math.radians(50.0)))
-    port = run(model, 0.0, duration=600.0, dt=1.0, conditions=Conditions(wind_speed=12.0, wind_direction=math.radians(-50.0)))
+    starboard = run(
+        model, 0.0, duration=600.0, dt=1.0, conditions=Conditions(wind_speed=12.0, wind_direction=math.radians(50.0))
+    )
+    port = run(
+        model, 0.0, duration=600.0, dt=1.0, conditions=Conditions(wind_speed=12.0, wind_direction=math.radians(-50.0))
+    )
     np.testing.assert_allclose(starboard[:, S.NORTH], port[:, S.NORTH], rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(starboard[:, S.EAST], -port[:, S.EAST], rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(starboard[:, S.HEADING], -port[:, S.HEADING], rtol=1e-12, atol=1e-12)
@@ -172,7 +182,9 @@ def test_wave_excitation_has_the_encounter_frequency_of_2_90():
     times = dt * np.arange(count)
     excitation = np.array(
         [
-            wave_spectrum.yaw_acceleration(t, speed * t * math.cos(heading), speed * t * math.sin(heading), heading, wave_direction, waves, 1.0)
+            wave_spectrum.yaw_acceleration(
+                t, speed * t * math.cos(heading), speed * t * math.sin(heading), heading, wave_direction, waves, 1.0
+            )
             for t in times
         ]
     )

@@ -8,16 +8,21 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-
 from conftest import CONTAINER, run
+
 from ship_env.model import EFFECTS, Conditions, ShipModel, Simulator, list_ships, load_ship
 from ship_env.model import state as S
 
 
 def _disturbed() -> Conditions:
     return Conditions(
-        wind_speed=9.0, wind_direction=math.radians(300.0), current_speed=1.0,
-        current_direction=math.radians(45.0), wave_height=2.5, wave_period=8.0, wave_direction=math.radians(140.0),
+        wind_speed=9.0,
+        wind_direction=math.radians(300.0),
+        current_speed=1.0,
+        current_direction=math.radians(45.0),
+        wave_height=2.5,
+        wave_period=8.0,
+        wave_direction=math.radians(140.0),
     )
 
 
@@ -50,7 +55,9 @@ def test_batch_equals_single_runs():
     count, steps = 5, 400
     seeds = [3, 8, 1, 42, 7]
     conditions = [
-        Conditions(wind_speed=2.0 * i, wind_direction=0.7 * i, current_speed=0.3 * i, wave_height=0.5 * i, wave_direction=i)
+        Conditions(
+            wind_speed=2.0 * i, wind_direction=0.7 * i, current_speed=0.3 * i, wave_height=0.5 * i, wave_direction=i
+        )
         for i in range(count)
     ]
     orders = np.radians(np.linspace(-30.0, 30.0, count))

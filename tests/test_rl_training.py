@@ -61,7 +61,9 @@ def test_train_command_writes_model_and_metadata(tmp_path, capsys):
     assert metadata["env_kwargs"] == entry["env_kwargs"]
     assert metadata["config"]["n_steps"] == 64 and metadata["config"]["n_envs"] == 4
     assert (metadata["seed"], metadata["steps"], metadata["timesteps"], metadata["torch_threads"]) == (3, 300, 512, 1)
-    assert metadata["wall_time_s"] > 0.0
+    assert (
+        isinstance(metadata["wall_time_s"], float) and metadata["wall_time_s"] >= 0.0
+    )  # measured, not asserted on: a fast machine may round it to 0
     assert metadata["versions"]["ship-env"] == ship_env.__version__
     assert {"stable-baselines3", "torch", "numpy", "gymnasium", "python"} <= set(metadata["versions"])
     assert shlex.split(metadata["command"]) == [

@@ -261,7 +261,13 @@ def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, e
     observation = episode["observation"]
     observation[OBS_HEADING_ERROR] = wrap(episode["new_heading"] - measured[MEASURED_HEADING]) / math.pi
     observe_motion(
-        observation, OBS_RATE_OF_TURN, measured, rudder, service_speed, p["full_rudder_rate_per_speed"], p["rudder_limit"]
+        observation,
+        OBS_RATE_OF_TURN,
+        measured,
+        rudder,
+        service_speed,
+        p["full_rudder_rate_per_speed"],
+        p["rudder_limit"],
     )
     observation[OBS_TURN_DIRECTION] = episode["turn_direction"]
 

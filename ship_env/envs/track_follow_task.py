@@ -286,7 +286,13 @@ def update_ship(
     observation[OBS_CROSS_TRACK] = min(max(relative, -CROSS_TRACK_BOUND), CROSS_TRACK_BOUND)
     observation[OBS_HEADING_ERROR] = wrap(row[LEG_COURSE] - measured[MEASURED_HEADING]) / math.pi
     observe_motion(
-        observation, OBS_RATE_OF_TURN, measured, rudder, service_speed, p["full_rudder_rate_per_speed"], p["rudder_limit"]
+        observation,
+        OBS_RATE_OF_TURN,
+        measured,
+        rudder,
+        service_speed,
+        p["full_rudder_rate_per_speed"],
+        p["rudder_limit"],
     )
     observation[OBS_NEXT_CHANGE] = row[TURN_CHANGE] / math.pi
     to_go_north = (row[LEG_END_NORTH] - fix_north) * row[LEG_DIRECTION_NORTH]

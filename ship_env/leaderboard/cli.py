@@ -96,41 +96,71 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument(
-        "--suite", choices=list(SUITE_SPECS), default="quick",
+        "--suite",
+        choices=list(SUITE_SPECS),
+        default="quick",
         help="quick: each episode once in every condition (nominal, K*, tau* x0.5 and x2, half speed); "
         "full: three times (default: %(default)s)",
     )
     parser.add_argument(
-        "--policies", type=Path, nargs="+", default=[], metavar="PATH",
+        "--policies",
+        type=Path,
+        nargs="+",
+        default=[],
+        metavar="PATH",
         help="SB3 policy files (model.zip, or a training run's folder) to rank beside the others",
     )
     parser.add_argument("--no-shipped", action="store_true", help="leave out the policies shipped with ship_env")
     parser.add_argument(
-        "--out", type=Path, default=Path("out/leaderboard"), metavar="DIR",
+        "--out",
+        type=Path,
+        default=Path("out/leaderboard"),
+        metavar="DIR",
         help="folder for the tables and plots (default: %(default)s)",
     )
     parser.add_argument(
-        "--backend", choices=BACKENDS, default="local",
+        "--backend",
+        choices=BACKENDS,
+        default="local",
         help="local: in this process; ray: one Ray task per controller and suite (default: %(default)s)",
     )
     parser.add_argument(
-        "--course-changes", type=_course_change, nargs="+", default=None, metavar="DEG",
+        "--course-changes",
+        type=_course_change,
+        nargs="+",
+        default=None,
+        metavar="DEG",
         help="sail only these CourseChange magnitudes, each to both sides (default: 15 30 45 75 105)",
     )
     parser.add_argument(
-        "--disturbances", choices=COURSE_CHANGE_DISTURBANCES, nargs="+", default=None, metavar="LEVEL",
+        "--disturbances",
+        choices=COURSE_CHANGE_DISTURBANCES,
+        nargs="+",
+        default=None,
+        metavar="LEVEL",
         help=f"sail only these CourseChange levels ({', '.join(COURSE_CHANGE_DISTURBANCES)})",
     )
     parser.add_argument(
-        "--tracks", choices=TRACK_IDS, nargs="*", default=None, metavar="ID",
+        "--tracks",
+        choices=TRACK_IDS,
+        nargs="*",
+        default=None,
+        metavar="ID",
         help="sail only these TrackFollow tracks (none: no TrackFollow suites)",
     )
     parser.add_argument(
-        "--conditions", choices=list(_CONDITIONS_BY_SLUG), nargs="+", default=None, metavar="NAME",
+        "--conditions",
+        choices=list(_CONDITIONS_BY_SLUG),
+        nargs="+",
+        default=None,
+        metavar="NAME",
         help=f"sail only in these ship conditions ({', '.join(_CONDITIONS_BY_SLUG)})",
     )
     parser.add_argument(
-        "--repetitions", type=_repetitions, default=None, metavar="N",
+        "--repetitions",
+        type=_repetitions,
+        default=None,
+        metavar="N",
         help="sail each episode N times with other seeds (default: the suite's)",
     )
     parser.add_argument("--no-plots", action="store_true", help="write the tables only")

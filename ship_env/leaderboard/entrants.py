@@ -1,4 +1,4 @@
-"""The controllers on the leaderboard: the classic baselines of :mod:`baselines.presys` and SB3 policies.
+"""The controllers on the leaderboard: the classic baselines of :mod:`ship_env.baselines.presys` and SB3 policies.
 
 An :class:`Entrant` names a controller and the environment it steers, and builds a fresh one for
 every episode (so an episode's result does not depend on the episodes sailed before it, nor on
@@ -19,15 +19,20 @@ from typing import Any
 
 from gymnasium import spaces
 
-from baselines.controller import Controller, SB3Controller
-from baselines.presys import indirect_adaptive_controller, mrac_controller, pd_controller, track_follow_controller
+from ship_env.baselines.controller import Controller, SB3Controller
+from ship_env.baselines.presys import (
+    indirect_adaptive_controller,
+    mrac_controller,
+    pd_controller,
+    track_follow_controller,
+)
 from ship_env.envs.task import ShipTask
 from ship_env.leaderboard.suites import COURSE_CHANGE, TRACK_FOLLOW
 from ship_env.model import ShipModel
 from ship_env.rl.policy_file import PolicyFileError, read_policy_file
 from ship_env.rl.shipped import shipped_policies
 
-#: The classic baselines per environment: name -> builder from the task (:mod:`baselines.presys`).
+#: The classic baselines per environment: name -> builder from the task (:mod:`ship_env.baselines.presys`).
 CLASSIC_BUILDERS: dict[str, dict[str, Callable[[Any], Controller]]] = {
     COURSE_CHANGE: {
         "PD, fixed gains": partial(pd_controller, schedule="fixed"),

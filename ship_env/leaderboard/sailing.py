@@ -15,7 +15,7 @@ import gymnasium as gym
 import numpy as np
 
 import ship_env  # noqa: F401  (registers the environments)
-from baselines.controller import Controller
+from ship_env.baselines.controller import Controller
 from ship_env.envs.task import ShipTask
 from ship_env.leaderboard.entrants import DesignedTask, Entrant
 from ship_env.leaderboard.suites import Episode, Suite

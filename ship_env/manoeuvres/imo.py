@@ -87,7 +87,11 @@ def _zigzag_10_10_checks(test: ZigZag) -> list[CriterionCheck]:
     length, speed = test.length, test.approach_speed
     return [
         CriterionCheck(
-            "5.3.2", f"distance to 10 deg heading change, {test.title}", test.initial_turning_distance / length, 2.5, "L"
+            "5.3.2",
+            f"distance to 10 deg heading change, {test.title}",
+            test.initial_turning_distance / length,
+            2.5,
+            "L",
         ),
         CriterionCheck(
             "5.3.3.1",
@@ -108,7 +112,9 @@ def _zigzag_10_10_checks(test: ZigZag) -> list[CriterionCheck]:
 
 def _zigzag_20_20_checks(test: ZigZag) -> list[CriterionCheck]:
     """5.3.3.3: first overshoot of the 20/20 zig-zag."""
-    return [CriterionCheck("5.3.3.3", f"first overshoot, {test.title}", math.degrees(test.first_overshoot), 25.0, "deg")]
+    return [
+        CriterionCheck("5.3.3.3", f"first overshoot, {test.title}", math.degrees(test.first_overshoot), 25.0, "deg")
+    ]
 
 
 def check_criteria(results: Iterable[ManoeuvreResult]) -> list[CriterionCheck]:

@@ -71,7 +71,9 @@ class SpiralTest(ManoeuvreResult):
         return (
             Figure("hard_over_rate_starboard", "rate of turn, hard over stbd", starboard, "deg/s", 3),
             Figure("hard_over_rate_port", "rate of turn, hard over port", port, "deg/s", 3),
-            Figure("course_stable", "course stable (rudder rises with rate)", "yes" if self.course_stable else "no", ""),
+            Figure(
+                "course_stable", "course stable (rudder rises with rate)", "yes" if self.course_stable else "no", ""
+            ),
         )
 
 
@@ -168,9 +170,7 @@ def reversed_spiral(
     )
     held_points = _steady_points(held_series, held_labels, since, model.length)
 
-    table = pd.concat(
-        [held_points.assign(hard_over=False), hard_over_points.assign(hard_over=True)], ignore_index=True
-    )
+    table = pd.concat([held_points.assign(hard_over=False), hard_over_points.assign(hard_over=True)], ignore_index=True)
     table = table.sort_values("rate_of_turn", ignore_index=True)[list(TABLE_COLUMNS)]
     return SpiralTest(
         ship=model.ship.name,

@@ -20,8 +20,8 @@ from typing import Protocol
 import numpy as np
 import pandas as pd
 
-from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.manoeuvres.results import TIME_SERIES_COLUMNS, degrees_label
+from ship_env.model import Conditions, ShipModel, Simulator
 
 
 @dataclass(frozen=True)

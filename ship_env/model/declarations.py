@@ -41,9 +41,7 @@ class Parameter:
     def convert(self, value: object, unit: str | None, where: str) -> float:
         """Check a value read from a config and convert it to this parameter's SI unit."""
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise TypeError(
-                f"{where}: expected a number in {self.unit}, got {value!r} ({type(value).__name__})"
-            )
+            raise TypeError(f"{where}: expected a number in {self.unit}, got {value!r} ({type(value).__name__})")
         number = float(value)
         if unit is not None and unit != self.unit:
             target, factor = UNIT_CONVERSIONS.get(unit, (None, 1.0))
@@ -53,9 +51,7 @@ class Parameter:
         if not math.isfinite(number):
             raise ValueError(f"{where}: value must be finite, got {value!r}")
         if not self.minimum <= number <= self.maximum:
-            raise ValueError(
-                f"{where}: value {number!r} {self.unit} is outside [{self.minimum}, {self.maximum}]"
-            )
+            raise ValueError(f"{where}: value {number!r} {self.unit} is outside [{self.minimum}, {self.maximum}]")
         if self.integer and number != int(number):
             raise ValueError(f"{where}: expected a whole number, got {value!r}")
         return number

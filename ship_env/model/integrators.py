@@ -182,13 +182,24 @@ def _step_rows(
     work, states, conditions, waves, params = borrowed((work, states, conditions, waves, params))
     for i in range(first, stop):
         valid[i] = step_ship(
-            states[i], ordered_rudder[i], conditions[i], noise_keys[i], step_index[i], waves[i], params, dt, method, work
+            states[i],
+            ordered_rudder[i],
+            conditions[i],
+            noise_keys[i],
+            step_index[i],
+            waves[i],
+            params,
+            dt,
+            method,
+            work,
         )
         step_index[i] += 1
 
 
 @kernel
-def _step_range(first, stop, states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid):
+def _step_range(
+    first, stop, states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid
+):
     """Step ships ``first`` to ``stop - 1`` of a batch with a scratch space of their own (``step_ships``)."""
     work = new_workspace()
     _step_rows(
@@ -203,7 +214,9 @@ def step_ships(states, ordered_rudder, conditions, noise_keys, step_index, waves
     Each ship is stepped by ``step_ship``; ``valid[i]`` receives its verdict and ``step_index[i]``
     counts the step.
     """
-    _step_range(0, states.shape[0], states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid)
+    _step_range(
+        0, states.shape[0], states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid
+    )
 
 
 @parallel_kernel

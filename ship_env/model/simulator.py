@@ -295,7 +295,11 @@ class Simulator:
         or infinite order raises ``ValueError``.
         """
         if self.num_ships == 1:
-            order = float(np.asarray(ordered_rudder).reshape(-1)[0]) if not isinstance(ordered_rudder, float) else ordered_rudder
+            order = (
+                float(np.asarray(ordered_rudder).reshape(-1)[0])
+                if not isinstance(ordered_rudder, float)
+                else ordered_rudder
+            )
             if not math.isfinite(order):
                 raise ValueError(f"ordered_rudder: must be a finite angle in rad, got {order!r}")
             valid = step_ship(

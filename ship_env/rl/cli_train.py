@@ -102,20 +102,32 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
         "--env", default=DEFAULT_ENV, metavar="ID", help="the Gymnasium environment id (default: %(default)s)"
     )
     parser.add_argument(
-        "--steps", type=_whole_number(1), default=None, metavar="N",
+        "--steps",
+        type=_whole_number(1),
+        default=None,
+        metavar="N",
         help="environment steps to train (default: the config's n_timesteps)",
     )
     parser.add_argument("--seed", type=_whole_number(0), default=0, metavar="S", help="random seed (default: 0)")
     parser.add_argument(
-        "--out", type=Path, default=None, metavar="DIR",
+        "--out",
+        type=Path,
+        default=None,
+        metavar="DIR",
         help="folder for model.zip and metadata.json (default: runs/<Env>/<algo>/seed<S>)",
     )
     parser.add_argument(
-        "--config", type=Path, default=None, metavar="FILE",
+        "--config",
+        type=Path,
+        default=None,
+        metavar="FILE",
         help="agent config YAML keyed by environment id (default: configs/agents/<algo>.yaml)",
     )
     parser.add_argument(
-        "--torch-threads", type=_whole_number(1), default=DEFAULT_TORCH_THREADS, metavar="N",
+        "--torch-threads",
+        type=_whole_number(1),
+        default=DEFAULT_TORCH_THREADS,
+        metavar="N",
         help="torch intra-op threads; 1 is fastest on 2 shared cores (default: %(default)s)",
     )
     parser.add_argument("--no-progress", action="store_true", help="do not show the progress bar")

@@ -114,7 +114,7 @@ def train(
         seed=seed,
         steps=steps,
         timesteps=int(model.num_timesteps),
-        wall_time_s=round(wall_time, 1),
+        wall_time_s=round(wall_time, 3),
         torch_threads=torch_threads,
         versions=package_versions(),
         command=command,

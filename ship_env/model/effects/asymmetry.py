@@ -25,7 +25,9 @@ EFFECT = Effect(
     title="port-starboard asymmetry (propeller side force, asymmetric stern flow)",
     equations="(2.27), (2.54) with a propeller side force",
     parameters=(
-        Parameter("side_force", "-", "c_p, propeller side force per (n D)^2 in the units of K* u^2 delta; + turns to port"),
+        Parameter(
+            "side_force", "-", "c_p, propeller side force per (n D)^2 in the units of K* u^2 delta; + turns to port"
+        ),
         Parameter("constant", "-", "alpha0 of H(r*): steady r* at zero rudder is -alpha0 / alpha1"),
         Parameter("quadratic", "-", "alpha2 of H(r*): the ship turns tighter to port for alpha2 > 0"),
     ),

@@ -38,7 +38,11 @@ EFFECT = Effect(
     equations="(2.82)-(2.88)",
     parameters=(
         Parameter("yaw_coefficient", "rad/m^2", "N_w' of (2.87); sign: + turns the bow into the wind"),
-        Parameter("beam_coefficient", "rad/m^2", "N_b', yaw from a beam wind (centre of effort off midships); + bow into the wind"),
+        Parameter(
+            "beam_coefficient",
+            "rad/m^2",
+            "N_b', yaw from a beam wind (centre of effort off midships); + bow into the wind",
+        ),
         Parameter("surge_coefficient", "1/m^2", "F_w' of (2.88); + means a head wind slows the ship"),
     ),
 )

@@ -47,6 +47,6 @@ def acceleration(
     speed, inflow_speed_squared, effective_rudder, restoring_value, side_moment, gain, time_constant, length
 ):
     """dr/dt from (2.54): rudder moment at the rudder inflow speed minus the hull's H(r*) and any side moment."""
-    return (
-        inflow_speed_squared * gain * effective_rudder - speed * speed * restoring_value - side_moment
-    ) / (time_constant * length * length)
+    return (inflow_speed_squared * gain * effective_rudder - speed * speed * restoring_value - side_moment) / (
+        time_constant * length * length
+    )

@@ -1,0 +1,146 @@
+"""``ship-env identify-bench``: every on-line estimator on the same logs, a table, plots, and stelling 5.
+
+:func:`add_parser` registers the subcommand with the ``ship-env`` parser; the comparison and
+matplotlib are imported only when it runs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+from ship_env.baselines.online_estimators.scenarios import SCENARIOS, adaptation_trials
+
+
+def _scenarios(text: str) -> list[str]:
+    names = [name.strip() for name in text.split(",") if name.strip()]
+    unknown = [name for name in names if name not in SCENARIOS]
+    if unknown or not names:
+        raise argparse.ArgumentTypeError(
+            f"unknown scenario {', '.join(map(repr, unknown)) or repr(text)}; known: {', '.join(SCENARIOS)}"
+        )
+    return names
+
+
+def _scale(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (math.isfinite(value) and 0.05 <= value <= 10.0):
+        raise argparse.ArgumentTypeError(f"expected a factor between 0.05 and 10, got {text!r}")
+    return value
+
+
+def run_identify_bench(args: argparse.Namespace) -> int:
+    """Sail the scenarios, run the estimators, print the tables, write the plots and the JSON."""
+    from ship_env.baselines.online_estimators.bench import (
+        adaptation_table,
+        comparison_table,
+        plot_adaptation,
+        plot_scenario,
+        run_adaptation,
+        run_scenario,
+        scale_label,
+    )
+
+    if args.plot is not None:
+        try:
+            args.plot.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            args.command_parser.error(f"argument --plot: cannot create folder {str(args.plot)!r}: {error.strerror}")
+    if args.json is not None and not args.json.parent.is_dir():
+        args.command_parser.error(f"argument --json: folder {str(args.json.parent)!r} does not exist")
+    runs = []
+    for name in args.scenarios:
+        print(f"sailing {name}{scale_label(args.scale)} ...", file=sys.stderr)
+        trial, scenario_runs = run_scenario(name, args.seed, args.scale)
+        runs.extend(scenario_runs)
+        if args.plot is not None:
+            plot_scenario(trial, scenario_runs, args.plot / f"{name}.png")
+    print(f"identification comparison, seed {args.seed}{scale_label(args.scale)}")
+    print(comparison_table(runs))
+    rows = []
+    if not args.no_adaptation:
+        print("comparing random walk and forgetting factor (stelling 5) ...", file=sys.stderr)
+        rows = run_adaptation(args.seed, args.scale)
+        print("\nstelling 5: random walk (RW) against a forgetting factor (FF) matched to its steady-state noise,")
+        print("loading change at the middle of a 20/20 zig-zag; J_p (6.1) and recovery from the change")
+        print(adaptation_table(rows))
+        if args.plot is not None:
+            plot_adaptation(rows, adaptation_trials(args.seed, args.scale)[1].truth, args.plot / "adaptation.png")
+    if args.plot is not None:
+        print(f"\nplots written to {args.plot}/")
+    if args.json is not None:
+        document = {
+            "seed": args.seed,
+            "scale": args.scale,
+            "runs": [
+                {
+                    "scenario": run.scenario,
+                    "estimator": run.estimator,
+                    "final_relative_error": run.final,
+                    "within_10_percent_after_s": run.settling,
+                    "J_p_s": run.criterion,
+                    "microseconds_per_step": run.microseconds_per_step,
+                    "failure": run.failure,
+                }
+                for run in runs
+            ],
+            "adaptation": [
+                {
+                    "pair": row.pair,
+                    "drift_per_s": row.drift,
+                    "forgetting_factor": row.comparison.forgetting_factor,
+                    "noise_matched": row.comparison.noise_matched,
+                    **{
+                        f"{key}_{field}": getattr(getattr(row.comparison, key), field)
+                        for key in ("random_walk", "forgetting")
+                        for field in ("steady_noise", "tracking_criterion", "recovery_time")
+                    },
+                }
+                for row in rows
+            ],
+        }
+        args.json.write_text(json.dumps(document, indent=2) + "\n")
+        print(f"results written to {args.json}")
+    return 0
+
+
+def add_parser(subparsers: argparse._SubParsersAction) -> None:
+    """Register ``ship-env identify-bench``."""
+    parser = subparsers.add_parser(
+        "identify-bench",
+        help="compare the on-line identification methods (Perera, Nguyen, Song, Passenier) on the same logs",
+        description=(
+            "Sail excitation runs (zig-zag, PRBS, white-noise rudder, turning, a loading change, a speed\n"
+            "change) on the container ship and on Perera et al.'s model, run every on-line estimator on the\n"
+            "same logs (Nguyen's RLS, Passenier's combined MRAS and random-walk EKF, Song's EKF, Perera's\n"
+            "EKF) and print per estimator the final parameter error, the time to within 10 %, J_p (thesis\n"
+            "6.1) and the cost per sample; then test stelling 5 (random walk against a forgetting factor\n"
+            "matched to the same steady-state noise)."
+        ),
+        epilog=(
+            "examples:\n"
+            "  ship-env identify-bench --plot identification/\n"
+            "  ship-env identify-bench --scenarios zigzag,loading-change --no-adaptation\n"
+            "  ship-env identify-bench --scale 0.25 --json bench.json"
+        ),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument(
+        "--scenarios", type=_scenarios, default=list(SCENARIOS), metavar="NAME[,NAME]",
+        help=f"scenarios to run (default: all): {', '.join(SCENARIOS)}",
+    )
+    parser.add_argument("--seed", type=int, default=0, metavar="N", help="noise and rudder seed (default: %(default)s)")
+    parser.add_argument(
+        "--scale", type=_scale, default=1.0, metavar="F",
+        help="multiply every run's duration (and change time) by F, e.g. 0.25 for a quick look (default: %(default)s)",
+    )
+    parser.add_argument("--no-adaptation", action="store_true", help="leave out the stelling-5 comparison")
+    parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write convergence plots (PNG) into DIR")
+    parser.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the results to FILE as JSON")
+    parser.set_defaults(handler=run_identify_bench, command_parser=parser)

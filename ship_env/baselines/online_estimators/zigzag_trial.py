@@ -1,0 +1,74 @@
+"""The preliminary identification trial: K*, tau* and gamma from a zig-zag (thesis 6.4.4.1, Figs. 6.17, 6.20).
+
+Before the tracking experiment the thesis identified the ship with the yaw filter on a 15/15 deg
+zig-zag (converged after about 5 minutes: the reference model's K*, tau*) and fixed the sway
+constant from the position filter's estimate on a zig-zag. This sails that trial on the
+simulator: the ship's model, a zig-zag a/a deg on the true heading, the yaw filter started
+without prior knowledge (K*/4, tau*/4 of the given guess: 6.3.2), the position filter fed by
+it, instruments with the environments' noise (:class:`~ship_env.baselines.instruments.InstrumentNoise`,
+fixes every 2 s).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ship_env.baselines.instruments import SimulatedInstruments
+from ship_env.baselines.nomoto import NomotoParameters
+from ship_env.baselines.position_filter import PositionFilter, PositionFilterNoise
+from ship_env.baselines.yaw_filter import YawFilter
+from ship_env.model import ShipModel, Simulator
+
+
+@dataclass(frozen=True)
+class IdentifiedShip:
+    """What the trial found.
+
+    Attributes:
+        parameters: K*, tau* (the reference and prediction model).
+        sway_constant: gamma, m (v = -gamma r).
+    """
+
+    parameters: NomotoParameters
+    sway_constant: float
+
+
+def zigzag_rudder(order: float, heading_change: float, angle: float) -> float:
+    """The zig-zag helmsman: the rudder ``order`` (rad, +-a), reversed once the heading change from
+    the initial course has reached ``angle`` (rad; a for the a/a zig-zag) to the side the rudder is over to."""
+    return -order if order * heading_change >= abs(order) * angle else order
+
+
+def identify_by_zigzag(
+    model: ShipModel,
+    guess: NomotoParameters,
+    rudder: float = math.radians(15.0),
+    duration: float = 600.0,
+    sample_time: float = 0.5,
+    seed: int = 0,
+) -> IdentifiedShip:
+    """Sail a zig-zag ``rudder``/``rudder`` (rad) for ``duration`` s and return the filters' final estimates.
+
+    ``guess``: the K*, tau* the yaw filter starts from, divided by four (no prior knowledge).
+    Raises ``ValueError`` if the yaw filter ends without a stable ship.
+    """
+    simulator = Simulator(model, dt=sample_time)
+    simulator.reset(seed=seed)
+    instruments = SimulatedInstruments(simulator, seed=seed)
+    yaw_filter = YawFilter(model.length, sample_time, guess.scaled(0.25))
+    position_filter = PositionFilter(sample_time, noise=PositionFilterNoise(position_fix=instruments.noise.position))
+    first = instruments.read()
+    yaw_filter.reset(first)
+    position_filter.reset(first, yaw_filter.rate_of_turn, yaw_filter.heading)
+    order = rudder
+    for _ in range(int(round(duration / sample_time))):
+        order = zigzag_rudder(order, simulator.heading[0], rudder)
+        simulator.step(order)
+        reading = instruments.read()
+        yaw_filter.step(reading, speed=position_filter.speed)
+        position_filter.step(reading, yaw_filter.rate_of_turn, yaw_filter.heading)
+    parameters = yaw_filter.parameters
+    if parameters is None:
+        raise ValueError("the yaw filter ended the zig-zag without a stable ship; sail it longer")
+    return IdentifiedShip(parameters, position_filter.sway_constant)

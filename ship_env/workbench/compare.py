@@ -1,0 +1,128 @@
+"""Compare a model with measurements: RMS errors per run and pooled, and drawings of each run.
+
+Each run is replayed from its measured initial state (no per-run fitting). The drawing of a run
+(:func:`plot_run`) shows the measured and simulated heading, rate of turn and rudder against time,
+the tracks (measured, simulated freely, and replayed with the measured heading) and the residuals.
+Drawn with matplotlib's object interface on the Agg canvas: no display needed, and the user's
+pyplot backend is left alone.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure as Drawing
+
+from ship_env.workbench.errors import RunErrors, pooled, run_errors
+from ship_env.workbench.logs import Log
+from ship_env.workbench.replay import INITIAL_WINDOW, ReplayModel, Simulated, simulate
+from ship_env.workbench.validation import CrossValidation
+
+MEASURED_STYLE = {"color": "black", "linewidth": 1.0, "label": "measured"}
+SIMULATED_STYLE = {"color": "tab:red", "linewidth": 1.0, "label": "simulated"}
+TRACK_STYLE = {"color": "tab:blue", "linewidth": 1.0, "linestyle": "--", "label": "track with measured heading"}
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """A model replayed on runs: the simulated series and the errors per run and pooled."""
+
+    setup: ReplayModel
+    logs: tuple[Log, ...]
+    simulated: tuple[Simulated, ...]
+    errors: tuple[RunErrors, ...]
+
+    @property
+    def pooled(self) -> RunErrors:
+        return pooled(self.errors)
+
+
+def compare(setup: ReplayModel, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> Comparison:
+    """Replay every log with the model and measure the errors."""
+    simulated = simulate(setup, logs, window)
+    return Comparison(setup, tuple(logs), tuple(simulated), tuple(run_errors(l, s) for l, s in zip(logs, simulated)))
+
+
+def held_out_comparison(validation: CrossValidation, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> Comparison:
+    """Each run replayed by the fit that left it out: what the held-out errors measure."""
+    simulated = [simulate(fold.setup, [log], window)[0] for fold, log in zip(validation.folds, logs)]
+    return Comparison(
+        validation.fit.setup, tuple(logs), tuple(simulated), tuple(run_errors(l, s) for l, s in zip(logs, simulated))
+    )
+
+
+def file_name(run: str) -> str:
+    """A file-system-safe name for a run."""
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", run)
+
+
+def plot_run(log: Log, simulated: Simulated, errors: RunErrors, title: str, path: Path) -> Path:
+    """Draw one run, measured against simulated, into a PNG file."""
+    drawing = Drawing(figsize=(13, 8.5))
+    FigureCanvasAgg(drawing)
+    grid = drawing.add_gridspec(3, 2, width_ratios=(1.6, 1.0))
+    time = log.time - log.time[0]
+    heading_axes = drawing.add_subplot(grid[0, 0])
+    heading_axes.plot(time, np.degrees(log.heading), **MEASURED_STYLE)
+    heading_axes.plot(time, np.degrees(simulated.heading), **SIMULATED_STYLE)
+    heading_axes.set_ylabel("heading [deg]")
+    heading_axes.legend(loc="best", fontsize=8)
+    rate_axes = drawing.add_subplot(grid[1, 0], sharex=heading_axes)
+    if log.rate_of_turn is not None:
+        rate_axes.plot(time, np.degrees(log.rate_of_turn), **MEASURED_STYLE)
+    rate_axes.plot(time, np.degrees(simulated.rate_of_turn), **SIMULATED_STYLE)
+    rate_axes.set_ylabel("rate of turn [deg/s]")
+    rudder_axes = rate_axes.twinx()
+    rudder_axes.plot(time, np.degrees(log.rudder), color="tab:green", linewidth=0.6, alpha=0.7)
+    rudder_axes.set_ylabel(f"{log.rudder_kind} rudder [deg]", color="tab:green")
+    residual_axes = drawing.add_subplot(grid[2, 0], sharex=heading_axes)
+    residual_axes.plot(
+        time, np.degrees(simulated.heading - log.heading), color="tab:red", linewidth=0.8, label="heading [deg]"
+    )
+    if log.has_position:
+        residual_axes.plot(
+            time,
+            np.hypot(simulated.track_north - log.north, simulated.track_east - log.east),
+            color="tab:blue",
+            linewidth=0.8,
+            label="track distance [m]",
+        )
+    residual_axes.axhline(0.0, color="grey", linewidth=0.5)
+    residual_axes.set_xlabel("time [s]")
+    residual_axes.set_ylabel("simulated - measured")
+    residual_axes.legend(loc="best", fontsize=8)
+    track_axes = drawing.add_subplot(grid[:, 1])
+    if log.has_position:
+        track_axes.plot(log.east, log.north, **MEASURED_STYLE)
+        track_axes.plot(simulated.east, simulated.north, **SIMULATED_STYLE)
+        track_axes.plot(simulated.track_east, simulated.track_north, **TRACK_STYLE)
+        track_axes.plot(log.east[0], log.north[0], "ko", markersize=4)
+        track_axes.set_aspect("equal", adjustable="datalim")
+        track_axes.legend(loc="best", fontsize=8)
+    else:
+        track_axes.text(0.5, 0.5, "no position in this log", ha="center", va="center", transform=track_axes.transAxes)
+    track_axes.set_xlabel("east [m]")
+    track_axes.set_ylabel("north [m]")
+    shown = errors.in_display_units()
+    drawing.suptitle(
+        f"{title}\n{log.name}: RMS heading {shown['heading']:.2f} deg, rate {shown['rate_of_turn']:.3f} deg/s, "
+        f"position {shown['position']:.2f} m, track {shown['track']:.2f} m",
+        fontsize=10,
+    )
+    drawing.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    drawing.savefig(path, dpi=90)
+    return path
+
+
+def plot_comparison(comparison: Comparison, folder: Path, title: str) -> list[Path]:
+    """One PNG per run in ``folder`` (named after the runs)."""
+    return [
+        plot_run(log, simulated, errors, title, folder / f"{file_name(log.name)}.png")
+        for log, simulated, errors in zip(comparison.logs, comparison.simulated, comparison.errors)
+    ]

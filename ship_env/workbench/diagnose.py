@@ -1,0 +1,252 @@
+"""Which physical effect does the model lack? Evidence in the residuals, then the held-out proof.
+
+For each effect the model lacks (and the logs can show, see :func:`~.terms.why_not_fitted`):
+
+1. **Evidence** (no refit; a score test, the Lagrange-multiplier test of nonlinear least squares):
+   the effect's *regressors* are the changes of the weighted residuals when each of its terms moves
+   one scale from its null value (an offset of 0 -> 1 deg; for a term without a null, the change
+   from the effect off to the effect on at the preset's value). Their part that the fitted terms
+   could already produce is projected out (columns of the fit's Jacobian); what remains is
+   correlated with the residual. ``variance_explained`` is the share of the residual's sum of
+   squares the regressors take up, ``correlation`` its square root (the multiple correlation).
+   The regression's coefficients also give the linearised estimate the refit starts from.
+2. **Held-out error**: the effect is added, the model refitted, and its leave-one-run-out error
+   computed. The refit starts twice -- from the current fit with the effect at its linearised
+   estimate, and afresh from the ship preset's values (output-error fits have local minima; a
+   new effect can move the others far) -- and keeps the better fit. The candidates are ranked by
+   the held-out error: the error that matters is on runs the fit did not see.
+3. **Pairs** (:func:`pairs`): some effects only pay together, each hidden behind the other's
+   absence; the strongest candidates are also added two at a time.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from itertools import combinations
+
+import numpy as np
+
+from ship_env.model import EFFECTS, ShipModel
+from ship_env.workbench.errors import ErrorScales, RunErrors
+from ship_env.workbench.fit import FitOptions, Problem
+from ship_env.workbench.logs import Log
+from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.terms import (
+    DEFAULT_TERMS,
+    Term,
+    make_term,
+    value_of,
+    why_not_fitted,
+    with_values,
+)
+from ship_env.workbench.validation import CrossValidation, cross_validate
+
+
+@dataclass(frozen=True)
+class Evidence:
+    """What the residuals of the current fit say about one missing effect.
+
+    Attributes:
+        correlation: multiple correlation of the residual with the effect's regressors (after
+            projecting out what the fitted terms explain), 0..1.
+        variance_explained: its square: the share of the residual sum of squares they explain.
+        linearised: the effect's terms as the linearised regression estimates them (start values).
+    """
+
+    correlation: float
+    variance_explained: float
+    linearised: dict[str, float]
+
+
+def in_words(effects: Sequence[str]) -> str:
+    """The effects as a naval engineer names them (their titles), joined by '; '."""
+    return "; ".join(EFFECTS[name].title for name in effects)
+
+
+@dataclass(frozen=True)
+class CandidateResult:
+    """One missing effect (or several added together): evidence and the held-out error with it added.
+
+    ``skipped`` says why an effect was not tried (it cannot be fitted, or failed).
+    """
+
+    effects: tuple[str, ...]
+    evidence: Evidence | None = None
+    cross_validation: CrossValidation | None = None
+    skipped: str = ""
+
+    @property
+    def effect(self) -> str:
+        """The effect's name, or the names joined by ' + '."""
+        return " + ".join(self.effects)
+
+    @property
+    def title(self) -> str:
+        """The effect in words."""
+        return in_words(self.effects)
+
+    @property
+    def held_out(self) -> RunErrors | None:
+        return None if self.cross_validation is None else self.cross_validation.pooled
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """The current model's held-out error and the missing effects, best first."""
+
+    baseline: CrossValidation
+    candidates: tuple[CandidateResult, ...]
+    scales: ErrorScales
+
+    @property
+    def ranked(self) -> list[CandidateResult]:
+        """Refitted candidates by held-out score, then those with evidence only, then the skipped."""
+        refitted = sorted(
+            (c for c in self.candidates if c.cross_validation), key=lambda c: c.held_out.score(self.scales)
+        )
+        evidence_only = sorted(
+            (c for c in self.candidates if c.evidence and not c.cross_validation),
+            key=lambda c: -c.evidence.variance_explained,
+        )
+        return refitted + evidence_only + [c for c in self.candidates if not c.evidence and not c.cross_validation]
+
+    @property
+    def best(self) -> CandidateResult | None:
+        best = self.ranked[0] if self.candidates else None
+        return best if best is not None and best.cross_validation is not None else None
+
+
+def candidate_effects(setup: ReplayModel, logs: Sequence[Log]) -> tuple[list[str], dict[str, str]]:
+    """The effects that could be added (in ``EFFECTS`` order) and, for the rest, why not."""
+    possible, reasons = [], {}
+    for effect in EFFECTS:
+        if setup.model.has(effect):
+            continue
+        reason = why_not_fitted(effect, setup.model, logs)
+        if reason is None:
+            possible.append(effect)
+        else:
+            reasons[effect] = reason
+    return possible, reasons
+
+
+def with_effect_at_null(setup: ReplayModel, *effects: str) -> tuple[ReplayModel, list[Term]]:
+    """The model with ``effects`` added and their terms at their null values (where they have one)."""
+    added = ReplayModel(setup.model.with_effects(*effects), setup.current_north, setup.current_east)
+    terms = [make_term(key, added) for effect in effects for key in DEFAULT_TERMS[effect]]
+    nulls = {term.key: term.null for term in terms if term.null is not None}
+    return with_values(added, nulls), terms
+
+
+def preset_values(setup: ReplayModel, keys: Sequence[str]) -> dict[str, float]:
+    """The terms' values in the ship's preset (no current): a fresh start away from the current fit."""
+    fresh = ReplayModel(ShipModel(setup.model.ship, setup.model.effects))
+    return {key: value_of(fresh, key) for key in keys}
+
+
+def evidence(current: CrossValidation, logs: Sequence[Log], effect: str, options: FitOptions) -> Evidence:
+    """The score-test evidence for adding ``effect`` to the current fit (see the module docstring)."""
+    fitted = current.fit
+    base_keys = [estimate.term.key for estimate in fitted.estimates]
+    at_null, terms = with_effect_at_null(fitted.setup, effect)
+    problem = Problem(at_null, logs, base_keys + [term.key for term in terms], options)
+    x_fit = problem.start()
+    x_fit[len(base_keys) + len(terms) :] = fitted.solution[len(base_keys) :]
+    without = fitted.residual
+    columns = []
+    for j, term in enumerate(terms):
+        probe = x_fit.copy()
+        index = len(base_keys) + j
+        if term.null is not None:
+            probe[index] = (term.null + term.scale) / term.scale
+        columns.append(problem.residual(probe) - without)
+    regressors = np.column_stack(columns)
+    jacobian = fitted.jacobian
+    if jacobian.shape[1]:
+        regressors = regressors - jacobian @ np.linalg.lstsq(jacobian, regressors, rcond=None)[0]
+    coefficients = np.linalg.lstsq(regressors, -without, rcond=None)[0]
+    explained = regressors @ coefficients
+    share = float(explained @ explained / (without @ without)) if without @ without > 0 else 0.0
+    linearised = {}
+    for term, step in zip(terms, coefficients):
+        if term.null is not None:
+            linearised[term.key] = float(np.clip(term.null + step * term.scale, term.lower, term.upper))
+    return Evidence(correlation=math.sqrt(min(max(share, 0.0), 1.0)), variance_explained=share, linearised=linearised)
+
+
+def diagnose(
+    current: CrossValidation,
+    logs: Sequence[Log],
+    options: FitOptions | None = None,
+    effects: Sequence[str] | None = None,
+    refit: int | None = None,
+) -> Diagnosis:
+    """Evidence for each missing effect, then the held-out error with it added and refitted.
+
+    Args:
+        current: the current model's cross-validation (its all-run fit is the one diagnosed).
+        logs: the runs, as fitted.
+        options: the fit options (the same as the current fit's).
+        effects: the candidate effects (default: every effect the model lacks that the logs can show).
+        refit: refit only this many candidates, those with the most evidence (default: all).
+    """
+    options = options or FitOptions()
+    possible, reasons = candidate_effects(current.fit.setup, logs)
+    chosen = possible if effects is None else [effect for effect in effects if effect in possible]
+    skipped = [
+        CandidateResult((effect,), skipped=reasons.get(effect, "already in the model"))
+        for effect in (reasons if effects is None else [e for e in effects if e not in possible])
+    ]
+    with_evidence = [(effect, evidence(current, logs, effect, options)) for effect in chosen]
+    with_evidence.sort(key=lambda item: -item[1].variance_explained)
+    results = [
+        refit_with(current, logs, {effect: found}, options)
+        if refit is None or rank < refit
+        else CandidateResult((effect,), found)
+        for rank, (effect, found) in enumerate(with_evidence)
+    ]
+    return Diagnosis(baseline=current, candidates=tuple(results + skipped), scales=options.scales)
+
+
+def refit_with(
+    current: CrossValidation, logs: Sequence[Log], found: Mapping[str, Evidence], options: FitOptions
+) -> CandidateResult:
+    """Add the effects ``found`` (with their evidence) to the current model, refit and cross-validate.
+
+    The refit starts from the current fit with the new terms at their linearised estimates, and
+    afresh from the ship preset's values, and keeps the better fit (see the module docstring).
+    """
+    effects = tuple(found)
+    added, terms = with_effect_at_null(current.fit.setup, *effects)
+    keys = [estimate.term.key for estimate in current.fit.estimates] + [term.key for term in terms]
+    linearised = {key: value for evidence_ in found.values() for key, value in evidence_.linearised.items()}
+    own_evidence = next(iter(found.values())) if len(found) == 1 else None
+    try:
+        validation = cross_validate(added, logs, keys, options, starts=(linearised, preset_values(added, keys)))
+    except (ValueError, FloatingPointError) as error:
+        return CandidateResult(effects, own_evidence, skipped=f"refit failed: {error}")
+    return CandidateResult(effects, own_evidence, validation)
+
+
+def pairs(
+    diagnosis: Diagnosis, logs: Sequence[Log], options: FitOptions | None = None, width: int = 4
+) -> list[CandidateResult]:
+    """The effects added two at a time: every pair of the ``width`` candidates with most evidence.
+
+    Some effects only pay together: a rudder that works harder at high propeller rate
+    (``propeller_slipstream``) is hidden behind a wind moment the model lacks, and the other way
+    round. Best held-out score first.
+    """
+    options = options or FitOptions()
+    strongest = sorted(
+        (c for c in diagnosis.candidates if c.evidence is not None and len(c.effects) == 1),
+        key=lambda c: -c.evidence.variance_explained,
+    )[:width]
+    results = [
+        refit_with(diagnosis.baseline, logs, {a.effect: a.evidence, b.effect: b.evidence}, options)
+        for a, b in combinations(strongest, 2)
+    ]
+    tried = [c for c in results if c.cross_validation is not None]
+    return sorted(tried, key=lambda c: c.held_out.score(diagnosis.scales))

@@ -1,0 +1,389 @@
+"""Output-error fitting of a model's parameters to measured runs, with leave-one-run-out validation.
+
+The measured rudder, speed, propeller rate and wind drive the model (:mod:`.replay`); the fit
+chooses the terms (:mod:`.terms`) that minimise the weighted squared differences between measured
+and simulated
+
+- heading and rate of turn (free simulation from the run's initial state), and
+- track (north, east) replayed with the measured heading,
+
+each divided by its error scale (:class:`~ship_env.workbench.errors.ErrorScales`), with
+``scipy.optimize.least_squares`` (trust-region reflective, within the terms' ranges). The Jacobian
+is taken by forward differences, every perturbed parameter set and run replayed in one compiled
+batch. Optional per-run nuisance terms (an offset of the initial heading and of the initial rate of
+turn) absorb a poor start of a run in the fit; runs the fit did not see always start from their
+measured state.
+
+Uncertainty: cov = s^2 (J^T J)^-1 with s^2 = |residual|^2 / (m - n), the Gauss-Newton estimate at
+the optimum. Output-error residuals are correlated in time, so these standard errors are
+optimistic; the spread of the leave-one-run-out estimates (:mod:`.validation`) is the honest check.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ship_env.model import ShipModel
+from ship_env.model import state as S
+from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
+from ship_env.workbench.logs import Log
+from ship_env.workbench.replay import (
+    EAST,
+    HEADING,
+    INITIAL_WINDOW,
+    NORTH,
+    RATE,
+    ReplayModel,
+    Simulated,
+    Tasks,
+    free_and_track_tasks,
+    pack_runs,
+    replay,
+    unpack,
+)
+from ship_env.workbench.terms import (
+    Term,
+    default_terms,
+    make_term,
+    value_of,
+    with_values,
+    write_record,
+)
+
+#: Per-run nuisance terms: name -> (state index, scale, bound), SI units.
+NUISANCE: dict[str, tuple[int, float, float]] = {
+    "heading": (S.HEADING, math.radians(1.0), math.radians(45.0)),
+    "rate_of_turn": (S.RATE_OF_TURN, math.radians(0.1), math.radians(10.0)),
+}
+#: Forward-difference step, in units of each term's scale.
+DIFFERENCE_STEP = 1e-4
+
+
+class FitError(ValueError):
+    """A fit that cannot be set up (unknown term, an effect not in the model, too few runs)."""
+
+
+@dataclass(frozen=True)
+class FitOptions:
+    """How to fit.
+
+    Attributes:
+        scales: the error per channel that weighs one unit in the cost.
+        nuisance: per-run nuisance terms to fit, from ``NUISANCE`` (``heading``, ``rate_of_turn``).
+        initial_window: seconds at a run's start from which its initial state is estimated.
+        max_evaluations: most cost evaluations per fit (each is a batch of replays).
+        tolerance: relative change of cost and terms at which the fit stops.
+    """
+
+    scales: ErrorScales = field(default_factory=ErrorScales)
+    nuisance: tuple[str, ...] = ()
+    initial_window: float = INITIAL_WINDOW
+    max_evaluations: int = 100
+    tolerance: float = 1e-6
+
+    def __post_init__(self) -> None:
+        unknown = [name for name in self.nuisance if name not in NUISANCE]
+        if unknown:
+            raise FitError(f"fit: unknown nuisance terms {unknown}; known: {', '.join(NUISANCE)}")
+
+
+@dataclass(frozen=True)
+class Estimate:
+    """A fitted term: value and standard error in SI units, and whether it ended on its range's edge."""
+
+    term: Term
+    value: float
+    std_error: float
+    at_bound: bool
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """A fitted model and how well it fits the runs it saw.
+
+    Attributes:
+        setup: the fitted model (with the fitted current).
+        estimates: the fitted terms.
+        nuisance: per run, the fitted nuisance terms (offsets of the initial state, SI units).
+        errors: per-run RMS errors with the fitted model (in-sample).
+        solution: the fitted values in units of their scales, then the nuisance terms run by run.
+        residual: the weighted residual vector at the optimum (for diagnosis).
+        jacobian: its derivative by ``solution``.
+        evaluations: cost evaluations used.
+        message: the optimiser's verdict.
+    """
+
+    setup: ReplayModel
+    estimates: tuple[Estimate, ...]
+    nuisance: Mapping[str, Mapping[str, float]]
+    errors: tuple[RunErrors, ...]
+    solution: np.ndarray
+    residual: np.ndarray
+    jacobian: np.ndarray
+    evaluations: int
+    message: str
+
+    @property
+    def pooled(self) -> RunErrors:
+        return pooled(self.errors)
+
+    def values(self) -> dict[str, float]:
+        return {estimate.term.key: estimate.value for estimate in self.estimates}
+
+
+class Problem:
+    """The output-error problem for one model, a set of terms and a set of runs.
+
+    The unknowns ``x`` are the terms divided by their scales, then the nuisance terms run by run.
+    """
+
+    def __init__(self, setup: ReplayModel, logs: Sequence[Log], keys: Sequence[str], options: FitOptions) -> None:
+        if not logs:
+            raise FitError("fit: no logs")
+        for key in keys:
+            effect = key.partition(".")[0]
+            if "." in key and effect not in setup.model.effects:
+                raise FitError(f"fit: term {key!r} belongs to the effect {effect!r}, which is not in the model; add it")
+        if len(set(keys)) != len(keys):
+            raise FitError(f"fit: terms repeat in {list(keys)}")
+        self.setup = setup
+        self.logs = list(logs)
+        self.options = options
+        self.terms = [make_term(key, setup) for key in keys]
+        self.runs = pack_runs(self.logs, setup.model, options.initial_window)
+        self._has_position = [log.has_position for log in self.logs]
+        self._nuisance = [NUISANCE[name] for name in options.nuisance]
+        self._cache: tuple[np.ndarray, np.ndarray] | None = None
+        self.evaluations = 0
+
+    # -- the unknowns ----------------------------------------------------------------------------
+    @property
+    def size(self) -> int:
+        return len(self.terms) + len(self._nuisance) * len(self.logs)
+
+    def start(self) -> np.ndarray:
+        """The model's current values (in scale units), nuisance zero."""
+        x = np.zeros(self.size)
+        for j, term in enumerate(self.terms):
+            x[j] = np.clip(value_of(self.setup, term.key), term.lower, term.upper) / term.scale
+        return x
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        lower = [term.lower / term.scale for term in self.terms]
+        upper = [term.upper / term.scale for term in self.terms]
+        for _ in self.logs:
+            for _, scale, bound in self._nuisance:
+                lower.append(-bound / scale)
+                upper.append(bound / scale)
+        return np.array(lower), np.array(upper)
+
+    def _term_values(self, x: np.ndarray) -> np.ndarray:
+        return x[: len(self.terms)] * np.array([term.scale for term in self.terms])
+
+    def _initial_offset(self, x: np.ndarray, run: int) -> np.ndarray:
+        offset = np.zeros(S.STATE_SIZE)
+        first = len(self.terms) + run * len(self._nuisance)
+        for k, (index, scale, _) in enumerate(self._nuisance):
+            offset[index] = x[first + k] * scale
+        return offset
+
+    def _current(self, x: np.ndarray) -> tuple[float, float]:
+        values = dict(zip((term.key for term in self.terms), self._term_values(x)))
+        north = values.get("current.north", self.setup.current_north)
+        east = values.get("current.east", self.setup.current_east)
+        return (north, east) if self.setup.model.has("current") else (0.0, 0.0)
+
+    # -- replays ---------------------------------------------------------------------------------
+    def _outputs(
+        self, points: Sequence[np.ndarray], requests: Sequence[tuple[int, int, bool]]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Replay ``requests`` (point, run, track?) in one batch."""
+        records = np.repeat(self.setup.model.record, len(points))
+        for p, x in enumerate(points):
+            write_record(records[p : p + 1], self.terms, self._term_values(x))
+        offsets = np.stack(
+            [np.zeros(S.STATE_SIZE) if track else self._initial_offset(points[p], run) for p, run, track in requests]
+        )
+        tasks = Tasks.build(
+            record=[p for p, _, _ in requests],
+            run=[run for _, run, _ in requests],
+            track=[track for _, _, track in requests],
+            initial_offset=offsets,
+            current=np.array([self._current(points[p]) for p, _, _ in requests]),
+        )
+        self.evaluations += 1
+        return replay(self.runs, records, tasks)
+
+    def _run_residual(self, run: int, free: np.ndarray, track: np.ndarray | None) -> np.ndarray:
+        log = self.logs[run]
+        scales = self.options.scales
+        count = log.samples
+        parts = [(free[:count, HEADING] - log.heading) / scales.heading]
+        if log.rate_of_turn is not None:
+            parts.append((free[:count, RATE] - log.rate_of_turn) / scales.rate_of_turn)
+        if track is not None:
+            parts.append((track[:count, NORTH] - log.north) / scales.position)
+            parts.append((track[:count, EAST] - log.east) / scales.position)
+        return np.concatenate(parts)
+
+    def _requests(self, point: int, runs: Sequence[int], with_track: bool = True) -> list[tuple[int, int, bool]]:
+        requests = [(point, run, False) for run in runs]
+        if with_track:
+            requests += [(point, run, True) for run in runs if self._has_position[run]]
+        return requests
+
+    def _residual_blocks(
+        self, requests: Sequence[tuple[int, int, bool]], outputs: np.ndarray
+    ) -> dict[tuple[int, int], np.ndarray]:
+        """Residual of each (point, run) among the requests."""
+        free = {(p, run): outputs[i] for i, (p, run, track) in enumerate(requests) if not track}
+        track = {(p, run): outputs[i] for i, (p, run, track) in enumerate(requests) if track}
+        return {key: self._run_residual(key[1], value, track.get(key)) for key, value in free.items()}
+
+    def residual(self, x: np.ndarray) -> np.ndarray:
+        """The weighted residual vector of all runs at ``x``."""
+        if self._cache is not None and np.array_equal(self._cache[0], x):
+            return self._cache[1]
+        requests = self._requests(0, range(len(self.logs)))
+        outputs, _ = self._outputs([x], requests)
+        blocks = self._residual_blocks(requests, outputs)
+        vector = np.concatenate([blocks[(0, run)] for run in range(len(self.logs))])
+        self._cache = (x.copy(), vector)
+        return vector
+
+    def jacobian(self, x: np.ndarray) -> np.ndarray:
+        """Forward differences, all perturbations in one batch; a nuisance term moves only its run."""
+        base = self.residual(x)
+        _, upper = self.bounds()
+        steps = np.where(x + DIFFERENCE_STEP <= upper, DIFFERENCE_STEP, -DIFFERENCE_STEP)
+        points = []
+        requests: list[tuple[int, int, bool]] = []
+        all_runs = range(len(self.logs))
+        per_run = len(self._nuisance)
+        for j in range(self.size):
+            shifted = x.copy()
+            shifted[j] += steps[j]
+            points.append(shifted)
+            if j < len(self.terms):
+                requests += self._requests(j, all_runs)
+            else:
+                requests += self._requests(j, [(j - len(self.terms)) // per_run], with_track=False)
+        outputs, _ = self._outputs(points, requests)
+        blocks = self._residual_blocks(requests, outputs)
+        bounds = np.concatenate([[0], np.cumsum([self._residual_length(run) for run in all_runs])])
+        matrix = np.zeros((len(base), self.size))
+        for (j, run), block in blocks.items():
+            rows = slice(bounds[run], bounds[run + 1])
+            changed = block
+            if j >= len(self.terms) and self._has_position[run]:
+                # Nuisance terms leave the track replay alone: keep its part of the base residual.
+                changed = np.concatenate([block, base[rows][len(block) :]])
+            matrix[rows, j] = (changed - base[rows]) / steps[j]
+        return matrix
+
+    def _residual_length(self, run: int) -> int:
+        log = self.logs[run]
+        return (1 + (log.rate_of_turn is not None) + 2 * log.has_position) * log.samples
+
+    def simulated(self, x: np.ndarray) -> list[Simulated]:
+        """Each run replayed at ``x`` (with its nuisance terms)."""
+        tasks = free_and_track_tasks(len(self.logs))
+        requests = list(zip(tasks.record, tasks.run, tasks.track))
+        outputs, valid = self._outputs([x], requests)
+        return unpack(self.logs, outputs, valid)
+
+    # -- the fit ---------------------------------------------------------------------------------
+    def solve(self, x0: np.ndarray | None = None) -> FitResult:
+        """Least squares from ``x0`` (default: the model's values); the fitted model and its errors."""
+        lower, upper = self.bounds()
+        start = np.clip(self.start() if x0 is None else x0, lower, upper)
+        if self.size == 0:
+            return self._result(start, self.residual(start), np.zeros((len(self.residual(start)), 0)), "nothing to fit")
+        solution = least_squares(
+            self.residual,
+            start,
+            jac=self.jacobian,
+            bounds=(lower, upper),
+            method="trf",
+            x_scale=1.0,
+            ftol=self.options.tolerance,
+            xtol=self.options.tolerance,
+            gtol=self.options.tolerance,
+            max_nfev=self.options.max_evaluations,
+        )
+        return self._result(solution.x, solution.fun, solution.jac, solution.message)
+
+    def _result(self, x: np.ndarray, residual: np.ndarray, jacobian: np.ndarray, message: str) -> FitResult:
+        lower, upper = self.bounds()
+        degrees_of_freedom = max(len(residual) - self.size, 1)
+        variance = float(residual @ residual) / degrees_of_freedom
+        covariance = variance * np.linalg.pinv(jacobian.T @ jacobian) if self.size else np.zeros((0, 0))
+        values = self._term_values(x)
+        estimates = tuple(
+            Estimate(
+                term=term,
+                value=float(value),
+                std_error=float(math.sqrt(max(covariance[j, j], 0.0)) * term.scale),
+                at_bound=bool(np.isclose(x[j], lower[j]) or np.isclose(x[j], upper[j])),
+            )
+            for j, (term, value) in enumerate(zip(self.terms, values))
+        )
+        nuisance = {
+            log.name: {
+                name: float(x[len(self.terms) + run * len(self._nuisance) + k] * NUISANCE[name][1])
+                for k, name in enumerate(self.options.nuisance)
+            }
+            for run, log in enumerate(self.logs)
+        }
+        simulated = self.simulated(x)
+        return FitResult(
+            setup=with_values(self.setup, {e.term.key: e.value for e in estimates}),
+            estimates=estimates,
+            nuisance=nuisance,
+            errors=tuple(run_errors(log, sim) for log, sim in zip(self.logs, simulated)),
+            solution=x,
+            residual=residual,
+            jacobian=jacobian,
+            evaluations=self.evaluations,
+            message=str(message),
+        )
+
+
+def as_setup(model: ShipModel | ReplayModel) -> ReplayModel:
+    return model if isinstance(model, ReplayModel) else ReplayModel(model)
+
+
+def fit(
+    model: ShipModel | ReplayModel,
+    logs: Sequence[Log],
+    terms: Sequence[str] | None = None,
+    options: FitOptions | None = None,
+) -> FitResult:
+    """Fit ``terms`` (default: those of the model's effects, ``terms.DEFAULT_TERMS``) to the logs.
+
+    Example::
+
+        model = ShipModel("esso_osaka_model", ["yaw", "kinematics", "rudder_offset"])
+        result = fit(model, load_logs(["../shared/data/esso_osaka/zigzag"]))
+        result.estimates, result.pooled.heading
+    """
+    setup = as_setup(model)
+    keys = default_terms(setup.model.effects) if terms is None else list(terms)
+    return Problem(setup, logs, keys, options or FitOptions()).solve()
+
+
+def fit_each_run(
+    model: ShipModel | ReplayModel,
+    logs: Sequence[Log],
+    terms: Sequence[str] | None = None,
+    options: FitOptions | None = None,
+) -> list[FitResult]:
+    """One fit per run (in-sample): how well the model can fit each run on its own."""
+    setup = as_setup(model)
+    keys = default_terms(setup.model.effects) if terms is None else list(terms)
+    return [Problem(setup, [log], keys, options or FitOptions()).solve() for log in logs]

@@ -1,0 +1,380 @@
+"""Measurement logs: read a CSV or Parquet time series, check it, and hold it in SI units.
+
+:func:`load_log` reads a file with a declared :class:`~ship_env.workbench.formats.LogFormat`
+(or the built-in one whose columns the file has), converts every channel to SI units and radians
+and checks what would otherwise give silently wrong fits. Each problem is an error that names the
+file, the column and the offending value:
+
+- a declared column that is missing, or holds text;
+- time that repeats or goes back;
+- NaN: trailing NaN rows (a logger left running) are cut with a warning, a NaN gap inside the
+  log or at its start is an error;
+- an angle declared in radians that exceeds 2 pi (it looks like degrees), or a heading whose
+  derivative is ~57 times the rate of turn;
+- a heading wrapped to +-180 deg or 0..360 deg is unwrapped (and the log says so in its notes).
+
+The user's file is only read, never written.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import warnings
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ship_env.workbench.formats import (
+    CHANNELS,
+    FormatError,
+    LogFormat,
+    detect_format,
+    resolve_format,
+)
+
+#: File endings the loader reads.
+READERS = {".csv": pd.read_csv, ".parquet": pd.read_parquet, ".pq": pd.read_parquet}
+#: No ship turns faster than this, rad/s; a heading in "rad" that seems to is in degrees.
+MAX_PLAUSIBLE_RATE = 1.0
+#: Fewest samples a log must keep.
+MIN_SAMPLES = 10
+
+
+class LogError(ValueError):
+    """A log that cannot be used as it is; the message names the file, the column and the value."""
+
+
+class LogWarning(UserWarning):
+    """Something the loader changed in its copy of a log (trailing NaN rows cut)."""
+
+
+@dataclass(frozen=True)
+class Log:
+    """One measured run in SI units and radians; absent channels are ``None``.
+
+    Attributes:
+        name: the run's name (the file's stem).
+        time: sample times, s, strictly increasing (as in the file).
+        heading: heading psi, rad, unwrapped (continuous through whole turns).
+        rudder: rudder angle, rad; see ``rudder_kind``.
+        rudder_kind: ``"actual"`` or ``"ordered"`` (the order a steering machine follows).
+        rate_of_turn: r, rad/s.
+        north, east: position x0, y0, m.
+        speed: forward speed through the water u, m/s.
+        propeller_rate: n, rps.
+        wind_speed, wind_direction: true wind, m/s, and where it comes from, rad from north.
+        service_speed: U0, m/s, for a log without a speed channel (``None``: the ship's).
+        source: the file it was read from.
+        notes: what the loader changed or noticed.
+    """
+
+    name: str
+    time: np.ndarray
+    heading: np.ndarray
+    rudder: np.ndarray
+    rudder_kind: str = "actual"
+    rate_of_turn: np.ndarray | None = None
+    north: np.ndarray | None = None
+    east: np.ndarray | None = None
+    speed: np.ndarray | None = None
+    propeller_rate: np.ndarray | None = None
+    wind_speed: np.ndarray | None = None
+    wind_direction: np.ndarray | None = None
+    service_speed: float | None = None
+    source: str = ""
+    notes: tuple[str, ...] = field(default_factory=tuple)
+
+    def __post_init__(self) -> None:
+        count = len(self.time)
+        for name in CHANNELS:
+            values = getattr(self, name)
+            if values is None:
+                continue
+            if values.shape != (count,) or not np.all(np.isfinite(values)):
+                raise LogError(f"log {self.name!r}: channel {name!r} must be {count} finite values")
+        if count < MIN_SAMPLES or np.any(np.diff(self.time) <= 0.0):
+            raise LogError(f"log {self.name!r}: time must hold at least {MIN_SAMPLES} increasing samples")
+
+    @property
+    def samples(self) -> int:
+        return len(self.time)
+
+    @property
+    def duration(self) -> float:
+        return float(self.time[-1] - self.time[0])
+
+    @property
+    def has_position(self) -> bool:
+        return self.north is not None
+
+    @property
+    def has_wind(self) -> bool:
+        return self.wind_speed is not None
+
+    def channels(self) -> list[str]:
+        """The names of the channels this log has."""
+        return [name for name in CHANNELS if getattr(self, name) is not None]
+
+    def to_frame(self) -> pd.DataFrame:
+        """The log as a table in the standard format (channel names as headers, SI units)."""
+        return pd.DataFrame({name: getattr(self, name) for name in self.channels()})
+
+    def with_notes(self, *notes: str) -> Log:
+        return replace(self, notes=self.notes + notes)
+
+
+def _read_table(path: Path) -> pd.DataFrame:
+    reader = READERS.get(path.suffix.lower())
+    if reader is None:
+        raise LogError(f"{path}: cannot read {path.suffix or 'files without an ending'}; use {', '.join(READERS)}")
+    if not path.is_file():
+        raise LogError(f"{path}: no such file")
+    try:
+        return reader(path)
+    except (ValueError, OSError, ImportError) as error:
+        raise LogError(f"{path}: cannot read it as {path.suffix[1:]}: {error}") from None
+
+
+def _check_columns(frame: pd.DataFrame, fmt: LogFormat, source: str) -> dict[str, str]:
+    """channel -> column header for the channels present; a LogError for a missing declared column."""
+    headers = [str(header) for header in frame.columns]
+    used: dict[str, str] = {}
+    missing = []
+    for channel, column in fmt.columns.items():
+        if column.name in headers:
+            used[channel] = column.name
+        elif not column.optional:
+            close = difflib.get_close_matches(column.name, headers, n=1, cutoff=0.5)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            missing.append(f"{column.name!r} ({channel}){hint}")
+    if missing:
+        raise LogError(
+            f"{source}: missing column{'s' * (len(missing) > 1)} {', '.join(missing)}; the file has {headers}"
+        )
+    return used
+
+
+def _numeric(frame: pd.DataFrame, used: dict[str, str], source: str) -> pd.DataFrame:
+    """The used columns as floats; a LogError naming the first value that is not a number."""
+    table = pd.DataFrame(index=frame.index)
+    for channel, header in used.items():
+        values = pd.to_numeric(frame[header], errors="coerce")
+        bad = values.isna() & frame[header].notna()
+        if bad.any():
+            row = int(np.flatnonzero(bad.to_numpy())[0])
+            raise LogError(
+                f"{source}: column {header!r} ({channel}) holds {frame[header].iloc[row]!r} at row {row + 1}, not a number"
+            )
+        table[channel] = values.astype(float)
+    return table.reset_index(drop=True)
+
+
+def _trim_nan(table: pd.DataFrame, used: dict[str, str], source: str) -> tuple[pd.DataFrame, list[str]]:
+    """Cut trailing rows with NaN (warning); a LogError for NaN at the start or inside."""
+    finite = np.isfinite(table.to_numpy())
+    good_rows = np.flatnonzero(finite.all(axis=1))
+    if len(good_rows) == 0:
+        raise LogError(f"{source}: every row has NaN in one of the columns {sorted(used.values())}")
+    last = int(good_rows[-1])
+    inside = ~finite[: last + 1]
+    if inside.any():
+        row, column = (int(i) for i in np.argwhere(inside)[0])
+        channel = table.columns[column]
+        stop = row
+        while stop + 1 <= last and not finite[stop + 1, column]:
+            stop += 1
+        where = "at the start" if row == 0 else "inside the log"
+        times = table["time"].to_numpy()
+        span = f"t = {times[row]:g}..{times[stop]:g} s" if np.isfinite(times[[row, stop]]).all() else "time unknown"
+        raise LogError(
+            f"{source}: column {used[channel]!r} ({channel}) is NaN at rows {row + 1}..{stop + 1} ({span}) {where}; "
+            f"fill the gap or cut the log there"
+        )
+    notes = []
+    dropped = len(table) - last - 1
+    if dropped:
+        columns = sorted(used[c] for c in table.columns[~finite[last + 1 :].all(axis=0)])
+        message = f"dropped the last {dropped} rows: NaN in {', '.join(map(repr, columns))}"
+        warnings.warn(f"{source}: {message}", LogWarning, stacklevel=4)
+        notes.append(message)
+    return table.iloc[: last + 1], notes
+
+
+def _check_time(time: np.ndarray, header: str, source: str) -> None:
+    steps = np.diff(time)
+    bad = np.flatnonzero(steps <= 0.0)
+    if len(bad):
+        row = int(bad[0])
+        verb = "repeats" if steps[row] == 0.0 else "goes back"
+        raise LogError(
+            f"{source}: time column {header!r} {verb} at row {row + 2}: t = {time[row + 1]:g} after {time[row]:g}; "
+            f"the time must increase"
+        )
+
+
+def _check_radians(values: np.ndarray, channel: str, header: str, source: str) -> None:
+    largest = float(np.max(np.abs(values)))
+    if largest > 2.0 * math.pi:
+        raise LogError(
+            f"{source}: column {header!r} ({channel}) is declared in rad but reaches {largest:g}, beyond 2 pi: "
+            f"it looks like degrees; declare its unit as deg"
+        )
+
+
+def _unwrap_heading(
+    heading: np.ndarray, time: np.ndarray, header: str, degrees_hint: bool, source: str
+) -> tuple[np.ndarray, list[str]]:
+    """The heading unwrapped, after checking that a heading in "rad" is not in degrees."""
+    steps = np.diff(heading)
+    jumps = np.abs(steps) > math.pi
+    smooth = np.abs(steps[~jumps]) / np.diff(time)[~jumps]
+    apparent_rate = float(np.percentile(smooth, 99)) if len(smooth) else 0.0
+    if (
+        degrees_hint
+        and np.max(np.abs(heading)) > 2.0 * math.pi
+        and (apparent_rate > MAX_PLAUSIBLE_RATE or np.any(np.abs(np.abs(steps[jumps]) - 360.0) < 30.0))
+    ):
+        raise LogError(
+            f"{source}: column {header!r} (heading) is declared in rad but reaches {np.max(np.abs(heading)):g} "
+            f"and turns at {apparent_rate:g} rad/s: it looks like degrees; declare its unit as deg"
+        )
+    if not jumps.any():
+        return heading, []
+    return np.unwrap(heading), [f"heading was wrapped: unwrapped {int(jumps.sum())} jumps of 2 pi"]
+
+
+def _check_rate_against_heading(log: Log, fmt: LogFormat, source: str) -> None:
+    """A LogError when the heading's derivative and the rate of turn differ by a unit factor."""
+    rate = log.rate_of_turn
+    if rate is None or np.std(rate) == 0.0:
+        return
+    derivative = np.gradient(log.heading, log.time)
+    ratio = float(np.dot(derivative, rate) / np.dot(rate, rate))
+    if not 0.2 < abs(ratio) < 5.0:
+        raise LogError(
+            f"{source}: the heading {fmt.columns['heading'].name!r} changes {ratio:.3g} times as fast as the rate of "
+            f"turn {fmt.columns['rate_of_turn'].name!r} says (57.3 or 1/57.3: one of them is in degrees); check their units"
+        )
+
+
+def log_from_frame(
+    frame: pd.DataFrame,
+    fmt: str | Path | LogFormat | None = None,
+    name: str = "log",
+    source: str | None = None,
+    service_speed: float | None = None,
+) -> Log:
+    """Check a table and convert it to a :class:`Log` (see the module's docstring for the checks).
+
+    Args:
+        frame: the table as read; it is not modified.
+        fmt: the log format (a built-in name, a YAML path or a LogFormat); ``None`` detects it.
+        name: the run's name.
+        source: what error messages call the table (the file path).
+        service_speed: U0 in m/s for a log without a speed channel.
+    """
+    source = source or name
+    try:
+        fmt = detect_format(map(str, frame.columns), source) if fmt is None else resolve_format(fmt)
+    except FormatError as error:
+        raise LogError(str(error)) from None
+    used = _check_columns(frame, fmt, source)
+    table, notes = _trim_nan(_numeric(frame, used, source), used, source)
+    if len(table) < MIN_SAMPLES:
+        raise LogError(f"{source}: only {len(table)} usable rows; a log needs at least {MIN_SAMPLES}")
+    values = {channel: table[channel].to_numpy() * fmt.factor(channel) for channel in used}
+    _check_time(values["time"], used["time"], source)
+    for channel in ("rudder", "wind_direction"):
+        if channel in values and fmt.columns[channel].unit == "rad":
+            _check_radians(values[channel], channel, used[channel], source)
+    values["heading"], unwrap_notes = _unwrap_heading(
+        values["heading"], values["time"], used["heading"], fmt.columns["heading"].unit == "rad", source
+    )
+    log = Log(
+        name=name,
+        rudder_kind=fmt.rudder_kind,
+        service_speed=service_speed,
+        source=source,
+        notes=tuple(notes + unwrap_notes),
+        **values,
+    )
+    _check_rate_against_heading(log, fmt, source)
+    return log
+
+
+def load_log(
+    path: str | Path,
+    fmt: str | Path | LogFormat | None = None,
+    service_speed: float | None = None,
+) -> Log:
+    """Read one CSV or Parquet log (read only) and check it; see :func:`log_from_frame`."""
+    path = Path(path)
+    return log_from_frame(_read_table(path), fmt, name=path.stem, source=str(path), service_speed=service_speed)
+
+
+def every_nth(log: Log, step: int) -> Log:
+    """The log with every ``step``-th sample: a coarser replay step, for faster fits."""
+    if step < 1:
+        raise LogError(f"log {log.name!r}: the sample step must be a positive whole number, got {step!r}")
+    if step == 1:
+        return log
+    kept = {name: getattr(log, name)[::step] for name in log.channels()}
+    return replace(log, notes=log.notes + (f"every {step}th sample used",), **kept)
+
+
+def log_paths(paths: Iterable[str | Path]) -> list[Path]:
+    """Files named, and the readable files inside folders named, sorted per folder."""
+    found: list[Path] = []
+    for item in map(Path, paths):
+        if item.is_dir():
+            inside = sorted(p for p in item.iterdir() if p.suffix.lower() in READERS)
+            if not inside:
+                raise LogError(f"{item}: no {', '.join(READERS)} files in this folder")
+            found.extend(inside)
+        else:
+            found.append(item)
+    return found
+
+
+def load_logs(
+    paths: Sequence[str | Path],
+    fmt: str | Path | LogFormat | None = None,
+    service_speed: float | None = None,
+) -> list[Log]:
+    """Read several logs (files or folders of them); names must be unique."""
+    logs = [load_log(path, fmt, service_speed) for path in log_paths(paths)]
+    names = [log.name for log in logs]
+    repeated = sorted({n for n in names if names.count(n) > 1})
+    if repeated:
+        raise LogError(f"logs: the run names {repeated} repeat; give each file its own name")
+    return logs
+
+
+def write_log(log: Log, path: str | Path) -> Path:
+    """Write a log in the standard format (CSV or Parquet by the path's ending)."""
+    path = Path(path)
+    frame = log.to_frame()
+    if path.suffix.lower() == ".csv":
+        frame.to_csv(path, index=False)
+    elif path.suffix.lower() in (".parquet", ".pq"):
+        frame.to_parquet(path, index=False)
+    else:
+        raise LogError(f"{path}: write .csv or .parquet")
+    return path
+
+
+__all__ = [
+    "Log",
+    "LogError",
+    "LogWarning",
+    "every_nth",
+    "load_log",
+    "load_logs",
+    "log_from_frame",
+    "log_paths",
+    "write_log",
+]

@@ -1,0 +1,347 @@
+"""Replay measured runs through the model: the measured inputs in, the simulated outputs out.
+
+Each run is replayed sample by sample with the measured rudder, speed, propeller rate and wind
+held over each interval (zero-order hold, as the simulator holds its conditions over a step). Two
+kinds of replay:
+
+- **free**: the model's own heading, rate of turn and track, integrated by the simulator's
+  compiled step (``ship_env.model.integrators.step_ship``, RK4) from the run's initial state;
+- **track**: the measured heading and rate of turn are imposed and only the track (and the speed
+  loss) is integrated, by Heun's method on the model's own state derivative
+  (``ship_env.model.dynamics.derivatives``). It isolates the track effects -- sway (2.47-2.49),
+  leeway, current (2.71, 2.72) -- from errors in the heading.
+
+A speed channel is fed as the service speed U0 at every sample (with the speed-loss effect off the
+model's speed is then the measured one); without one the log's or the ship's service speed is used.
+
+Many replays run in one compiled call over all cores: a *task* is one run replayed with one
+parameter record, so a fit evaluates every finite-difference perturbation of every run at once.
+The batch's records may differ (unlike :class:`~ship_env.model.Simulator`, whose batch shares one).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numba import prange
+
+from ship_env.model import ShipModel
+from ship_env.model import state as S
+from ship_env.model.dynamics import derivatives
+from ship_env.model.integrators import RK4, new_workspace, step_ship
+from ship_env.model.kernel import kernel, parallel_kernel
+from ship_env.workbench.logs import Log
+
+#: Columns of a replay's output.
+NORTH, EAST, HEADING, RATE = 0, 1, 2, 3
+OUTPUT_SIZE = 4
+#: Seconds at the start of a run from which its initial state is estimated.
+INITIAL_WINDOW = 2.0
+
+
+@dataclass(frozen=True)
+class ReplayModel:
+    """A ship model plus what a fit may add to the runs' conditions: a steady current.
+
+    Attributes:
+        model: the ship model (preset, effects, parameter values).
+        current_north, current_east: the current's velocity, m/s (used when ``current`` is on).
+    """
+
+    model: ShipModel
+    current_north: float = 0.0
+    current_east: float = 0.0
+
+    @property
+    def current(self) -> tuple[float, float]:
+        return (self.current_north, self.current_east) if self.model.has("current") else (0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class PackedRuns:
+    """The runs' measured inputs and outputs, concatenated for the compiled replay.
+
+    Run ``i`` occupies rows ``offsets[i]:offsets[i + 1]`` of every per-sample array.
+    """
+
+    offsets: np.ndarray
+    time: np.ndarray
+    rudder: np.ndarray
+    conditions: np.ndarray
+    heading: np.ndarray
+    rate_of_turn: np.ndarray
+    initial_states: np.ndarray
+
+    @property
+    def longest(self) -> int:
+        return int(np.max(np.diff(self.offsets)))
+
+
+def initial_state(log: Log, window: float = INITIAL_WINDOW) -> np.ndarray:
+    """The run's state at its first sample, estimated from its first ``window`` seconds.
+
+    Less noisy than the first sample alone, and unbiased where the ship already accelerates:
+    the heading is the intercept of a parabola fitted over the window, the rate of turn that of a
+    straight line through the measured rate (or the parabola's slope), the position that of a
+    straight line; the actual rudder is the first rudder sample.
+    """
+    inside = log.time - log.time[0] <= window
+    elapsed = log.time[inside] - log.time[0]
+
+    def polynomial(values: np.ndarray, degree: int) -> np.ndarray:
+        """Coefficients, constant first, of a polynomial fitted over the window (lower degree if few samples)."""
+        degree = min(degree, len(elapsed) - 1)
+        coefficients = np.polynomial.polynomial.polyfit(elapsed, values[inside], degree) if degree > 0 else values[:1]
+        return np.pad(coefficients, (0, 3 - len(coefficients)))
+
+    state = np.zeros(S.STATE_SIZE)
+    state[S.TIME] = log.time[0]
+    heading = polynomial(log.heading, 2)
+    state[S.HEADING] = heading[0]
+    state[S.RATE_OF_TURN] = heading[1] if log.rate_of_turn is None else polynomial(log.rate_of_turn, 1)[0]
+    if log.has_position:
+        state[S.NORTH] = polynomial(log.north, 1)[0]
+        state[S.EAST] = polynomial(log.east, 1)[0]
+    state[S.RUDDER] = log.rudder[0]
+    return state
+
+
+def _conditions(log: Log, model: ShipModel) -> np.ndarray:
+    rows = np.zeros((log.samples, S.CONDITION_SIZE))
+    if log.speed is not None:
+        rows[:, S.SERVICE_SPEED] = np.maximum(log.speed, 0.0)
+    else:
+        rows[:, S.SERVICE_SPEED] = model.service_speed if log.service_speed is None else log.service_speed
+    if log.propeller_rate is not None:
+        rows[:, S.PROPELLER_RATE] = np.maximum(log.propeller_rate, 0.0)
+    if log.has_wind:
+        rows[:, S.WIND_SPEED] = np.maximum(log.wind_speed, 0.0)
+        rows[:, S.WIND_DIRECTION] = log.wind_direction
+    return rows
+
+
+def pack_runs(logs: Sequence[Log], model: ShipModel, window: float = INITIAL_WINDOW) -> PackedRuns:
+    """Concatenate the logs' inputs and outputs; ``model`` supplies the default service speed."""
+    return PackedRuns(
+        offsets=np.concatenate([[0], np.cumsum([log.samples for log in logs])]).astype(np.int64),
+        time=np.concatenate([log.time for log in logs]),
+        rudder=np.concatenate([log.rudder for log in logs]),
+        conditions=np.concatenate([_conditions(log, model) for log in logs]),
+        heading=np.concatenate([log.heading for log in logs]),
+        rate_of_turn=np.concatenate(
+            [np.gradient(log.heading, log.time) if log.rate_of_turn is None else log.rate_of_turn for log in logs]
+        ),
+        initial_states=np.stack([initial_state(log, window) for log in logs]),
+    )
+
+
+@kernel
+def _track_step(state, first, conditions, time, heading, rate, params, slope, stage, white_noise):
+    """Advance north, east and the speed loss over one interval with the measured heading imposed (Heun)."""
+    p = params[0]
+    dt = time[first + 1] - time[first]
+    state[S.HEADING] = heading[first]
+    state[S.RATE_OF_TURN] = rate[first]
+    derivatives(state, state[S.RUDDER], conditions, white_noise, 0.0, p, slope[0])
+    for j in range(S.STATE_SIZE):
+        stage[j] = state[j] + dt * slope[0, j]
+    stage[S.HEADING] = heading[first + 1]
+    stage[S.RATE_OF_TURN] = rate[first + 1]
+    derivatives(stage, state[S.RUDDER], conditions, white_noise, 0.0, p, slope[1])
+    for j in (S.TIME, S.NORTH, S.EAST, S.SPEED_LOSS):
+        state[j] += 0.5 * dt * (slope[0, j] + slope[1, j])
+    state[S.HEADING] = heading[first + 1]
+    state[S.RATE_OF_TURN] = rate[first + 1]
+    return math.isfinite(state[S.NORTH]) and math.isfinite(state[S.EAST]) and state[S.SPEED_LOSS] <= 1.0
+
+
+@kernel
+def _record(out, task, sample, state):
+    out[task, sample, NORTH] = state[S.NORTH]
+    out[task, sample, EAST] = state[S.EAST]
+    out[task, sample, HEADING] = state[S.HEADING]
+    out[task, sample, RATE] = state[S.RATE_OF_TURN]
+
+
+@parallel_kernel
+def _replay(
+    records,
+    task_record,
+    task_run,
+    task_track,
+    task_initial,
+    task_current,
+    offsets,
+    time,
+    rudder,
+    conditions,
+    heading,
+    rate,
+    out,
+    valid,
+):
+    """Replay every task (one run with one record) into ``out[task, sample, column]``.
+
+    A task whose state leaves the model's validity is flagged in ``valid`` and its outputs are
+    held at the last valid state, so that a fitter sees a large but finite error.
+    """
+    waves = np.zeros((3, 0))
+    for task in prange(task_record.shape[0]):
+        work = new_workspace()
+        slope = np.zeros((2, S.STATE_SIZE))
+        stage = np.zeros(S.STATE_SIZE)
+        white_noise = np.zeros(S.NOISE_SIZE)
+        row = np.zeros(S.CONDITION_SIZE)
+        params = records[task_record[task] : task_record[task] + 1]
+        first = offsets[task_run[task]]
+        count = offsets[task_run[task] + 1] - first
+        state = task_initial[task].copy()
+        current_speed = math.hypot(task_current[task, 0], task_current[task, 1])
+        current_direction = math.atan2(task_current[task, 1], task_current[task, 0])
+        valid[task] = True
+        _record(out, task, 0, state)
+        for k in range(count - 1):
+            i = first + k
+            row[:] = conditions[i]
+            row[S.CURRENT_SPEED] = current_speed
+            row[S.CURRENT_DIRECTION] = current_direction
+            if valid[task]:
+                if task_track[task]:
+                    valid[task] = _track_step(state, i, row, time, heading, rate, params, slope, stage, white_noise)
+                else:
+                    valid[task] = step_ship(
+                        state, rudder[i], row, np.uint64(0), 0, waves, params, time[i + 1] - time[i], RK4, work
+                    )
+            if valid[task]:
+                _record(out, task, k + 1, state)
+            else:
+                for j in range(OUTPUT_SIZE):
+                    out[task, k + 1, j] = out[task, k, j]
+
+
+@dataclass(frozen=True)
+class Tasks:
+    """A batch of replays: task ``i`` replays run ``run[i]`` with record ``record[i]``.
+
+    Attributes:
+        record: index into the records array.
+        run: index of the run in the packed runs.
+        track: True for a track replay (measured heading imposed), False for a free one.
+        initial_offset: (tasks, STATE_SIZE) added to the run's estimated initial state.
+        current: (tasks, 2) the current's north and east velocity, m/s.
+    """
+
+    record: np.ndarray
+    run: np.ndarray
+    track: np.ndarray
+    initial_offset: np.ndarray
+    current: np.ndarray
+
+    @classmethod
+    def build(
+        cls,
+        record: Sequence[int],
+        run: Sequence[int],
+        track: Sequence[bool],
+        initial_offset: np.ndarray | None = None,
+        current: np.ndarray | None = None,
+    ) -> Tasks:
+        count = len(record)
+        return cls(
+            record=np.asarray(record, dtype=np.int64),
+            run=np.asarray(run, dtype=np.int64),
+            track=np.asarray(track, dtype=np.bool_),
+            initial_offset=np.zeros((count, S.STATE_SIZE)) if initial_offset is None else initial_offset,
+            current=np.zeros((count, 2)) if current is None else current,
+        )
+
+
+def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndarray, np.ndarray]:
+    """Run a batch of replays.
+
+    Args:
+        runs: the packed runs.
+        records: parameter records (``ShipModel.record`` rows, dtype ``RECORD_DTYPE``).
+        tasks: what to replay.
+
+    Returns:
+        ``(outputs, valid)``: outputs of shape (tasks, longest run, 4) with columns north, east,
+        heading, rate of turn (samples beyond a task's run are zero), and whether each task stayed
+        inside the model's validity.
+    """
+    count = len(tasks.record)
+    outputs = np.zeros((count, runs.longest, OUTPUT_SIZE))
+    valid = np.ones(count, dtype=np.bool_)
+    initial = runs.initial_states[tasks.run] + tasks.initial_offset
+    _replay(
+        records,
+        tasks.record,
+        tasks.run,
+        tasks.track,
+        initial,
+        tasks.current,
+        runs.offsets,
+        runs.time,
+        runs.rudder,
+        runs.conditions,
+        runs.heading,
+        runs.rate_of_turn,
+        outputs,
+        valid,
+    )
+    return outputs, valid
+
+
+@dataclass(frozen=True)
+class Simulated:
+    """One run replayed: the free simulation and the track with the measured heading."""
+
+    time: np.ndarray
+    heading: np.ndarray
+    rate_of_turn: np.ndarray
+    north: np.ndarray
+    east: np.ndarray
+    track_north: np.ndarray
+    track_east: np.ndarray
+    valid: bool
+
+
+def free_and_track_tasks(count: int, record: int = 0, current: tuple[float, float] = (0.0, 0.0)) -> Tasks:
+    """Every run replayed freely (tasks 0..count-1), then along its measured heading (count..2 count-1)."""
+    return Tasks.build(
+        record=[record] * 2 * count,
+        run=list(range(count)) * 2,
+        track=[False] * count + [True] * count,
+        current=np.tile(current, (2 * count, 1)),
+    )
+
+
+def unpack(logs: Sequence[Log], outputs: np.ndarray, valid: np.ndarray) -> list[Simulated]:
+    """The replays of :func:`free_and_track_tasks`, one :class:`Simulated` per run."""
+    count = len(logs)
+    results = []
+    for i, log in enumerate(logs):
+        free, track = outputs[i, : log.samples], outputs[count + i, : log.samples]
+        results.append(
+            Simulated(
+                time=log.time,
+                heading=free[:, HEADING],
+                rate_of_turn=free[:, RATE],
+                north=free[:, NORTH],
+                east=free[:, EAST],
+                track_north=track[:, NORTH],
+                track_east=track[:, EAST],
+                valid=bool(valid[i] and valid[count + i]),
+            )
+        )
+    return results
+
+
+def simulate(setup: ReplayModel, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> list[Simulated]:
+    """Replay each log with one model from its measured initial state: free and track replays."""
+    runs = pack_runs(logs, setup.model, window)
+    outputs, valid = replay(runs, setup.model.record, free_and_track_tasks(len(logs), current=setup.current))
+    return unpack(logs, outputs, valid)

@@ -1,0 +1,130 @@
+"""The workbench's Markdown report: the runs, the error ladder, the diagnoses and the figures.
+
+``write_report`` writes ``report.md`` and its PNG figures into one folder: the ladder as a table
+and a plot, the fitted terms of the final model, each rung's diagnosis (why the next effect was
+chosen), and per run the held-out comparison of the starting and the final model.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure as Drawing
+from matplotlib.ticker import FormatStrFormatter
+
+from ship_env.workbench.compare import held_out_comparison, plot_comparison
+from ship_env.workbench.diagnose import Diagnosis
+from ship_env.workbench.improve import Ladder
+from ship_env.workbench.logs import Log
+from ship_env.workbench.tables import (
+    diagnosis_table,
+    estimate_table,
+    ladder_table,
+    log_table,
+)
+
+
+def plot_ladder(ladder: Ladder, path: Path) -> Path:
+    """The held-out errors after each added effect: heading and track, and the score."""
+    labels = [rung.label for rung in ladder.rungs]
+    held_out = [rung.validation.pooled for rung in ladder.rungs]
+    steps = np.arange(len(labels))
+    drawing = Drawing(figsize=(max(6.0, 1.6 * len(labels) + 2.0), 6.5))
+    FigureCanvasAgg(drawing)
+    errors_axes, score_axes = drawing.subplots(2, 1, sharex=True)
+    errors_axes.plot(steps, [math.degrees(e.heading) for e in held_out], "o-", color="tab:red", label="heading")
+    errors_axes.set_ylabel("held-out RMS heading [deg]", color="tab:red")
+    errors_axes.set_ylim(bottom=0.0)
+    track = [e.track for e in held_out]
+    if all(math.isfinite(value) for value in track):
+        track_axes = errors_axes.twinx()
+        track_axes.plot(steps, track, "s--", color="tab:blue", label="track")
+        track_axes.set_ylabel("held-out RMS track [m]", color="tab:blue")
+        track_axes.set_ylim(bottom=0.0)
+    score_axes.semilogy(steps, [e.score(ladder.scales) for e in held_out], "o-", color="black")
+    score_axes.yaxis.set_major_formatter(FormatStrFormatter("%g"))
+    score_axes.yaxis.set_minor_formatter(FormatStrFormatter("%g"))
+    score_axes.set_ylabel("held-out score (log scale)")
+    score_axes.set_xticks(steps, labels, rotation=20, ha="right")
+    score_axes.grid(True, which="both", alpha=0.3)
+    errors_axes.set_title("Error ladder: held-out error (leave one run out) after each added effect")
+    drawing.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    drawing.savefig(path, dpi=90)
+    return path
+
+
+def _figure_links(paths: Sequence[Path], folder: Path) -> list[str]:
+    return [f"![{path.stem}]({path.relative_to(folder).as_posix()})" for path in paths]
+
+
+def write_report(ladder: Ladder, logs: Sequence[Log], folder: Path, title: str = "Measurement workbench") -> Path:
+    """Write ``report.md`` with its figures into ``folder``; returns the report's path."""
+    folder.mkdir(parents=True, exist_ok=True)
+    scales = ladder.scales
+    first, last = ladder.rungs[0], ladder.rungs[-1]
+    ladder_plot = plot_ladder(ladder, folder / "error_ladder.png")
+    lines = [
+        f"# {title}",
+        "",
+        (
+            f"Ship preset `{last.validation.fit.setup.model.ship.name}`; {len(logs)} runs. Errors are RMS over "
+            "each run's samples, *held out*: each run is replayed from its measured initial state by the model "
+            "fitted to the other runs. *Track* is the track replayed with the measured heading (the error of the "
+            "track effects alone), *position* the freely simulated track; both are distances between measured "
+            "and simulated positions. The score is sqrt(mean((RMS / scale)^2)) over heading, rate of turn and "
+            f"track with scales {math.degrees(scales.heading):g} deg, {math.degrees(scales.rate_of_turn):g} deg/s, "
+            f"{scales.position:g} m."
+        ),
+        "",
+        "## Runs",
+        "",
+        log_table(logs).markdown(),
+        "",
+        "## Error ladder",
+        "",
+        ladder_table(ladder).markdown(),
+        "",
+        f"Stopped: {ladder.stopped}.",
+        "",
+        *_figure_links([ladder_plot], folder),
+        "",
+        "## Final model",
+        "",
+        f"Effects: {', '.join(last.effects)}. Fitted to all runs:",
+        "",
+        estimate_table(last.validation).markdown(),
+        "",
+        (
+            "Standard errors from the Jacobian, scaled by the residual variance (optimistic: output-error "
+            "residuals are correlated in time), and from the spread of the leave-one-run-out fits (jackknife)."
+        ),
+        "",
+        "## Diagnoses",
+        "",
+    ]
+    for rung in ladder.rungs:
+        if rung.diagnosis is None:
+            continue
+        name = "start" if not rung.added else f"after adding {' + '.join(rung.added)}"
+        lines += [f"### {name}", "", diagnosis_table(rung.diagnosis).markdown(), ""]
+        if rung.pairs:
+            together = Diagnosis(rung.diagnosis.baseline, rung.pairs, ladder.scales)
+            lines += [
+                "Added two at a time (no single effect paid enough):",
+                "",
+                diagnosis_table(together).markdown(),
+                "",
+            ]
+    lines += ["## Runs, held out: measured against simulated", ""]
+    for label, rung in (("start", first), ("final", last)) if len(ladder.rungs) > 1 else (("final", last),):
+        comparison = held_out_comparison(rung.validation, logs)
+        paths = plot_comparison(comparison, folder / label, f"{label} model, held out: {', '.join(rung.effects)}")
+        lines += [f"### {label} model", "", *_figure_links(paths, folder), ""]
+    path = folder / "report.md"
+    path.write_text("\n".join(lines))
+    return path

@@ -1,0 +1,308 @@
+"""Synthetic logs: the simulator sails zig-zags and turns with a known model, sensors add noise.
+
+Used to check the workbench on data whose truth is known -- a log made with an effect the fitted
+model lacks must lead the diagnosis to that effect. A run is sailed with
+:class:`~ship_env.model.Simulator` (not the workbench's replay, so the two code paths check each
+other): an approach on a straight course, then a zig-zag (rudder reversed each time the heading
+passes +-the zig-zag angle, the standard test) or a turn at constant rudder. The speed through the
+water follows a measured-like acceleration from ``start_speed`` towards ``final_speed``; the true
+wind varies as a Gauss-Markov process around its mean (a gusty pond or sea). The log records what
+sensors would: heading, rate of turn, position, rudder (actual or ordered), speed, propeller rate
+and true wind, each with white noise (:class:`SensorNoise`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ship_env.model import REQUIRED_EFFECTS, Conditions, ShipModel, Simulator
+from ship_env.workbench.errors import ErrorScales, pooled, run_errors
+from ship_env.workbench.logs import Log
+from ship_env.workbench.replay import ReplayModel, simulate
+
+
+@dataclass(frozen=True)
+class SensorNoise:
+    """Standard deviations of the white sensor noise, SI units (defaults: a model basin's sensors)."""
+
+    heading: float = math.radians(0.2)
+    rate_of_turn: float = math.radians(0.05)
+    position: float = 0.02
+    rudder: float = math.radians(0.1)
+    speed: float = 0.005
+    wind_speed: float = 0.1
+    wind_direction: float = math.radians(2.0)
+
+
+@dataclass(frozen=True)
+class Manoeuvre:
+    """One run to sail.
+
+    Attributes:
+        name: the log's name.
+        kind: ``"zigzag"`` or ``"turn"``.
+        rudder: rudder angle, rad; negative starts to port.
+        duration: s, including the approach.
+        approach: s on a straight course before the first rudder order.
+        zigzag_angle: heading change that reverses the rudder, rad (zig-zags).
+        start_speed, final_speed: speed through the water at the start and approached, m/s.
+        acceleration_time: time constant of that approach, s.
+        propeller_rate: n, rps.
+        wind_speed, wind_direction: mean true wind, m/s, and where it comes from, rad.
+    """
+
+    name: str
+    kind: str
+    rudder: float
+    duration: float
+    approach: float = 10.0
+    zigzag_angle: float = math.radians(20.0)
+    start_speed: float = 0.3
+    final_speed: float = 0.3
+    acceleration_time: float = 30.0
+    propeller_rate: float = 12.0
+    wind_speed: float = 1.8
+    wind_direction: float = math.radians(280.0)
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("zigzag", "turn"):
+            raise ValueError(f"manoeuvre {self.name!r}: kind must be 'zigzag' or 'turn', got {self.kind!r}")
+
+
+#: Gusts of the generated wind: relative standard deviation of the speed, of the direction (rad),
+#: and their correlation time (s).
+WIND_SPEED_VARIATION = 0.3
+WIND_DIRECTION_VARIATION = math.radians(15.0)
+WIND_CORRELATION_TIME = 5.0
+
+
+@dataclass(frozen=True)
+class LogSettings:
+    """What the synthetic logs record.
+
+    Attributes:
+        dt: sample interval and simulation step, s.
+        noise: the sensors' noise.
+        rudder_kind: record the ``"actual"`` rudder or the ``"ordered"`` one.
+        measure_speed: record the speed; if False the log gives the final speed as service speed
+            (and the run sails at it throughout).
+    """
+
+    dt: float = 0.2
+    noise: SensorNoise = field(default_factory=SensorNoise)
+    rudder_kind: str = "actual"
+    measure_speed: bool = True
+
+
+def _gauss_markov(count: int, dt: float, deviation: float, rng: np.random.Generator) -> np.ndarray:
+    """A zero-mean first-order Gauss-Markov sequence with the given stationary deviation."""
+    decay = math.exp(-dt / WIND_CORRELATION_TIME)
+    drive = deviation * math.sqrt(1.0 - decay**2)
+    values = np.empty(count)
+    values[0] = deviation * rng.standard_normal()
+    for k in range(1, count):
+        values[k] = decay * values[k - 1] + drive * rng.standard_normal()
+    return values
+
+
+def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSettings = LogSettings()) -> Log:
+    """Sail one manoeuvre with the true model and return what the sensors logged."""
+    rng = np.random.default_rng(seed)
+    dt = settings.dt
+    count = round(manoeuvre.duration / dt) + 1
+    time = np.arange(count) * dt
+    steady = not settings.measure_speed
+    speed = (
+        np.full(count, manoeuvre.final_speed)
+        if steady
+        else manoeuvre.final_speed
+        + (manoeuvre.start_speed - manoeuvre.final_speed) * np.exp(-time / manoeuvre.acceleration_time)
+    )
+    wind_speed = np.maximum(manoeuvre.wind_speed * (1.0 + _gauss_markov(count, dt, WIND_SPEED_VARIATION, rng)), 0.0)
+    wind_direction = manoeuvre.wind_direction + _gauss_markov(count, dt, WIND_DIRECTION_VARIATION, rng)
+    north, east = truth.current
+    simulator = Simulator(truth.model, dt=dt)
+    heading0 = rng.uniform(-math.pi, math.pi)
+    simulator.reset(
+        seed=seed,
+        conditions=Conditions(
+            service_speed=speed[0],
+            propeller_rate=manoeuvre.propeller_rate,
+            current_speed=math.hypot(north, east),
+            current_direction=math.atan2(east, north),
+        ),
+        heading=heading0,
+    )
+    true = {name: np.empty(count) for name in ("heading", "rate_of_turn", "north", "east", "rudder", "speed")}
+    orders = np.zeros(count)
+    order = 0.0
+    for k in range(count):
+        if time[k] >= manoeuvre.approach:
+            if order == 0.0:
+                order = manoeuvre.rudder
+            elif manoeuvre.kind == "zigzag":
+                change = simulator.heading[0] - heading0
+                if (
+                    order > 0.0
+                    and change >= manoeuvre.zigzag_angle
+                    or order < 0.0
+                    and change <= -manoeuvre.zigzag_angle
+                ):
+                    order = -order
+        orders[k] = order
+        simulator.set_conditions("service_speed", speed[k])
+        simulator.set_conditions("wind_speed", wind_speed[k])
+        simulator.set_conditions("wind_direction", wind_direction[k])
+        true["heading"][k] = simulator.heading[0]
+        true["rate_of_turn"][k] = simulator.rate_of_turn[0]
+        true["north"][k], true["east"][k] = simulator.position[0]
+        true["rudder"][k] = simulator.rudder[0]
+        true["speed"][k] = simulator.speed[0]
+        if k + 1 < count:
+            simulator.step(order)
+    noise = settings.noise
+
+    def sensed(values: np.ndarray, deviation: float) -> np.ndarray:
+        return values + deviation * rng.standard_normal(count)
+
+    # Without a steering machine the rudder takes each order at once: over a sample interval the
+    # actual rudder is that interval's order (the state sampled at its start still shows the last one).
+    actual = true["rudder"] if truth.model.has("steering_machine") else orders
+    rudder = actual if settings.rudder_kind == "actual" else orders
+    return Log(
+        name=manoeuvre.name,
+        time=time,
+        heading=sensed(true["heading"], noise.heading),
+        rudder=sensed(rudder, noise.rudder),
+        rudder_kind=settings.rudder_kind,
+        rate_of_turn=sensed(true["rate_of_turn"], noise.rate_of_turn),
+        north=sensed(true["north"], noise.position),
+        east=sensed(true["east"], noise.position),
+        speed=None if steady else np.maximum(sensed(true["speed"], noise.speed), 0.0),
+        propeller_rate=np.full(count, manoeuvre.propeller_rate),
+        wind_speed=np.maximum(sensed(wind_speed, noise.wind_speed), 0.0),
+        wind_direction=sensed(wind_direction, noise.wind_direction),
+        service_speed=manoeuvre.final_speed if steady else None,
+        source="synthetic",
+        notes=(f"sailed by {truth.model!r} with current {truth.current} m/s, seed {seed}",),
+    )
+
+
+def sail_all(
+    truth: ReplayModel, manoeuvres: Sequence[Manoeuvre], seed: int = 0, settings: LogSettings = LogSettings()
+) -> list[Log]:
+    """Sail several manoeuvres; run ``i`` uses seed ``seed + i``."""
+    return [sail(truth, manoeuvre, seed + i, settings) for i, manoeuvre in enumerate(manoeuvres)]
+
+
+def model_test_programme(duration: float = 90.0) -> list[Manoeuvre]:
+    """Six runs like a free-running model test at 3 m scale: three zig-zags and three turns.
+
+    Two of the zig-zags and one turn accelerate from low speed (so propeller rate and speed vary
+    independently, as in the Esso Osaka runs); rudders, sides, propeller rates and wind directions
+    differ between runs so that no effect hides behind another, and every kind of run (steady or
+    accelerating, zig-zag or turn) appears twice, so a fit that leaves one run out still sees its like.
+    """
+    deg = math.radians
+    return [
+        Manoeuvre(
+            "zigzag_20_n12", "zigzag", deg(20), duration, start_speed=0.08, final_speed=0.35, propeller_rate=12.0
+        ),
+        Manoeuvre(
+            "zigzag_m20_n16",
+            "zigzag",
+            -deg(20),
+            duration,
+            start_speed=0.15,
+            final_speed=0.45,
+            propeller_rate=16.0,
+            wind_direction=deg(250),
+        ),
+        Manoeuvre(
+            "zigzag_10_n10",
+            "zigzag",
+            deg(10),
+            duration,
+            zigzag_angle=deg(10),
+            start_speed=0.3,
+            final_speed=0.3,
+            propeller_rate=10.0,
+            wind_direction=deg(320),
+        ),
+        Manoeuvre(
+            "turn_35_n10",
+            "turn",
+            deg(35),
+            duration,
+            start_speed=0.3,
+            final_speed=0.3,
+            propeller_rate=10.0,
+            wind_direction=deg(300),
+        ),
+        Manoeuvre(
+            "turn_m35_n14",
+            "turn",
+            -deg(35),
+            duration,
+            start_speed=0.4,
+            final_speed=0.4,
+            propeller_rate=14.0,
+            wind_direction=deg(260),
+            wind_speed=2.2,
+        ),
+        Manoeuvre(
+            "turn_m25_n8",
+            "turn",
+            -deg(25),
+            duration,
+            start_speed=0.12,
+            final_speed=0.28,
+            propeller_rate=8.0,
+            wind_direction=deg(200),
+            wind_speed=1.4,
+        ),
+    ]
+
+
+#: Values the hidden-effect checks sail with where the preset's placeholder does not suit a truth
+#: (the esso_osaka_model preset's speed-loss gain of 0.8 stops the ship in a 35 deg turn), and
+#: the steady current (m/s north, east) for the current effect.
+HIDDEN_VALUES: dict[str, float] = {"speed_loss.gain": 0.3}
+HIDDEN_CURRENT = (0.03, -0.04)
+
+
+def noise_scales(noise: SensorNoise) -> ErrorScales:
+    """Error scales equal to the sensors' noise: a score near 1 means errors near the noise."""
+    return ErrorScales(heading=noise.heading, rate_of_turn=noise.rate_of_turn, position=math.sqrt(2.0) * noise.position)
+
+
+def hidden_effect_logs(
+    hidden: Sequence[str],
+    ship: str = "esso_osaka_model",
+    seed: int = 1,
+    manoeuvres: Sequence[Manoeuvre] | None = None,
+    noise: SensorNoise = SensorNoise(),
+) -> tuple[ReplayModel, list[Log]]:
+    """Logs sailed by the speed-scheduled Nomoto ship plus the ``hidden`` effects: (truth, logs).
+
+    The logs record what the hidden effects need to show and no more: the ordered rudder when the
+    steering machine is hidden (its actual rudder would reveal it), no speed when the speed loss is
+    hidden (a measured speed would hold it).
+    """
+    model = ShipModel(ship, [*REQUIRED_EFFECTS, *hidden], HIDDEN_VALUES)
+    truth = ReplayModel(model, *(HIDDEN_CURRENT if "current" in hidden else (0.0, 0.0)))
+    settings = LogSettings(
+        noise=noise,
+        rudder_kind="ordered" if "steering_machine" in hidden else "actual",
+        measure_speed="speed_loss" not in hidden,
+    )
+    return truth, sail_all(truth, model_test_programme() if manoeuvres is None else manoeuvres, seed, settings)
+
+
+def noise_floor(truth: ReplayModel, logs: Sequence[Log], scales: ErrorScales) -> float:
+    """The pooled score of the true model replayed on its own noisy logs: the best a fit can hope for."""
+    return pooled([run_errors(log, replayed) for log, replayed in zip(logs, simulate(truth, logs))]).score(scales)

@@ -1,0 +1,190 @@
+"""The workbench's tables, written as aligned text for the terminal or as Markdown for reports.
+
+Every table is built once as a header and rows of strings (:class:`Table`), then rendered.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ship_env.workbench.diagnose import Diagnosis
+from ship_env.workbench.errors import ErrorScales, RunErrors
+from ship_env.workbench.improve import Ladder
+from ship_env.workbench.logs import Log
+from ship_env.workbench.validation import CrossValidation
+
+
+@dataclass(frozen=True)
+class Table:
+    """A header and rows of cells; the first column is left-aligned, the others right-aligned."""
+
+    header: tuple[str, ...]
+    rows: tuple[tuple[str, ...], ...]
+
+    def text(self) -> str:
+        widths = [max(len(row[i]) for row in (self.header, *self.rows)) for i in range(len(self.header))]
+
+        def line(cells: Sequence[str]) -> str:
+            first, *rest = cells
+            return "  ".join([first.ljust(widths[0]), *(cell.rjust(w) for cell, w in zip(rest, widths[1:]))]).rstrip()
+
+        rule = "  ".join("-" * width for width in widths).rstrip()
+        return "\n".join([line(self.header), rule, *(line(row) for row in self.rows)])
+
+    def markdown(self) -> str:
+        """A Markdown table: columns of numbers right-aligned, columns of words left-aligned."""
+
+        def line(cells: Sequence[str]) -> str:
+            return "| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |"
+
+        def numeric(column: int) -> bool:
+            cells = [row[column].rstrip("%") for row in self.rows if row[column] not in ("", "-")]
+            return bool(cells) and all(_is_number(cell) for cell in cells)
+
+        rule = "|" + "|".join("---:" if numeric(i) else "---" for i in range(len(self.header))) + "|"
+        return "\n".join([line(self.header), rule, *(line(row) for row in self.rows)])
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def number(value: float, digits: int = 2) -> str:
+    """A number with fixed decimals, or '-' where it is not measured (NaN)."""
+    return "-" if not math.isfinite(value) else f"{value:.{digits}f}"
+
+
+def significant(value: float, digits: int = 4) -> str:
+    return "-" if not math.isfinite(value) else f"{value:.{digits}g}"
+
+
+ERROR_HEADER = ("heading [deg]", "rate [deg/s]", "position [m]", "track [m]", "score")
+
+
+def error_cells(errors: RunErrors, scales: ErrorScales) -> tuple[str, ...]:
+    """RMS heading, rate of turn, free position and track, and the score."""
+    shown = errors.in_display_units()
+    return (
+        number(shown["heading"]),
+        number(shown["rate_of_turn"], 3),
+        number(shown["position"]),
+        number(shown["track"]),
+        number(errors.score(scales)),
+    )
+
+
+def error_table(errors: Sequence[RunErrors], scales: ErrorScales, total: RunErrors | None = None) -> Table:
+    """Per-run RMS errors, and a pooled row if given."""
+    rows = [(e.name, *error_cells(e, scales)) for e in errors]
+    if total is not None:
+        rows.append((total.name, *error_cells(total, scales)))
+    return Table(("run", *ERROR_HEADER), tuple(rows))
+
+
+def estimate_table(validation: CrossValidation) -> Table:
+    """The all-run fit's terms with their standard errors (Jacobian; jackknife over the folds)."""
+    jackknife = validation.jackknife_errors()
+    rows = tuple(
+        (
+            e.term.key,
+            significant(e.value),
+            significant(e.std_error, 2),
+            significant(jackknife[e.term.key], 2),
+            e.term.unit,
+            "at bound" if e.at_bound else "",
+        )
+        for e in validation.fit.estimates
+    )
+    return Table(("term", "value", "std. error (Jacobian)", "std. error (jackknife)", "unit", ""), rows)
+
+
+def diagnosis_table(diagnosis: Diagnosis) -> Table:
+    """The missing effects, best first: evidence, held-out score and its change, and the effect in words."""
+    scales = diagnosis.scales
+    current = diagnosis.baseline.pooled
+    baseline = current.score(scales)
+    effects = diagnosis.baseline.fit.setup.model.effects
+    rows = [
+        (
+            "",
+            "(current model)",
+            "",
+            "",
+            number(math.degrees(current.heading)),
+            number(current.track),
+            number(baseline),
+            "",
+            f"effects: {', '.join(effects)}",
+        )
+    ]
+    for rank, candidate in enumerate(diagnosis.ranked, start=1):
+        found = candidate.evidence
+        held_out = candidate.held_out
+        score = held_out.score(scales) if held_out else math.nan
+        rows.append(
+            (
+                str(rank) if held_out or found else "",
+                candidate.effect,
+                number(found.correlation, 3) if found else "-",
+                number(100.0 * found.variance_explained, 1) if found else "-",
+                number(math.degrees(held_out.heading)) if held_out else "-",
+                number(held_out.track) if held_out else "-",
+                number(score),
+                f"{100.0 * (score / baseline - 1.0):+.0f}%" if held_out else "-",
+                candidate.skipped or candidate.title,
+            )
+        )
+    return Table(
+        (
+            "rank",
+            "effect",
+            "corr",
+            "var. expl. [%]",
+            "held-out heading [deg]",
+            "held-out track [m]",
+            "score",
+            "change",
+            "physical effect",
+        ),
+        tuple(rows),
+    )
+
+
+def ladder_table(ladder: Ladder) -> Table:
+    """The error ladder: each model's held-out errors and the score's change from the rung before."""
+    rows = []
+    previous = None
+    for rung in ladder.rungs:
+        held_out = rung.validation.pooled
+        score = held_out.score(ladder.scales)
+        rows.append(
+            (
+                rung.label,
+                *error_cells(held_out, ladder.scales),
+                "" if previous is None else f"{100.0 * (score / previous - 1.0):+.0f}%",
+                rung.title,
+            )
+        )
+        previous = score
+    return Table(("model", *(f"held-out {h}" for h in ERROR_HEADER), "change", "effects / effect added"), tuple(rows))
+
+
+def log_table(logs: Sequence[Log]) -> Table:
+    """The runs: length, duration, channels and what the loader noted."""
+    rows = tuple(
+        (
+            log.name,
+            str(log.samples),
+            number(log.duration, 1),
+            f"{log.rudder_kind} rudder; " + ", ".join(c for c in log.channels() if c not in ("time", "rudder")),
+            "; ".join(log.notes),
+        )
+        for log in logs
+    )
+    return Table(("run", "samples", "duration [s]", "channels", "notes"), rows)

@@ -1,0 +1,232 @@
+"""What a fit may estimate: model parameters and the steady current, with their ranges and scales.
+
+A *term* is one estimated number: a model parameter keyed ``effect.parameter`` (``yaw.gain``), as
+:class:`~ship_env.model.ShipModel` keys them, or a component of a steady current over all runs,
+``current.north`` / ``current.east`` in m/s (the current effect's speed and direction are
+conditions of a run, not parameters of the ship). Each term has a range, a scale (its typical size:
+the fitter works in units of it) and, where one exists, the null value at which its effect
+vanishes (an offset of 0, a slipstream coefficient of 0).
+
+Each effect names the terms fitted when it is added (``DEFAULT_TERMS``); the parameters left out
+keep the preset's value (e.g. the propeller diameter, the hull's cross-flow drag). Effects that
+output-error fitting cannot estimate (random disturbances) and effects a log cannot show (a speed
+loss where the speed is measured) are excluded with the reason (:func:`why_not_fitted`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ship_env.model import EFFECTS, PRINCIPAL, ShipModel
+from ship_env.workbench.logs import Log
+from ship_env.workbench.replay import ReplayModel
+
+CURRENT_TERMS = ("current.north", "current.east")
+
+#: The terms fitted when an effect is in the model.
+DEFAULT_TERMS: dict[str, tuple[str, ...]] = {
+    "yaw": ("yaw.gain", "yaw.time_constant"),
+    "norrbin": ("norrbin.cubic", "norrbin.odd_quadratic"),
+    "asymmetry": ("asymmetry.side_force", "asymmetry.quadratic"),
+    "speed_loss": ("speed_loss.gain", "speed_loss.time_constant"),
+    "sway": ("sway.linear",),
+    "steering_machine": ("steering_machine.rudder_rate",),
+    "rudder_offset": ("rudder_offset.angle",),
+    "propeller_slipstream": ("propeller_slipstream.coefficient",),
+    "current": CURRENT_TERMS,
+    "wind_moment": ("wind_moment.yaw_coefficient", "wind_moment.beam_coefficient"),
+    "wind_drift": ("wind_drift.force_ratio",),
+}
+
+#: Effects output-error fitting leaves alone, and why.
+NOT_FITTED: dict[str, str] = {
+    "kinematics": "required; has no parameters",
+    "gusts": "a random disturbance: output error cannot fit it (the filters in baselines/ estimate it)",
+    "wave_filter": "a random disturbance: output error cannot fit it (the filters in baselines/ estimate it)",
+    "wave_spectrum": "a random sea: output error cannot fit it",
+}
+
+
+@dataclass(frozen=True)
+class TermRule:
+    """Range, null value and smallest scale of a term, in SI units."""
+
+    lower: float
+    upper: float
+    null: float | None = None
+    smallest_scale: float = 1.0
+
+
+_DEG = math.pi / 180.0
+_RULES: dict[str, TermRule] = {
+    "yaw.gain": TermRule(0.01, 50.0),
+    "yaw.time_constant": TermRule(0.01, 100.0),
+    "yaw.linear": TermRule(-5.0, 5.0),
+    "asymmetry.side_force": TermRule(-1.0, 1.0, 0.0, 0.001),
+    "asymmetry.constant": TermRule(-2.0, 2.0, 0.0, 0.01),
+    "asymmetry.quadratic": TermRule(-5.0, 5.0, 0.0, 0.1),
+    "norrbin.cubic": TermRule(0.0, 100.0, 0.0, 0.5),
+    "norrbin.odd_quadratic": TermRule(-100.0, 100.0, 0.0, 0.5),
+    "speed_loss.gain": TermRule(0.0, 20.0, 0.0, 0.3),
+    "speed_loss.time_constant": TermRule(0.05, 100.0),
+    "speed_loss.cubic": TermRule(0.0, 100.0, 0.0, 1.0),
+    "sway.linear": TermRule(-3.0, 3.0, 0.0, 0.1),
+    "sway.cubic": TermRule(-3.0, 3.0, 0.0, 0.1),
+    "steering_machine.rudder_rate": TermRule(0.2 * _DEG, 500.0 * _DEG, None, 1.0 * _DEG),
+    "rudder_offset.angle": TermRule(-20.0 * _DEG, 20.0 * _DEG, 0.0, 1.0 * _DEG),
+    "propeller_slipstream.coefficient": TermRule(0.0, 10.0, 0.0, 0.05),
+    "wind_moment.yaw_coefficient": TermRule(-math.inf, math.inf, 0.0, 0.0),
+    "wind_moment.beam_coefficient": TermRule(-math.inf, math.inf, 0.0, 0.0),
+    "wind_moment.surge_coefficient": TermRule(-math.inf, math.inf, 0.0, 0.0),
+    "wind_drift.force_ratio": TermRule(0.0, math.inf, 0.0, 1e-4),
+    "wind_drift.lift_slope": TermRule(1e-3, 100.0, None, 0.1),
+    "wind_drift.crossflow_drag": TermRule(1e-3, 100.0, None, 0.1),
+    "current.north": TermRule(-math.inf, math.inf, 0.0, 0.0),
+    "current.east": TermRule(-math.inf, math.inf, 0.0, 0.0),
+}
+
+
+@dataclass(frozen=True)
+class Term:
+    """One estimated number.
+
+    Attributes:
+        key: ``effect.parameter``, a principal particular, or ``current.north`` / ``current.east``.
+        unit: its SI unit.
+        description: what it is.
+        scale: its typical size; the fitter estimates value / scale.
+        lower, upper: its range.
+        null: the value at which its effect vanishes, or None.
+    """
+
+    key: str
+    unit: str
+    description: str
+    scale: float
+    lower: float
+    upper: float
+    null: float | None
+
+    @property
+    def effect(self) -> str:
+        return self.key.partition(".")[0]
+
+    @property
+    def is_condition(self) -> bool:
+        return self.key in CURRENT_TERMS
+
+    def record_field(self) -> str:
+        """The field of the compiled parameter record that holds it."""
+        effect, _, name = self.key.partition(".")
+        return EFFECTS[effect].field_name(name) if name else effect
+
+
+def _declaration(key: str) -> tuple[str, str, float, float]:
+    """(unit, description, minimum, maximum) of a model parameter or principal particular."""
+    if key in CURRENT_TERMS:
+        return "m/s", f"steady current towards the {key.split('.')[1]}, the same in every run", -math.inf, math.inf
+    principal = {parameter.name: parameter for parameter in PRINCIPAL}
+    effect_name, _, name = key.partition(".")
+    if not name and key in principal:
+        parameter = principal[key]
+    else:
+        effect = EFFECTS.get(effect_name)
+        by_name = {parameter.name: parameter for parameter in effect.parameters} if effect else {}
+        if name not in by_name:
+            raise ValueError(
+                f"fit: unknown term {key!r}; use 'effect.parameter' (e.g. 'yaw.gain'), a principal particular, "
+                f"or {' / '.join(CURRENT_TERMS)}"
+            )
+        parameter = by_name[name]
+    return parameter.unit, parameter.description, parameter.minimum, parameter.maximum
+
+
+def value_of(setup: ReplayModel, key: str) -> float:
+    """A term's value in a replay model."""
+    if key == "current.north":
+        return setup.current_north
+    if key == "current.east":
+        return setup.current_east
+    return setup.model.parameter(key)
+
+
+def make_term(key: str, setup: ReplayModel) -> Term:
+    """The term ``key`` with its range and a scale fitted to the model's value and the ship's size."""
+    unit, description, minimum, maximum = _declaration(key)
+    rule = _RULES.get(key, TermRule(minimum, maximum))
+    natural = {
+        # A yaw acceleration from a wind of ten times the ship's speed comparable to (u/L)^2.
+        "wind_moment.yaw_coefficient": 1.0 / (100.0 * setup.model.length**2),
+        "wind_moment.beam_coefficient": 1.0 / (100.0 * setup.model.length**2),
+        "wind_moment.surge_coefficient": 1.0 / (100.0 * setup.model.length**2),
+        "current.north": 0.1 * setup.model.service_speed,
+        "current.east": 0.1 * setup.model.service_speed,
+    }.get(key, rule.smallest_scale)
+    try:
+        value = abs(value_of(setup, key))
+    except KeyError:
+        value = 0.0
+    return Term(
+        key=key,
+        unit=unit,
+        description=description,
+        scale=max(value, natural, 1e-12),
+        lower=max(rule.lower, minimum),
+        upper=min(rule.upper, maximum),
+        null=rule.null,
+    )
+
+
+def default_terms(effects: Sequence[str]) -> list[str]:
+    """The terms fitted by default for a set of effects, in the order of ``EFFECTS``."""
+    return [key for name in EFFECTS if name in effects for key in DEFAULT_TERMS.get(name, ())]
+
+
+def with_values(setup: ReplayModel, values: Mapping[str, float]) -> ReplayModel:
+    """The replay model with some terms set (checked against the parameters' declared ranges)."""
+    parameters = {key: value for key, value in values.items() if key not in CURRENT_TERMS}
+    return ReplayModel(
+        model=setup.model.with_parameters(parameters) if parameters else setup.model,
+        current_north=float(values.get("current.north", setup.current_north)),
+        current_east=float(values.get("current.east", setup.current_east)),
+    )
+
+
+def write_record(record: np.ndarray, terms: Sequence[Term], values: np.ndarray) -> None:
+    """Write the model terms' values into a copy of a parameter record (fast, unchecked)."""
+    for term, value in zip(terms, values):
+        if not term.is_condition:
+            record[0][term.record_field()] = value
+
+
+def why_not_fitted(effect: str, model: ShipModel, logs: Sequence[Log]) -> str | None:
+    """Why an effect cannot be added and fitted with these logs, or None if it can."""
+    if effect in NOT_FITTED:
+        return NOT_FITTED[effect]
+    checks = {
+        "speed_loss": (
+            all(log.speed is not None for log in logs),
+            "every log measures the speed, which holds the speed loss",
+        ),
+        "steering_machine": (all(log.rudder_kind == "actual" for log in logs), "every log records the actual rudder"),
+        "propeller_slipstream": (any(log.propeller_rate is None for log in logs), "a log has no propeller rate"),
+        "wind_moment": (any(not log.has_wind for log in logs), "a log has no wind"),
+        "wind_drift": (not all(log.has_wind and log.has_position for log in logs), "a log has no wind or no position"),
+        "sway": (not all(log.has_position for log in logs), "a log has no position: sway shows only in the track"),
+        "current": (
+            not all(log.has_position for log in logs),
+            "a log has no position: current shows only in the track",
+        ),
+    }
+    failed, reason = checks.get(effect, (False, ""))
+    if failed:
+        return reason
+    try:
+        model.with_effects(effect)
+    except ValueError as error:
+        return f"the ship preset cannot turn it on: {error}"
+    return None

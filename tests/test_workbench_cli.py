@@ -1,0 +1,162 @@
+"""The workbench's commands: fit, compare, diagnose, improve, their outputs and their errors."""
+
+from __future__ import annotations
+
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from ship_env.cli import main
+from ship_env.workbench import write_log
+from ship_env.workbench.synthetic import hidden_effect_logs, model_test_programme
+
+SHIP = "esso_osaka_model"
+
+
+@pytest.fixture(scope="module")
+def log_folder(tmp_path_factory) -> Path:
+    """Short synthetic runs in the standard CSV format, sailed with a rudder offset."""
+    folder = tmp_path_factory.mktemp("logs")
+    _, logs = hidden_effect_logs(["rudder_offset"], SHIP, manoeuvres=model_test_programme(duration=40.0)[::2])
+    for log in logs:
+        write_log(log, folder / f"{log.name}.csv")
+    return folder
+
+
+def held_out_score(out: str) -> float:
+    return float(re.search(r"^held out .* (\S+)$", out, flags=re.MULTILINE).group(1))
+
+
+def test_fit_prints_terms_and_errors_and_writes_json_and_plots(log_folder, tmp_path, capsys):
+    fit_file = tmp_path / "fit.json"
+    status = main(["fit", str(log_folder), "--ship", SHIP, "--json", str(fit_file), "--plot", str(tmp_path / "plots")])
+    assert status == 0
+    out = capsys.readouterr().out
+    for text in (
+        "effects: yaw, kinematics",
+        "yaw.gain",
+        "std. error (jackknife)",
+        "in-sample RMS errors",
+        "held-out RMS errors",
+        "heading [deg]",
+        "track [m]",
+    ):
+        assert text in out, text
+    document = json.loads(fit_file.read_text())
+    assert document["effects"] == ["yaw", "kinematics"] and set(document["values"]) == {"yaw.gain", "yaw.time_constant"}
+    assert len(list((tmp_path / "plots").glob("*.png"))) == 3
+    base = held_out_score(out)
+    assert (
+        main(
+            [
+                "fit",
+                str(log_folder),
+                "--ship",
+                SHIP,
+                "--add",
+                "rudder_offset",
+                "--free",
+                "yaw.linear",
+                "--fix",
+                "yaw.linear",
+            ]
+        )
+        == 0
+    )
+    assert held_out_score(capsys.readouterr().out) < 0.5 * base
+
+
+def test_compare_replays_a_fitted_model(log_folder, tmp_path, capsys):
+    fit_file = tmp_path / "fit.json"
+    main(["fit", str(log_folder), "--ship", SHIP, "--add", "rudder_offset", "--json", str(fit_file)])
+    capsys.readouterr()
+    assert (
+        main(["compare", str(log_folder), "--ship", SHIP, "--parameters", str(fit_file), "--plot", str(tmp_path)]) == 0
+    )
+    out = capsys.readouterr().out
+    assert "effects: yaw, rudder_offset, kinematics" in out and "pooled" in out
+    pooled = next(line for line in out.splitlines() if line.startswith("pooled")).split()
+    assert float(pooled[1]) < 1.0  # deg: the fitted offset model replays the runs closely
+
+
+def test_diagnose_names_the_missing_effect(log_folder, capsys):
+    assert main(["diagnose", str(log_folder), "--ship", SHIP, "--refit", "2"]) == 0
+    out = capsys.readouterr().out
+    table = out.split("missing effects, best first")[1]
+    first = next(line for line in table.splitlines() if line.startswith("1 "))
+    assert "rudder_offset" in first and "rudder offset (neutral rudder angle" in first
+    assert "speed_loss" in table and "every log measures the speed" in table
+
+
+def test_improve_climbs_the_ladder_and_writes_the_report_with_every_figure(log_folder, tmp_path, capsys):
+    report_folder = tmp_path / "report"
+    assert (
+        main(
+            [
+                "improve",
+                str(log_folder),
+                "--ship",
+                SHIP,
+                "--refit",
+                "2",
+                "--max-steps",
+                "1",
+                "--report",
+                str(report_folder),
+            ]
+        )
+        == 0
+    )
+    captured = capsys.readouterr()
+    assert "+ rudder_offset" in captured.out and "error ladder" in captured.out
+    assert "added rudder_offset" in captured.err
+    report = (report_folder / "report.md").read_text()
+    for heading in (
+        "## Runs",
+        "## Error ladder",
+        "## Final model",
+        "## Diagnoses",
+        "### start model",
+        "### final model",
+    ):
+        assert heading in report, heading
+    figures = re.findall(r"!\[[^\]]*\]\(([^)]+)\)", report)
+    assert len(figures) == 1 + 2 * 3  # the ladder, then each run for the start and the final model
+    for figure in figures:
+        data = (report_folder / figure).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000, figure
+
+
+def test_a_bad_log_ends_with_a_clear_error(tmp_path, capsys):
+    frame = pd.DataFrame({"time": np.arange(30.0), "heading": np.zeros(30), "rudder": np.zeros(30)})
+    frame.loc[10, "heading"] = np.nan
+    frame.to_csv(tmp_path / "gap.csv", index=False)
+    assert main(["fit", str(tmp_path / "gap.csv")]) == 1
+    err = capsys.readouterr().err
+    assert "ship-env fit: error:" in err and "column 'heading' (heading) is NaN at rows 11..11" in err
+
+
+@pytest.mark.parametrize(
+    "arguments, message",
+    [
+        (["fit", "x.csv", "--add", "wake"], "argument --add: unknown effect 'wake'"),
+        (["fit", "x.csv", "--model", "tiny"], "argument --model: unknown effect 'tiny'"),
+        (["improve", "x.csv", "--min-gain", "2"], "argument --min-gain: expected a number between 0 and 1"),
+        (["fit", "x.csv", "--every", "0"], "argument --every: expected a positive whole number"),
+    ],
+)
+def test_bad_arguments_name_the_argument(arguments, message, capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(arguments)
+    assert stop.value.code == 2
+    assert message in capsys.readouterr().err
+
+
+def test_fixing_a_term_that_is_not_fitted_names_it(log_folder, capsys):
+    with pytest.raises(SystemExit):
+        main(["fit", str(log_folder), "--fix", "rudder_offset.angle"])
+    assert "argument --fix: rudder_offset.angle not among the fitted terms" in capsys.readouterr().err

@@ -1,0 +1,121 @@
+"""Replay and output-error fitting: the replay is the simulator, the fit finds known parameters."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from ship_env.model import REQUIRED_EFFECTS, ShipModel
+from ship_env.workbench import (
+    FitError,
+    FitOptions,
+    ReplayModel,
+    cross_validate,
+    fit,
+    simulate,
+)
+from ship_env.workbench.synthetic import (
+    LogSettings,
+    Manoeuvre,
+    SensorNoise,
+    model_test_programme,
+    noise_scales,
+    sail_all,
+)
+
+SHIP = "esso_osaka_model"
+SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+EVERY_EFFECT = [
+    *REQUIRED_EFFECTS,
+    "steering_machine",
+    "rudder_offset",
+    "propeller_slipstream",
+    "sway",
+    "current",
+    "wind_moment",
+    "wind_drift",
+    "norrbin",
+]
+
+
+def short_programme() -> list[Manoeuvre]:
+    return model_test_programme(duration=40.0)[::2]
+
+
+def test_free_replay_is_the_simulator_and_the_track_replay_follows_it():
+    truth = ReplayModel(ShipModel(SHIP, EVERY_EFFECT), 0.02, -0.03)
+    logs = sail_all(truth, short_programme(), seed=3, settings=LogSettings(noise=SILENT, rudder_kind="ordered"))
+    for log, replayed in zip(logs, simulate(truth, logs, window=0.0)):
+        assert replayed.valid
+        np.testing.assert_allclose(replayed.heading, log.heading, rtol=0.0, atol=1e-9)
+        np.testing.assert_allclose(replayed.north, log.north, rtol=0.0, atol=1e-9)
+        # Heun's method on the imposed measured heading: second order in the 0.2 s step.
+        assert np.max(np.hypot(replayed.track_north - log.north, replayed.track_east - log.east)) < 2e-3
+
+
+def test_fit_finds_the_parameters_of_noise_free_logs():
+    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "rudder_offset"]))
+    logs = sail_all(truth, short_programme(), seed=1, settings=LogSettings(noise=SILENT))
+    start = truth.model.with_parameters({"yaw.gain": 1.0, "yaw.time_constant": 1.0, "rudder_offset.angle": 0.0})
+    result = fit(start, logs, options=FitOptions(initial_window=0.0))  # the first sample is the exact start
+    for estimate in result.estimates:
+        assert estimate.value == pytest.approx(truth.model.parameter(estimate.term.key), rel=1e-5)
+    assert math.degrees(result.pooled.heading) < 1e-4
+    assert result.setup.model.parameter("rudder_offset.angle") == pytest.approx(math.radians(3.0), rel=1e-5)
+
+
+def test_fit_with_sensor_noise_reports_its_uncertainty():
+    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "propeller_slipstream"]))
+    noise = SensorNoise()
+    logs = sail_all(truth, model_test_programme(duration=60.0), seed=2, settings=LogSettings(noise=noise))
+    start = truth.model.with_parameters({"yaw.gain": 1.0})
+    validation = cross_validate(start, logs, options=FitOptions(scales=noise_scales(noise)))
+    jackknife = validation.jackknife_errors()
+    for estimate in validation.fit.estimates:
+        true_value = truth.model.parameter(estimate.term.key)
+        assert estimate.value == pytest.approx(true_value, rel=0.05)
+        # The Jacobian's standard error ignores the residuals' correlation in time: it is smaller
+        # than the jackknife's, which covers the error.
+        assert 0.0 < estimate.std_error < jackknife[estimate.term.key]
+        assert abs(estimate.value - true_value) < 4.0 * jackknife[estimate.term.key]
+        assert not estimate.at_bound
+
+
+def test_cross_validation_leaves_each_run_out():
+    truth = ReplayModel(ShipModel(SHIP, REQUIRED_EFFECTS))
+    logs = sail_all(truth, short_programme(), seed=4)
+    validation = cross_validate(truth.model, logs)
+    assert [e.name for e in validation.held_out] == [log.name for log in logs]
+    assert len(validation.folds) == len(logs)
+    assert all(len(fold.errors) == len(logs) - 1 for fold in validation.folds)
+    assert validation.pooled.samples == sum(log.samples for log in logs)
+    with pytest.raises(FitError, match="at least two runs"):
+        cross_validate(truth.model, logs[:1])
+
+
+def test_nuisance_terms_are_fitted_per_run():
+    truth = ReplayModel(ShipModel(SHIP, REQUIRED_EFFECTS))
+    logs = sail_all(truth, short_programme(), seed=5)
+    plain = fit(truth.model, logs)
+    with_nuisance = fit(truth.model, logs, options=FitOptions(nuisance=("heading", "rate_of_turn")))
+    assert set(with_nuisance.nuisance) == {log.name for log in logs}
+    assert all(set(terms) == {"heading", "rate_of_turn"} for terms in with_nuisance.nuisance.values())
+    assert with_nuisance.pooled.heading <= plain.pooled.heading + 1e-9
+
+
+@pytest.mark.parametrize(
+    "terms, message",
+    [
+        (["rudder_offset.angle"], "belongs to the effect 'rudder_offset', which is not in the model"),
+        (["yaw.stiffness"], "unknown term 'yaw.stiffness'"),
+        (["yaw.gain", "yaw.gain"], "terms repeat"),
+    ],
+)
+def test_fit_set_up_errors(terms, message):
+    logs = sail_all(ReplayModel(ShipModel(SHIP, REQUIRED_EFFECTS)), short_programme()[:1])
+    with pytest.raises((FitError, ValueError), match=message):
+        fit(ShipModel(SHIP, REQUIRED_EFFECTS), logs, terms)
+    with pytest.raises(FitError, match="unknown nuisance terms"):
+        FitOptions(nuisance=("yaw",))

@@ -3,6 +3,10 @@
 An :class:`Effect` names a physical effect in the words a naval engineer uses, lists its
 parameters (name, SI unit, meaning, valid range) and cites the thesis equations it implements.
 The numbers themselves live in one place only: the ship's YAML file in ``configs/ships``.
+
+An :class:`Envelope` states the conditions a model is valid for (speed, propeller ahead or astern,
+drift angle, rate of turn): a ship preset gives the base model's, and an effect that models what the
+base model leaves out (propeller astern, low-speed cross-flow) widens it when it is on.
 """
 
 from __future__ import annotations
@@ -58,6 +62,50 @@ class Parameter:
 
 
 @dataclass(frozen=True)
+class Envelope:
+    """The conditions a model is valid for; ``None`` states no limit.
+
+    Attributes:
+        minimum_speed: the lowest speed through the water, m/s.
+        minimum_froude: the lowest Froude number u / sqrt(g L).
+        propeller_ahead_only: whether the propeller must turn ahead (n >= 0).
+        maximum_drift: the largest drift angle |atan2(-v, u)|, rad.
+        maximum_rate: the largest rate of turn |r|, rad/s.
+    """
+
+    minimum_speed: float | None = None
+    minimum_froude: float | None = None
+    propeller_ahead_only: bool | None = None
+    maximum_drift: float | None = None
+    maximum_rate: float | None = None
+
+    def widened(self, *others: Envelope) -> Envelope:
+        """This envelope with each limit relaxed to the widest another states (an effect's envelope)."""
+        values = dict(vars(self))
+        for other in others:
+            for name, limit in vars(other).items():
+                current = values[name]
+                if limit is None or current is None:  # no limit stated widens nothing; no limit is widest
+                    continue
+                if name.startswith("minimum"):
+                    values[name] = min(current, limit)
+                elif name.startswith("maximum"):
+                    values[name] = max(current, limit)
+                else:
+                    values[name] = current and limit
+        return Envelope(**values)
+
+
+#: The numeric limits of an envelope as a preset's YAML states them (``envelope:`` section).
+ENVELOPE_LIMITS: tuple[Parameter, ...] = (
+    Parameter("minimum_speed", "m/s", "lowest speed through the water the model is valid for", minimum=0.0),
+    Parameter("minimum_froude", "-", "lowest Froude number u / sqrt(g L) the model is valid for", minimum=0.0),
+    Parameter("maximum_drift", "rad", "largest drift angle the model is valid for", minimum=0.0, maximum=math.pi),
+    Parameter("maximum_rate", "rad/s", "largest rate of turn the model is valid for", minimum=0.0),
+)
+
+
+@dataclass(frozen=True)
 class Effect:
     """A physical effect of the model: its name, its words, its equations and its parameters.
 
@@ -67,6 +115,8 @@ class Effect:
         equations: the thesis equations it implements ("(2.85)-(2.88)").
         parameters: the parameters it reads from the ship's config.
         required: whether a model can do without it (the yaw equation and kinematics cannot).
+        envelope: the limits this effect widens the model's envelope to when it is on (an astern
+            propeller effect: ``propeller_ahead_only=False``); no limit stated widens nothing.
     """
 
     name: str
@@ -74,6 +124,7 @@ class Effect:
     equations: str
     parameters: tuple[Parameter, ...] = field(default_factory=tuple)
     required: bool = False
+    envelope: Envelope = field(default_factory=Envelope)
 
     def field_name(self, parameter: str) -> str:
         """The name of a parameter in the compiled parameter record (``yaw_gain``)."""

@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from ship_env.model.declarations import Parameter
+from ship_env.model.declarations import ENVELOPE_LIMITS, Envelope, Parameter
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
 from ship_env.paths import config_dir
 
@@ -68,6 +68,7 @@ class Ship:
         enabled: the effects on by default.
         sources: where each number comes from, keyed ``principal.length`` or ``yaw.gain``.
         assumed: the keys of numbers that are assumed rather than taken from a source.
+        envelope: the conditions the base model (no optional effect) is valid for.
     """
 
     name: str
@@ -78,6 +79,7 @@ class Ship:
     sources: Mapping[str, str] = field(default_factory=dict)
     assumed: frozenset[str] = frozenset()
     path: Path | None = None
+    envelope: Envelope = field(default_factory=Envelope)
 
 
 def list_ships() -> list[str]:
@@ -109,6 +111,29 @@ def _read_value(parameter: Parameter, entry: object, where: str, sources: dict, 
     return parameter.convert(entry["value"], unit, where)
 
 
+def _read_envelope(entries: object, label: str, sources: dict, assumed: set) -> Envelope:
+    """The preset's ``envelope:`` section: numeric limits and ``propeller_ahead_only``, each with its source."""
+    if not isinstance(entries, Mapping):
+        raise TypeError(f"{label}: envelope: expected a mapping, got {entries!r}")
+    by_name = {parameter.name: parameter for parameter in ENVELOPE_LIMITS}
+    limits: dict[str, float | bool] = {}
+    for key, entry in entries.items():
+        where = f"{label}:envelope.{key}"
+        if key == "propeller_ahead_only":
+            flag = entry.get("value") if isinstance(entry, Mapping) else entry
+            if not isinstance(flag, bool):
+                raise TypeError(f"{where}: expected a value true or false, got {flag!r}")
+            number = Parameter(key, "-", "whether the propeller must turn ahead", minimum=0.0, maximum=1.0)
+            _read_value(number, {**entry, "value": float(flag)}, where, sources, assumed)
+            limits[key] = flag
+        elif key in by_name:
+            limits[key] = _read_value(by_name[key], entry, where, sources, assumed)
+        else:
+            known = ", ".join([*by_name, "propeller_ahead_only"])
+            raise ValueError(f"{label}: envelope: unknown limit {key!r}; known: {known}")
+    return Envelope(**limits)
+
+
 def load_ship(name_or_path: str | Path) -> Ship:
     """Read a ship preset by name (``container_226m``) or from a YAML file path."""
     path = Path(name_or_path)
@@ -120,7 +145,7 @@ def load_ship(name_or_path: str | Path) -> Ship:
         document = yaml.safe_load(handle)
     if not isinstance(document, Mapping):
         raise TypeError(f"{path}: expected a mapping at the top level")
-    unknown = set(document) - {"name", "description", "principal", "effects"}
+    unknown = set(document) - {"name", "description", "principal", "envelope", "effects"}
     if unknown:
         raise ValueError(f"{path}: unknown top-level keys {sorted(unknown)}")
     label = f"{path.name}"
@@ -167,6 +192,7 @@ def load_ship(name_or_path: str | Path) -> Ship:
             values[effect_name][key] = _read_value(
                 by_name[key], entry, f"{label}:{effect_name}.{key}", sources, assumed
             )
+    envelope = _read_envelope(document.get("envelope") or {}, label, sources, assumed)
     return Ship(
         name=str(document.get("name", path.stem)),
         description=str(document.get("description", "")).strip(),
@@ -176,6 +202,7 @@ def load_ship(name_or_path: str | Path) -> Ship:
         sources=sources,
         assumed=frozenset(assumed),
         path=path,
+        envelope=envelope,
     )
 
 
@@ -306,6 +333,11 @@ class ShipModel:
     @property
     def rudder_limit(self) -> float:
         return float(self._principal["rudder_limit"])
+
+    @property
+    def envelope(self) -> Envelope:
+        """The conditions this model is valid for: the preset's, widened by the effects that are on."""
+        return self.ship.envelope.widened(*(EFFECTS[name].envelope for name in self.effects))
 
     def has(self, effect: str) -> bool:
         """Whether an effect is on."""

@@ -254,7 +254,7 @@ def profile(ships: int, steps: int, repeats: int, ship: str = SHIP, threads: int
     finally:
         numba.set_num_threads(previous)
     rows = []
-    for (label, off), times in zip(PROFILE_VARIANTS, seconds):
+    for (label, off), times in zip(PROFILE_VARIANTS, seconds, strict=True):
         rate = ships * steps / statistics.median(times)
         rows.append({"variant": label, "off": list(off), "rate": rate, "ns_per_ship_step": 1e9 / rate})
     full_ns = rows[0]["ns_per_ship_step"]
@@ -340,14 +340,16 @@ def format_report(results: dict, command: str) -> str:
         f"command: {command}",
         f"machine: {machine['cores']} cores, {machine['cpu']}, {machine['platform']}",
         f"         Python {machine['python']}, numpy {machine['numpy']}, numba {machine['numba']} "
-        f"({machine['numba_threads']} threads), scipy {machine['scipy']}, shipmmg {machine['shipmmg'] or 'not installed'}",
+        f"({machine['numba_threads']} threads), scipy {machine['scipy']}, "
+        f"shipmmg {machine['shipmmg'] or 'not installed'}",
         f"         1-min load average at start {machine['load_average_1min']:.2f} (other load lowers the figures)",
         f"model: {results['ship']}, dt {results['dt']} s, RK4. full = all {len(EFFECTS)} effects, with wind 12 m/s, "
         f"current 0.5 m/s, waves Hs 2 m Tp 8 s and gusts; minimal = yaw + kinematics + steering machine",
         "figures: wall-clock median of the repeats (min..max), JIT compile excluded; per CPU-s: the rate per "
         "second of the process's CPU time (all threads), less disturbed by other load",
         "",
-        f"{'case':44s} {'model':8s} {'N':>8s} {'rate (median)':>22s} {'min..max':>18s} {'per CPU-s':>10s} {'reset s':>8s}",
+        f"{'case':44s} {'model':8s} {'N':>8s} {'rate (median)':>22s} {'min..max':>18s} "
+        f"{'per CPU-s':>10s} {'reset s':>8s}",
     ]
     for name, rate in results["single"].items():
         lines.append(
@@ -364,7 +366,8 @@ def format_report(results: dict, command: str) -> str:
     mmg = results.get("shipmmg")
     if mmg:
         lines.append(
-            f"{'shipmmg KVLCC2 MMG, one solve_ivp call/step':44s} {'MMG':8s} {1:8d} {_rate(mmg['median']) + ' steps/s':>22s} "
+            f"{'shipmmg KVLCC2 MMG, one solve_ivp call/step':44s} {'MMG':8s} {1:8d} "
+            f"{_rate(mmg['median']) + ' steps/s':>22s} "
             f"{_rate(mmg['min']) + '..' + _rate(mmg['max']):>18s} {_rate(mmg['cpu']):>10s}"
         )
         ratio = results["ratio_ours_to_shipmmg"]

@@ -422,7 +422,7 @@ def predict(values: dict[str, float], starts: np.ndarray, orders: np.ndarray, dt
 
 
 def residuals(vector, keys, starts, orders, targets, weights, dt: float, slipstream: bool) -> np.ndarray:
-    values = dict(zip(keys, (float(v) for v in vector)))
+    values = dict(zip(keys, (float(v) for v in vector), strict=True))
     ours, failed_at = predict(values, starts, orders, dt, slipstream)
     failed = np.arange(orders.shape[1])[None, :] >= failed_at[:, None]
     parts = []
@@ -472,7 +472,7 @@ def fit(
                 f"least_squares on {label}: {result.nfev} evaluations, {time.perf_counter() - started:.1f} s, "
                 f"cost {result.cost:.4g}"
             )
-    return dict(zip(keys, (float(v) for v in vector))), references
+    return dict(zip(keys, (float(v) for v in vector), strict=True)), references
 
 
 def rms(a: np.ndarray, b: np.ndarray) -> float:
@@ -487,7 +487,7 @@ def overshoots(channels: dict[str, np.ndarray], manoeuvre: Manoeuvre, count: int
     # Segments of one rudder sign after the first reversal; the heading peaks within each.
     edges = np.flatnonzero(negative[1:] != negative[:-1]) + 1
     result = []
-    for start, stop in zip(edges, list(edges[1:]) + [len(heading)]):
+    for start, stop in zip(edges, list(edges[1:]) + [len(heading)], strict=True):
         segment = heading[start:stop]
         extreme = segment.max() if negative[start] else -segment.min()
         result.append(float(extreme - manoeuvre.deviation))
@@ -559,7 +559,7 @@ def main(argv: list[str] | None = None) -> int:
         f"  {'manoeuvre':14s} {'heading deg':>11s} {'r deg/s':>8s} {'u m/s':>6s} {'drift deg':>9s} "
         f"{'heading deg, 120-s predictions':>31s}"
     )
-    for (manoeuvre, _), run, pieces in zip(references, whole, short):
+    for (manoeuvre, _), run, pieces in zip(references, whole, short, strict=True):
         flag = "" if run["valid"] else "  INVALID (u* > 1)"
         print(
             f"  {manoeuvre.name:14s} {run['heading']:11.2f} {run['rate_of_turn']:8.4f} {run['speed']:6.3f} "

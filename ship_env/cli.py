@@ -480,7 +480,8 @@ def run_diagnose(args: argparse.Namespace) -> int:
     _print_validation(validation, options.scales)
     diagnosis = diagnose(validation, logs, options, args.candidates, args.refit)
     print(
-        "\nmissing effects, best first (corr, var. expl.: residual evidence; score: held out after adding and refitting)"
+        "\nmissing effects, best first "
+        "(corr, var. expl.: residual evidence; score: held out after adding and refitting)"
     )
     print(diagnosis_table(diagnosis).text())
     return 0
@@ -622,7 +623,8 @@ def _add_candidate_arguments(parser: argparse.ArgumentParser) -> None:
         type=_count,
         default=PAIR_WIDTH,
         metavar="K",
-        help=f"where no single effect pays, try pairs of the K candidates with most evidence (0: never; default: {PAIR_WIDTH})",
+        help=f"where no single effect pays, try pairs of the K candidates with most evidence "
+        f"(0: never; default: {PAIR_WIDTH})",
     )
 
 

@@ -230,7 +230,8 @@ def test_make_from_a_fresh_interpreter_with_only_the_id_and_kwargs_passing_throu
         "env = gym.make('ship_env:ship_env/CourseChange-v0', rudder_limit_deg=10.0, disturbance='random')\n"
         "observation, info = env.reset(seed=1)\n"
         "env.step(env.action_space.sample())\n"
-        "envs = gym.make_vec('ship_env:ship_env/CourseChange-v0', num_envs=2, vectorization_mode='vector_entry_point')\n"
+        "envs = gym.make_vec('ship_env:ship_env/CourseChange-v0', num_envs=2, "
+        "vectorization_mode='vector_entry_point')\n"
         "print(env.spec.max_episode_steps, round(env.unwrapped.task.rudder_limit, 6), env.unwrapped.task.disturbance,"
         " observation.shape, type(envs.unwrapped).__name__, envs.unwrapped.max_episode_steps)\n"
     )

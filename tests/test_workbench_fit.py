@@ -47,7 +47,7 @@ def short_programme() -> list[Manoeuvre]:
 def test_free_replay_is_the_simulator_and_the_track_replay_follows_it():
     truth = ReplayModel(ShipModel(SHIP, EVERY_EFFECT), 0.02, -0.03)
     logs = sail_all(truth, short_programme(), seed=3, settings=LogSettings(noise=SILENT, rudder_kind="ordered"))
-    for log, replayed in zip(logs, simulate(truth, logs, window=0.0)):
+    for log, replayed in zip(logs, simulate(truth, logs, window=0.0), strict=True):
         assert replayed.valid
         np.testing.assert_allclose(replayed.heading, log.heading, rtol=0.0, atol=1e-9)
         np.testing.assert_allclose(replayed.north, log.north, rtol=0.0, atol=1e-9)

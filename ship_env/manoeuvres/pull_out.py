@@ -107,7 +107,7 @@ def pull_out(
         duration=release_time + settings.seconds_for(model, pull_out_lengths),
     )
     steady_rates, residual_rates = [], []
-    for label, turn in zip(labels, (1.0, -1.0)):
+    for label, turn in zip(labels, (1.0, -1.0), strict=True):
         run = series[series["run"] == label]
         time, rate_of_turn = run["time"].to_numpy(), turn * run["rate_of_turn"].to_numpy()
         steady_rates.append(value_at(time, rate_of_turn, release_time))

@@ -37,7 +37,7 @@ def _figures_block(results: Sequence[ManoeuvreResult]) -> list[str]:
     """Results of one kind side by side: a row per figure, a column per run."""
     figures_per_run = [result.figures() for result in results]
     lines = [_row(results[0].manoeuvre.capitalize(), [result.label for result in results])]
-    for same_figure in zip(*figures_per_run):
+    for same_figure in zip(*figures_per_run, strict=True):
         unit = f" [{same_figure[0].unit}]" if same_figure[0].unit else ""
         lines.append(_row(f"  {same_figure[0].label}{unit}", [figure.text for figure in same_figure]))
     return lines

@@ -261,7 +261,8 @@ class ShipModel:
             by_name = {parameter.name: parameter for parameter in effect.parameters} if effect else {}
             if name not in by_name:
                 raise ValueError(
-                    f"parameters: unknown parameter {key!r}; use 'effect.parameter' (e.g. 'yaw.gain') or a principal particular"
+                    f"parameters: unknown parameter {key!r}; "
+                    "use 'effect.parameter' (e.g. 'yaw.gain') or a principal particular"
                 )
             self._values.setdefault(effect_name, {})[name] = by_name[name].convert(value, None, f"parameters[{key!r}]")
         self.overrides[key] = float(value)

@@ -344,7 +344,9 @@ class Simulator:
 
     def _raise_invalid(self, ship: int) -> None:
         state = self.state[ship]
-        bad = [f"{name} = {value!r}" for name, value in zip(S.STATE_NAMES, state) if not math.isfinite(value)]
+        bad = [
+            f"{name} = {value!r}" for name, value in zip(S.STATE_NAMES, state, strict=True) if not math.isfinite(value)
+        ]
         if not bad:
             bad = [f"speed_loss u* = {state[S.SPEED_LOSS]:.3f} > 1 (forward speed negative)"]
         raise FloatingPointError(
@@ -385,7 +387,9 @@ class Simulator:
     @property
     def sway_velocity(self) -> np.ndarray:
         """Van Leeuwen sway velocity v, m/s (without leeway)."""
-        return np.array([sway_velocity(s, c, self.model.record[0]) for s, c in zip(self.state, self.conditions)])
+        return np.array(
+            [sway_velocity(s, c, self.model.record[0]) for s, c in zip(self.state, self.conditions, strict=True)]
+        )
 
     @property
     def measured_heading(self) -> np.ndarray:

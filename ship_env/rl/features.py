@@ -29,7 +29,8 @@ class ScaledObservation(BaseFeaturesExtractor):
         size = int(observation_space.shape[0])
         if len(observation_space.shape) != 1 or len(scales) != size:
             raise ValueError(
-                f"scales: expected {size} factors for observations of shape {observation_space.shape}, got {list(scales)}"
+                f"scales: expected {size} factors for observations of shape {observation_space.shape}, "
+                f"got {list(scales)}"
             )
         super().__init__(observation_space, features_dim=size)
         self.register_buffer("scales", torch.as_tensor(scales, dtype=torch.float32))

@@ -15,7 +15,10 @@ POLICIES_DIR = Path(__file__).resolve().parents[1] / "policies"
 
 
 def shipped_folder(env_id: str, algo: str) -> Path:
-    """The folder of the shipped ``algo`` policy for ``env_id`` (``ship_env/CourseChange-v0`` -> ``CourseChange-v0``)."""
+    """The folder of the shipped ``algo`` policy for ``env_id``.
+
+    The namespace is dropped: ``ship_env/CourseChange-v0`` -> ``CourseChange-v0``.
+    """
     return POLICIES_DIR / env_id.rsplit("/", 1)[-1] / algo
 
 

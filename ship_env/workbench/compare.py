@@ -45,14 +45,22 @@ class Comparison:
 def compare(setup: ReplayModel, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> Comparison:
     """Replay every log with the model and measure the errors."""
     simulated = simulate(setup, logs, window)
-    return Comparison(setup, tuple(logs), tuple(simulated), tuple(run_errors(l, s) for l, s in zip(logs, simulated)))
+    return Comparison(
+        setup,
+        tuple(logs),
+        tuple(simulated),
+        tuple(run_errors(log, sim) for log, sim in zip(logs, simulated, strict=True)),
+    )
 
 
 def held_out_comparison(validation: CrossValidation, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> Comparison:
     """Each run replayed by the fit that left it out: what the held-out errors measure."""
-    simulated = [simulate(fold.setup, [log], window)[0] for fold, log in zip(validation.folds, logs)]
+    simulated = [simulate(fold.setup, [log], window)[0] for fold, log in zip(validation.folds, logs, strict=True)]
     return Comparison(
-        validation.fit.setup, tuple(logs), tuple(simulated), tuple(run_errors(l, s) for l, s in zip(logs, simulated))
+        validation.fit.setup,
+        tuple(logs),
+        tuple(simulated),
+        tuple(run_errors(log, sim) for log, sim in zip(logs, simulated, strict=True)),
     )
 
 
@@ -124,5 +132,5 @@ def plot_comparison(comparison: Comparison, folder: Path, title: str) -> list[Pa
     """One PNG per run in ``folder`` (named after the runs)."""
     return [
         plot_run(log, simulated, errors, title, folder / f"{file_name(log.name)}.png")
-        for log, simulated, errors in zip(comparison.logs, comparison.simulated, comparison.errors)
+        for log, simulated, errors in zip(comparison.logs, comparison.simulated, comparison.errors, strict=True)
     ]

@@ -170,7 +170,7 @@ def evidence(current: CrossValidation, logs: Sequence[Log], effect: str, options
     explained = regressors @ coefficients
     share = float(explained @ explained / (without @ without)) if without @ without > 0 else 0.0
     linearised = {}
-    for term, step in zip(terms, coefficients):
+    for term, step in zip(terms, coefficients, strict=True):
         if term.null is not None:
             linearised[term.key] = float(np.clip(term.null + step * term.scale, term.lower, term.upper))
     return Evidence(correlation=math.sqrt(min(max(share, 0.0), 1.0)), variance_explained=share, linearised=linearised)

@@ -193,7 +193,7 @@ class Problem:
         return offset
 
     def _current(self, x: np.ndarray) -> tuple[float, float]:
-        values = dict(zip((term.key for term in self.terms), self._term_values(x)))
+        values = dict(zip((term.key for term in self.terms), self._term_values(x), strict=True))
         north = values.get("current.north", self.setup.current_north)
         east = values.get("current.east", self.setup.current_east)
         return (north, east) if self.setup.model.has("current") else (0.0, 0.0)
@@ -293,7 +293,7 @@ class Problem:
     def simulated(self, x: np.ndarray) -> list[Simulated]:
         """Each run replayed at ``x`` (with its nuisance terms)."""
         tasks = free_and_track_tasks(len(self.logs))
-        requests = list(zip(tasks.record, tasks.run, tasks.track))
+        requests = list(zip(tasks.record, tasks.run, tasks.track, strict=True))
         outputs, valid = self._outputs([x], requests)
         return unpack(self.logs, outputs, valid)
 
@@ -331,7 +331,7 @@ class Problem:
                 std_error=float(math.sqrt(max(covariance[j, j], 0.0)) * term.scale),
                 at_bound=bool(np.isclose(x[j], lower[j]) or np.isclose(x[j], upper[j])),
             )
-            for j, (term, value) in enumerate(zip(self.terms, values))
+            for j, (term, value) in enumerate(zip(self.terms, values, strict=True))
         )
         nuisance = {
             log.name: {
@@ -345,7 +345,7 @@ class Problem:
             setup=with_values(self.setup, {e.term.key: e.value for e in estimates}),
             estimates=estimates,
             nuisance=nuisance,
-            errors=tuple(run_errors(log, sim) for log, sim in zip(self.logs, simulated)),
+            errors=tuple(run_errors(log, sim) for log, sim in zip(self.logs, simulated, strict=True)),
             solution=x,
             residual=residual,
             jacobian=jacobian,

@@ -167,7 +167,8 @@ def _numeric(frame: pd.DataFrame, used: dict[str, str], source: str) -> pd.DataF
         if bad.any():
             row = int(np.flatnonzero(bad.to_numpy())[0])
             raise LogError(
-                f"{source}: column {header!r} ({channel}) holds {frame[header].iloc[row]!r} at row {row + 1}, not a number"
+                f"{source}: column {header!r} ({channel}) holds {frame[header].iloc[row]!r} at row {row + 1}, "
+                "not a number"
             )
         table[channel] = values.astype(float)
     return table.reset_index(drop=True)
@@ -257,7 +258,8 @@ def _check_rate_against_heading(log: Log, fmt: LogFormat, source: str) -> None:
     if not 0.2 < abs(ratio) < 5.0:
         raise LogError(
             f"{source}: the heading {fmt.columns['heading'].name!r} changes {ratio:.3g} times as fast as the rate of "
-            f"turn {fmt.columns['rate_of_turn'].name!r} says (57.3 or 1/57.3: one of them is in degrees); check their units"
+            f"turn {fmt.columns['rate_of_turn'].name!r} says (57.3 or 1/57.3: one of them is in degrees); "
+            "check their units"
         )
 
 

@@ -305,4 +305,6 @@ def hidden_effect_logs(
 
 def noise_floor(truth: ReplayModel, logs: Sequence[Log], scales: ErrorScales) -> float:
     """The pooled score of the true model replayed on its own noisy logs: the best a fit can hope for."""
-    return pooled([run_errors(log, replayed) for log, replayed in zip(logs, simulate(truth, logs))]).score(scales)
+    return pooled([run_errors(log, replayed) for log, replayed in zip(logs, simulate(truth, logs), strict=True)]).score(
+        scales
+    )

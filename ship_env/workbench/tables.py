@@ -28,7 +28,9 @@ class Table:
 
         def line(cells: Sequence[str]) -> str:
             first, *rest = cells
-            return "  ".join([first.ljust(widths[0]), *(cell.rjust(w) for cell, w in zip(rest, widths[1:]))]).rstrip()
+            return "  ".join(
+                [first.ljust(widths[0]), *(cell.rjust(w) for cell, w in zip(rest, widths[1:], strict=True))]
+            ).rstrip()
 
         rule = "  ".join("-" * width for width in widths).rstrip()
         return "\n".join([line(self.header), rule, *(line(row) for row in self.rows)])

@@ -198,7 +198,7 @@ def with_values(setup: ReplayModel, values: Mapping[str, float]) -> ReplayModel:
 
 def write_record(record: np.ndarray, terms: Sequence[Term], values: np.ndarray) -> None:
     """Write the model terms' values into a copy of a parameter record (fast, unchecked)."""
-    for term, value in zip(terms, values):
+    for term, value in zip(terms, values, strict=True):
         if not term.is_condition:
             record[0][term.record_field()] = value
 

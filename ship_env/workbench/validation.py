@@ -53,7 +53,7 @@ class CrossValidation:
         values = np.array([[estimate.value for estimate in fold.estimates] for fold in self.folds])
         count = len(self.folds)
         spread = np.sqrt((count - 1) / count * np.sum((values - values.mean(axis=0)) ** 2, axis=0))
-        return {estimate.term.key: float(value) for estimate, value in zip(self.fit.estimates, spread)}
+        return {estimate.term.key: float(value) for estimate, value in zip(self.fit.estimates, spread, strict=True)}
 
 
 def cross_validate(

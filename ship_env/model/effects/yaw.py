@@ -10,9 +10,10 @@ Solved for the yaw acceleration:
 
 where ``u_R^2`` is the squared inflow speed at the rudder (``u^2`` unless the propeller
 slipstream effect adds to it) and ``delta_e`` the effective rudder angle (``delta`` unless a rudder
-offset is on); M_p is the propeller's side moment (``asymmetry``; 0 without it). The normalised model (2.54) has alpha1 = 1; alpha1 < 0 with alpha3 > 0 describes a
-course-unstable ship (2.27). With H(r*) = r* this is the Nomoto model tau dr/dt + r = K delta with
-tau = tau* L/u and K = K* u/L (2.58, 2.61): the steady rate of turn is r = K delta.
+offset is on); M_p is the propeller's side moment (``asymmetry``; 0 without it). The normalised
+model (2.54) has alpha1 = 1; alpha1 < 0 with alpha3 > 0 describes a course-unstable ship (2.27).
+With H(r*) = r* this is the Nomoto model tau dr/dt + r = K delta with tau = tau* L/u and
+K = K* u/L (2.58, 2.61): the steady rate of turn is r = K delta.
 
 Symbols: r rate of turn (rad/s), u forward speed (m/s), L ship length (m), delta rudder (rad),
 K* normalised gain, tau* normalised time constant, alpha1 linear coefficient.

@@ -39,6 +39,7 @@ from ship_env.envs.sensors import (
 )
 from ship_env.envs.task import ShipTask
 from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG
+from ship_env.envs.variation import ShipFactors
 from ship_env.envs.weather import (
     CUSTOM_DISTURBANCE,
     DISTURBANCES,
@@ -103,6 +104,8 @@ class Scenario:
         initial_heading: the steady course sailed at the start, rad.
         conditions: wind, current, waves and speed for the simulator.
         seed: the simulator's seed for the episode (its gusts, wave yaw, sea and sensor noise).
+        ship: the ship's K*, tau*, speed and weather factors when ``ship_variation`` drew them
+            (:class:`~ship_env.envs.variation.ShipFactors`), else ``None`` (the preset's ship).
     """
 
     disturbance: str
@@ -110,6 +113,7 @@ class Scenario:
     initial_heading: float
     conditions: Conditions
     seed: int
+    ship: ShipFactors | None = None
 
     @property
     def new_heading(self) -> float:
@@ -180,7 +184,7 @@ class CourseChangeTask(ShipTask):
         self.observation_space = spaces.Box(OBSERVATION_LOW, OBSERVATION_HIGH, dtype=np.float32)
 
     # -- scenarios -------------------------------------------------------------------------------
-    def draw_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None = None) -> Scenario:
+    def draw_task_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None = None) -> Scenario:
         """Draw an episode from ``rng``; ``options`` may pin any part of it (``RESET_OPTIONS``).
 
         Every draw takes the same numbers from ``rng`` whatever the level or options, so one seed

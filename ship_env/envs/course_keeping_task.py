@@ -36,6 +36,7 @@ from ship_env.envs.sensors import (
     wrap,
 )
 from ship_env.envs.task import ShipTask
+from ship_env.envs.variation import ShipFactors
 from ship_env.envs.weather import (
     CUSTOM_DISTURBANCE,
     DISTURBANCES,
@@ -91,12 +92,15 @@ class CourseKeepingScenario:
         course: the ordered course, rad; the ship starts on it.
         conditions: wind, current, waves and speed for the simulator.
         seed: the simulator's seed for the episode (its gusts, wave yaw, sea and sensor noise).
+        ship: the ship's K*, tau*, speed and weather factors when ``ship_variation`` drew them
+            (:class:`~ship_env.envs.variation.ShipFactors`), else ``None`` (the preset's ship).
     """
 
     disturbance: str
     course: float
     conditions: Conditions
     seed: int
+    ship: ShipFactors | None = None
 
     @property
     def initial_heading(self) -> float:
@@ -147,7 +151,7 @@ class CourseKeepingTask(ShipTask):
         self.kernel_arguments = (self.parameters, self.sensors)
         self.observation_space = spaces.Box(OBSERVATION_LOW, OBSERVATION_HIGH, dtype=np.float32)
 
-    def draw_scenario(
+    def draw_task_scenario(
         self, rng: np.random.Generator, options: Mapping[str, Any] | None = None
     ) -> CourseKeepingScenario:
         """Draw an episode from ``rng``; ``options`` may pin any part of it (``RESET_OPTIONS``).

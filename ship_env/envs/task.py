@@ -3,11 +3,13 @@
 :class:`ShipTask` is the base of the course-change, track-following and course-keeping tasks. It
 builds the ship model from a preset, sets the rudder limit delta_max that action +-1 orders, the
 control step, the instruments' noise and position-fix interval (:mod:`ship_env.envs.sensors`),
-and turns actions into ordered rudder angles, continuous or discrete.
+turns actions into ordered rudder angles, continuous or discrete, and varies the ship from episode
+to episode if asked (:mod:`ship_env.envs.variation`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -18,6 +20,7 @@ from gymnasium import spaces
 
 from ship_env.envs.checks import check_choice, check_number, check_whole_number
 from ship_env.envs.sensors import sensors_record
+from ship_env.envs.variation import ShipVariation, sailed_conditions
 from ship_env.model import ShipModel, load_ship
 
 #: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
@@ -42,6 +45,9 @@ class ShipTask:
             orders -delta_max + 2 k delta_max / (rudder_levels - 1)).
         rudder_levels: the number of rudder angles of the discrete action, at least 2 (odd
             numbers include amidships).
+        ship_variation: ``None`` (default) sails the preset's ship every episode; ``True`` or a
+            mapping of ranges draws each episode's ship (K*, tau*, service speed, weather
+            strength; :mod:`ship_env.envs.variation`), recorded as the scenario's ``ship``.
     """
 
     def __init__(
@@ -57,6 +63,7 @@ class ShipTask:
         fix_interval: float = 0.0,
         action_type: str = "continuous",
         rudder_levels: int = 7,
+        ship_variation: bool | Mapping[str, Sequence[float]] | None = None,
     ) -> None:
         self.rudder_limit = math.radians(check_number("rudder_limit_deg", rudder_limit_deg, 1e-3, 90.0))
         self.dt = check_number("dt", dt, 1e-6)
@@ -64,6 +71,7 @@ class ShipTask:
         levels = check_whole_number("rudder_levels", rudder_levels, 2)
         noise_scale = check_number("sensor_noise_scale", sensor_noise_scale, 0.0)
         self.sensors = sensors_record(noise_scale, check_number("fix_interval", fix_interval, 0.0))
+        self.variation = None if ship_variation in (None, False) else ShipVariation(ship_variation)
 
         preset = load_ship(ship)
         if effects is None:
@@ -79,6 +87,27 @@ class ShipTask:
         else:
             self.action_space = spaces.Discrete(levels)
             self._levels = np.linspace(-1.0, 1.0, levels) * self.rudder_limit
+
+    # -- episodes --------------------------------------------------------------------------------
+    def draw_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None = None) -> Any:
+        """Draw an episode from ``rng``: the task's (:meth:`draw_task_scenario`), then its ship.
+
+        With ``ship_variation`` the ship is drawn after the task's numbers and sails the task's
+        conditions (its K*, tau* and speed, the weather scaled); conditions given in ``options``
+        are sailed as they are (the draw is made all the same, so one seed gives one sequence).
+        """
+        scenario = self.draw_task_scenario(rng, options)
+        if self.variation is None:
+            return scenario
+        ship = self.variation.draw(rng)
+        if options and "conditions" in options:
+            return scenario
+        conditions = sailed_conditions(scenario.conditions, ship, self.model.service_speed)
+        return dataclasses.replace(scenario, conditions=conditions, ship=ship)
+
+    def draw_task_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None) -> Any:
+        """The task's episode drawn from ``rng`` (the scenario dataclass of the task, with a ``ship`` field)."""
+        raise NotImplementedError
 
     # -- actions ---------------------------------------------------------------------------------
     def rudder_order(self, action: object) -> float:

@@ -114,6 +114,11 @@ class TrackFollowEnv(ShipEnv):
     ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``, ``action_type``,
     ``rudder_levels``.
 
+    ``ship_variation`` (default ``None``: the preset's ship every episode; ``True`` or a mapping of
+    ranges: each episode's K*, tau*, service speed and weather strength drawn from the environment's
+    ``np_random`` after the task's draws, recorded as ``info["scenario"].ship``; see
+    :mod:`ship_env.envs.variation`) trains policies that must hold up off the nominal ship.
+
     ## Version History
 
     * v0: initial version.

@@ -61,6 +61,7 @@ from ship_env.envs.tracks import (
     reference_track,
     signed_cross_track,
 )
+from ship_env.envs.variation import ShipFactors
 from ship_env.envs.weather import CALM, CUSTOM_DISTURBANCE, check_conditions
 from ship_env.model import Conditions
 from ship_env.model import state as S
@@ -140,6 +141,8 @@ class TrackScenario:
         conditions: wind, current, waves and speed for the simulator.
         seed: the simulator's seed for the episode (its gusts and sensor noise).
         initial_heading: the first leg's course, rad: the ship starts on it at the first waypoint.
+        ship: the ship's K*, tau*, speed and weather factors when ``ship_variation`` drew them
+            (:class:`~ship_env.envs.variation.ShipFactors`), else ``None`` (the preset's ship).
     """
 
     track: str
@@ -147,6 +150,7 @@ class TrackScenario:
     conditions: Conditions
     seed: int
     initial_heading: float
+    ship: ShipFactors | None = None
 
 
 class TrackFollowTask(ShipTask):
@@ -200,7 +204,7 @@ class TrackFollowTask(ShipTask):
         self.kernel_arguments = (self.parameters, self.sensors, self.track_legs)
         self.observation_space = spaces.Box(OBSERVATION_LOW, OBSERVATION_HIGH, dtype=np.float32)
 
-    def draw_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None = None) -> TrackScenario:
+    def draw_task_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None = None) -> TrackScenario:
         """Draw an episode from ``rng``: the track uniformly over the six if ``"random"``.
 
         ``options`` may pin the ``track`` or give the ``conditions`` (a

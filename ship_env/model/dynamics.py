@@ -133,8 +133,8 @@ def derivatives(state, rudder, conditions, white_noise, wave_yaw, p, out):
         effective_rudder,
         restoring,
         side_moment,
-        p["yaw_gain"],
-        p["yaw_time_constant"],
+        p["yaw_gain"] * (1.0 + conditions[S.YAW_GAIN_CHANGE]),
+        p["yaw_time_constant"] * (1.0 + conditions[S.YAW_TIME_CONSTANT_CHANGE]),
         length,
     )
     yaw_acceleration += wind_yaw + wave_yaw

@@ -36,7 +36,9 @@ RETIME_CALLS = 1024
 TIME_WEIGHT = 0.1
 
 #: The conditions that must not be negative.
-_NOT_NEGATIVE = frozenset({"service_speed", "propeller_rate", "current_speed", "wind_speed", "wave_height"})
+_NOT_NEGATIVE = frozenset(
+    {"service_speed", "propeller_rate", "current_speed", "wind_speed", "wave_height", "yaw_gain_factor"}
+)
 
 
 class Cores:
@@ -105,6 +107,8 @@ class Conditions:
         wind_speed, wind_direction: the true wind and the direction it comes *from*.
         wave_height, wave_period, wave_direction: significant height (m), peak period (s) and the
             direction the waves come *from*, for the wave-spectrum effect.
+        yaw_gain_factor, yaw_time_constant_factor: the sailed ship's K* and tau* as multiples of
+            the model's (2.54), so the ships of one batch can differ; 1 sails the model.
     """
 
     service_speed: float | None = None
@@ -116,6 +120,8 @@ class Conditions:
     wave_height: float = 0.0
     wave_period: float = 8.0
     wave_direction: float = 0.0
+    yaw_gain_factor: float = 1.0
+    yaw_time_constant_factor: float = 1.0
 
     def __post_init__(self) -> None:
         for name, value in vars(self).items():
@@ -129,8 +135,9 @@ class Conditions:
                 raise ValueError(f"conditions.{name}: must be finite, got {value!r}")
             if value < 0.0 and name in _NOT_NEGATIVE:
                 raise ValueError(f"conditions.{name}: must not be negative, got {value!r}")
-        if self.wave_period <= 0.0:
-            raise ValueError(f"conditions.wave_period: must be positive, got {self.wave_period!r}")
+        for name in ("wave_period", "yaw_time_constant_factor"):
+            if getattr(self, name) <= 0.0:
+                raise ValueError(f"conditions.{name}: must be positive, got {getattr(self, name)!r}")
 
     def row(self, default_speed: float) -> np.ndarray:
         """The conditions as one row of the simulator's condition array."""
@@ -142,6 +149,8 @@ class Conditions:
         row[S.WIND_SPEED] = self.wind_speed
         row[S.WIND_DIRECTION] = self.wind_direction
         row[S.WAVE_DIRECTION] = self.wave_direction
+        row[S.YAW_GAIN_CHANGE] = self.yaw_gain_factor - 1.0
+        row[S.YAW_TIME_CONSTANT_CHANGE] = self.yaw_time_constant_factor - 1.0
         return row
 
 

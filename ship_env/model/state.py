@@ -43,7 +43,11 @@ CURRENT_DIRECTION = 3  # rad, psi_c: the direction the current sets towards, clo
 WIND_SPEED = 4  # m/s, true wind speed V_w (2.74)
 WIND_DIRECTION = 5  # rad, psi_w: the direction the wind comes from, clockwise from north
 WAVE_DIRECTION = 6  # rad, the direction the waves come from, clockwise from north
-CONDITION_SIZE = 7
+# The sailed ship's K* and tau* as changes from the model's, per ship (a batch of different ships in
+# one simulator): K* (1 + change), tau* (1 + change); 0, nominal, in a row of zeros.
+YAW_GAIN_CHANGE = 7  # -, relative change of K* (2.54)
+YAW_TIME_CONSTANT_CHANGE = 8  # -, relative change of tau* (2.54)
+CONDITION_SIZE = 9
 
 CONDITION_NAMES = (
     "service_speed",
@@ -53,6 +57,8 @@ CONDITION_NAMES = (
     "wind_speed",
     "wind_direction",
     "wave_direction",
+    "yaw_gain_change",
+    "yaw_time_constant_change",
 )
 
 # White-noise channels drawn once per step (standard normal, held over the step).

@@ -1,0 +1,116 @@
+"""Ship variation: a different ship every episode, for policies that must hold up off the nominal one.
+
+The environments sail the ship of their preset (the *nominal* ship, the one the classic
+autopilots are designed for). With ``ship_variation`` each episode sails a ship drawn around it:
+
+- ``yaw_gain``: K* as a multiple of the preset's (2.54), drawn log-uniformly;
+- ``yaw_time_constant``: tau* as a multiple of the preset's (2.54), log-uniformly and independently
+  of K*;
+- ``speed``: the service speed U0 as a fraction of the preset's, uniformly;
+- ``disturbance``: the wind speed, current speed and significant wave height of the episode's
+  weather as multiples of those drawn, uniformly.
+
+``ship_variation=True`` takes :data:`DEFAULT_SHIP_VARIATION`: K*, tau* x0.5 .. x2 (the
+leaderboard's robustness conditions are the ends: both halved, both doubled), speed 0.5 .. 1.0 U0,
+weather x0.5 .. x1.5. A mapping gives the ranges ``{"yaw_gain": [0.5, 2.0], ...}``; a key left out
+stays nominal. The draws come from the environment's generator after the task's own, so with
+``ship_variation`` off (the default) an id's episodes are what they always were, and with it on a
+seed gives the same task episode (course change, weather, track) on the ship drawn.
+
+The ships of one vector environment differ at once: K* and tau* reach the simulator as per-ship
+:class:`~ship_env.model.Conditions` (``yaw_gain_factor``, ``yaw_time_constant_factor``), not as the
+model's parameters.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ship_env.envs.checks import check_range
+from ship_env.model import Conditions
+
+#: The varied quantities and the ranges ``ship_variation=True`` draws them from.
+DEFAULT_SHIP_VARIATION: dict[str, tuple[float, float]] = {
+    "yaw_gain": (0.5, 2.0),
+    "yaw_time_constant": (0.5, 2.0),
+    "speed": (0.5, 1.0),
+    "disturbance": (0.5, 1.5),
+}
+#: Uniform numbers a varied episode draws, one per quantity.
+VARIATION_DRAWS = len(DEFAULT_SHIP_VARIATION)
+#: The smallest factor a range may hold: a ship with no rudder effect, no inertia or no speed has no model.
+_SMALLEST_FACTOR = {"yaw_gain": 1e-3, "yaw_time_constant": 1e-3, "speed": 1e-3, "disturbance": 0.0}
+
+
+@dataclass(frozen=True)
+class ShipFactors:
+    """The ship an episode sails, as multiples of the nominal one (all 1 for the nominal ship).
+
+    Attributes:
+        yaw_gain: K* / the preset's K*.
+        yaw_time_constant: tau* / the preset's tau*.
+        speed: U0 / the preset's service speed.
+        disturbance: the wind speed, current speed and wave height / those of the task's draw.
+    """
+
+    yaw_gain: float = 1.0
+    yaw_time_constant: float = 1.0
+    speed: float = 1.0
+    disturbance: float = 1.0
+
+
+#: The nominal ship.
+NOMINAL_SHIP = ShipFactors()
+
+
+class ShipVariation:
+    """The ranges ships are drawn from; ``ValueError`` naming the key and value for a bad range.
+
+    Args:
+        ranges: ``True`` (:data:`DEFAULT_SHIP_VARIATION`), or quantity -> (low, high) with
+            0 < low <= high (``disturbance`` may start at 0: still water and air).
+    """
+
+    def __init__(self, ranges: bool | Mapping[str, Sequence[float]]) -> None:
+        if ranges is True:
+            ranges = DEFAULT_SHIP_VARIATION
+        if not isinstance(ranges, Mapping):
+            raise TypeError(f"ship_variation: expected true or a mapping of ranges, got {ranges!r}")
+        unknown = sorted(set(ranges) - set(DEFAULT_SHIP_VARIATION))
+        if unknown:
+            raise ValueError(f"ship_variation: unknown keys {unknown}; known: {', '.join(DEFAULT_SHIP_VARIATION)}")
+        self.ranges = {
+            name: check_range(f"ship_variation[{name!r}]", ranges.get(name, (1.0, 1.0)), _SMALLEST_FACTOR[name])
+            for name in DEFAULT_SHIP_VARIATION
+        }
+
+    def draw(self, rng: np.random.Generator) -> ShipFactors:
+        """A ship from ``VARIATION_DRAWS`` uniforms of ``rng``: K*, tau* log-uniform, speed and weather uniform."""
+        draws = rng.random(VARIATION_DRAWS).tolist()
+        factors = {}
+        for (name, (low, high)), draw in zip(self.ranges.items(), draws, strict=True):
+            if name in ("yaw_gain", "yaw_time_constant"):
+                factors[name] = math.exp(math.log(low) + (math.log(high) - math.log(low)) * draw)
+            else:
+                factors[name] = low + (high - low) * draw
+        return ShipFactors(**factors)
+
+
+def sailed_conditions(conditions: Conditions, ship: ShipFactors, service_speed: float) -> Conditions:
+    """``conditions`` for the ship ``ship``: its K*, tau* factors, its speed (a fraction of
+    ``service_speed`` unless the conditions name one), the weather scaled by its disturbance factor."""
+    speed = service_speed if conditions.service_speed is None else conditions.service_speed
+    return dataclasses.replace(
+        conditions,
+        service_speed=speed * ship.speed,
+        wind_speed=conditions.wind_speed * ship.disturbance,
+        current_speed=conditions.current_speed * ship.disturbance,
+        wave_height=conditions.wave_height * ship.disturbance,
+        yaw_gain_factor=ship.yaw_gain,
+        yaw_time_constant_factor=ship.yaw_time_constant,
+    )

@@ -1,0 +1,139 @@
+"""Ship variation (``ship_variation``): seeded, within its ranges, reported, and sailed as drawn."""
+
+from __future__ import annotations
+
+import math
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import ship_env  # noqa: F401  (registers the environments)
+from ship_env.envs.course_change_task import CourseChangeTask
+from ship_env.envs.track_follow_task import TrackFollowTask
+from ship_env.envs.variation import DEFAULT_SHIP_VARIATION
+from ship_env.model import Conditions, ShipModel, Simulator, load_ship
+
+
+def test_same_seed_same_ships_and_the_task_episode_of_the_nominal_ship():
+    task = CourseChangeTask(disturbance="random", ship_variation=True)
+    first = [task.draw_scenario(np.random.default_rng(7)) for _ in range(2)]
+    assert first[0] == first[1]
+    rng = np.random.default_rng(8)
+    ships = {task.draw_scenario(rng).ship for _ in range(5)}
+    assert len(ships) == 5  # another draw, another ship
+    nominal = CourseChangeTask(disturbance="random").draw_scenario(np.random.default_rng(7))
+    assert nominal.ship is None
+    assert (nominal.course_change, nominal.initial_heading, nominal.seed) == (
+        first[0].course_change,
+        first[0].initial_heading,
+        first[0].seed,
+    )
+
+
+def test_ranges_respected_and_the_conditions_carry_the_drawn_ship():
+    ranges = {"yaw_gain": [0.5, 2.0], "yaw_time_constant": [0.8, 1.25], "speed": [0.5, 1.0], "disturbance": [0, 2]}
+    task = CourseChangeTask(disturbance="wind_current_waves", ship_variation=ranges)
+    nominal_task = CourseChangeTask(disturbance="wind_current_waves")
+    service_speed = task.model.service_speed
+    factors = []
+    for seed in range(300):
+        scenario = task.draw_scenario(np.random.default_rng(seed))
+        weather = nominal_task.draw_scenario(np.random.default_rng(seed)).conditions
+        ship, conditions = scenario.ship, scenario.conditions
+        factors.append([ship.yaw_gain, ship.yaw_time_constant, ship.speed, ship.disturbance])
+        assert conditions.yaw_gain_factor == ship.yaw_gain
+        assert conditions.yaw_time_constant_factor == ship.yaw_time_constant
+        assert conditions.service_speed == pytest.approx(service_speed * ship.speed, rel=1e-15)
+        assert conditions.wind_speed == pytest.approx(weather.wind_speed * ship.disturbance, rel=1e-15)
+        assert conditions.wave_height == pytest.approx(weather.wave_height * ship.disturbance, rel=1e-15)
+    factors = np.array(factors)
+    low = np.array([value[0] for value in ranges.values()])
+    high = np.array([value[1] for value in ranges.values()])
+    assert np.all(factors >= low) and np.all(factors <= high)
+    # They fill their ranges: K*, tau* log-uniform (median at the geometric mean), the others uniform.
+    assert np.median(factors[:, 0]) == pytest.approx(1.0, abs=0.15)
+    assert factors[:, 0].min() < 0.55 and factors[:, 0].max() > 1.8
+    assert np.median(factors[:, 2]) == pytest.approx(0.75, abs=0.05)
+
+
+def test_keys_left_out_stay_nominal_and_true_takes_the_defaults():
+    ship = CourseChangeTask(ship_variation={"speed": [0.5, 0.6]}).draw_scenario(np.random.default_rng(1)).ship
+    assert (ship.yaw_gain, ship.yaw_time_constant, ship.disturbance) == (1.0, 1.0, 1.0)
+    assert 0.5 <= ship.speed <= 0.6
+    assert CourseChangeTask(ship_variation=True).variation.ranges == DEFAULT_SHIP_VARIATION
+
+
+@pytest.mark.parametrize(
+    ("ranges", "message"),
+    [
+        ({"yaw_gain": [-0.5, 2.0]}, r"ship_variation\['yaw_gain'\]\[0\].*-0.5"),
+        ({"speed": [0.0, 1.0]}, r"ship_variation\['speed'\]\[0\].*0.0"),
+        ({"yaw_time_constant": [2.0, 0.5]}, r"ship_variation\['yaw_time_constant'\]\[1\].*0.5"),
+        ({"mass": [1.0, 2.0]}, r"unknown keys \['mass'\]"),
+    ],
+)
+def test_bad_ranges_raise_naming_the_key_and_value(ranges, message):
+    with pytest.raises(ValueError, match=message):
+        gym.make("ship_env/CourseChange-v0", ship_variation=ranges)
+
+
+def test_given_conditions_are_sailed_as_given():
+    given = Conditions(wind_speed=3.0)
+    scenario = CourseChangeTask(ship_variation=True).draw_scenario(np.random.default_rng(0), {"conditions": given})
+    assert scenario.conditions == given and scenario.ship is None
+
+
+def test_vector_env_sails_different_ships_as_single_envs_do():
+    kwargs = {"disturbance": "random", "ship_variation": True}
+    vector = gym.make_vec("ship_env/CourseChange-v0", num_envs=3, vectorization_mode="vector_entry_point", **kwargs)
+    singles = [gym.make("ship_env/CourseChange-v0", **kwargs) for _ in range(3)]
+    observations, info = vector.reset(seed=11)
+    ships = [single.reset(seed=11 + i)[1]["scenario"].ship for i, single in enumerate(singles)]
+    assert list(info["scenario"][k].ship for k in range(3)) == ships
+    assert len({ship.yaw_gain for ship in ships}) == 3
+    actions = np.array([[0.7], [-0.3], [1.0]], dtype=np.float32)
+    for _ in range(40):
+        observations, rewards, *_ = vector.step(actions)
+        for i, single in enumerate(singles):
+            observation, reward, *_ = single.step(actions[i])
+            np.testing.assert_array_equal(observation, observations[i])
+            assert reward == rewards[i]
+
+
+def test_track_follow_varies_too():
+    scenario = TrackFollowTask(ship_variation=True).draw_scenario(np.random.default_rng(3))
+    assert scenario.conditions.current_speed == pytest.approx(
+        TrackFollowTask().draw_scenario(np.random.default_rng(3)).conditions.current_speed * scenario.ship.disturbance
+    )
+
+
+@pytest.mark.parametrize("factor", [0.5, 2.0])
+def test_per_ship_factors_sail_as_the_scaled_model(factor):
+    """Conditions' K*, tau* factors = a model with K*, tau* scaled (2.54): the steady rate r = K* (U/L) delta."""
+    preset = load_ship("container_226m")
+    nominal = ShipModel(preset)
+    scaled = ShipModel(
+        preset,
+        parameters={
+            "yaw.gain": factor * nominal.parameter("yaw.gain"),
+            "yaw.time_constant": factor * nominal.parameter("yaw.time_constant"),
+        },
+    )
+    by_conditions = Simulator(nominal, num_ships=2)
+    by_conditions.reset(conditions=[Conditions(), Conditions(yaw_gain_factor=factor, yaw_time_constant_factor=factor)])
+    by_model = Simulator(scaled, num_ships=1)
+    by_model.reset()
+    rudder = math.radians(10.0)
+    for _ in range(300):
+        by_conditions.step(rudder)
+        by_model.step(rudder)
+    np.testing.assert_allclose(by_conditions.state[1], by_model.state[0], rtol=1e-12, atol=1e-12)
+    assert abs(by_conditions.state[1, 4] - by_conditions.state[0, 4]) > 0.2 * abs(by_conditions.state[0, 4])
+
+
+def test_bad_factors_in_conditions_raise():
+    with pytest.raises(ValueError, match="yaw_time_constant_factor: must be positive, got 0.0"):
+        Conditions(yaw_time_constant_factor=0.0)
+    with pytest.raises(ValueError, match="yaw_gain_factor: must not be negative, got -1.0"):
+        Conditions(yaw_gain_factor=-1.0)

@@ -39,6 +39,70 @@ def test_config_errors_name_the_file_and_the_problem(tmp_path):
         load_agent_config("ppo", COURSE_CHANGE, path)
 
 
+@pytest.mark.parametrize(
+    "entry, message",
+    [
+        ({"frame_stack": 4}, r"CourseChange-v0: rl-zoo3's key 'frame_stack' is not supported by ship-env train"),
+        ({"normalize": True}, r"normalize: observation normalisation \(norm_obs\) is not supported"),
+        ({"normalize": "{'norm_obs': False"}, r"normalize: cannot evaluate \"\{'norm_obs': False\""),
+        ({"policy_kwargs": "dict(net_arch=os.system)"}, r"policy_kwargs: cannot evaluate .*name 'os' is not defined"),
+        ({"learning_rate": "exp_0.001"}, r"learning_rate: expected a number or a linear schedule .* got 'exp_0.001'"),
+        ({"env_wrapper": "gymnasium.wrappers.NoSuchWrapper"}, r"env_wrapper: expected a class .*NoSuchWrapper"),
+        ({"policy": "ship_env.rl.features.NoSuchPolicy"}, r"policy: expected a class .*NoSuchPolicy"),
+    ],
+)
+def test_rl_zoo3_keys_we_do_not_support_or_cannot_parse_are_named(tmp_path, entry, message):
+    path = tmp_path / "ppo.yaml"
+    path.write_text(yaml.safe_dump({COURSE_CHANGE: {"n_envs": 2, **entry}}))
+    with pytest.raises(ValueError, match=message):
+        load_agent_config("ppo", COURSE_CHANGE, path)
+
+
+def test_rl_zoo3_keys_are_read_as_rl_zoo3_reads_them(tmp_path):
+    """Strings evaluated with torch.nn in scope, reward-only normalisation with the entry's gamma,
+    rl-zoo3's linear schedule, wrappers and callbacks with their keyword arguments."""
+    from gymnasium.wrappers import ClipReward
+    from torch import nn
+
+    from ship_env.rl.training import make_training_env
+
+    path = tmp_path / "ppo.yaml"
+    entry = {
+        "n_envs": 2,
+        "n_steps": 64,
+        "batch_size": 64,
+        "n_epochs": 1,
+        "gamma": 0.98,
+        "normalize": "{'norm_obs': False, 'norm_reward': True}",
+        "learning_rate": "lin_0.001",
+        "policy_kwargs": "dict(net_arch=[8], activation_fn=nn.ReLU)",
+        "env_wrapper": [{"gymnasium.wrappers.ClipReward": {"min_reward": -0.5, "max_reward": 0.5}}],
+        "callback": [
+            {
+                "stable_baselines3.common.callbacks.CheckpointCallback": {
+                    "save_freq": 32,
+                    "save_path": str(tmp_path / "saved"),
+                }
+            }
+        ],
+    }
+    path.write_text(yaml.safe_dump({COURSE_CHANGE: entry}))
+    config = load_agent_config("ppo", COURSE_CHANGE, path)
+    assert config.hyperparameters["policy_kwargs"] == {"net_arch": [8], "activation_fn": nn.ReLU}
+    assert config.normalize == {"norm_obs": False, "norm_reward": True, "gamma": 0.98}
+    assert config.hyperparameters["learning_rate"](0.5) == pytest.approx(0.0005)
+    env = make_training_env(config)
+    assert env.norm_reward and not env.norm_obs and env.gamma == 0.98
+    assert all(isinstance(sub_env, ClipReward) for sub_env in env.venv.venv.vector_env.envs)
+    env.close()
+    argv = ["train", "--algo", "ppo", "--steps", "128", "--config", str(path), "--out", str(tmp_path / "run")]
+    assert main([*argv, "--no-progress"]) == 0
+    assert sorted(path.name for path in (tmp_path / "saved").iterdir()) == [
+        "rl_model_128_steps.zip",
+        "rl_model_64_steps.zip",
+    ]
+
+
 def test_train_command_writes_model_and_metadata(tmp_path, capsys):
     config = tmp_path / "ppo.yaml"
     entry = {

@@ -1,31 +1,36 @@
-"""Agent hyper-parameters: ``configs/agents/<algo>.yaml``, one entry per environment id (rl-zoo3's layout).
+"""Agent hyper-parameters: ``configs/agents/<algo>.yaml``, one entry per environment id, in rl-zoo3's format.
 
-Each entry holds the training set-up, read here, and the algorithm's keyword arguments, passed
-to its constructor as they are::
+The files load unchanged in rl-zoo3 (``python -m rl_zoo3.train --algo ppo --env
+ship_env/CourseChange-v0 --gym-packages ship_env -conf ship_env/configs/agents/ppo.yaml``), and
+``ship-env train`` reads the same keys the same way::
 
     ship_env/CourseChange-v0:
-      n_envs: 16                     # sub-environments of the native vector environment
+      n_envs: 16                     # sub-environments stepped together
       n_timesteps: 1500000           # default length of a run (``--steps`` overrides it)
-      policy: MlpPolicy
+      policy: ship_env.rl.features.ScaledObservationPolicy   # an SB3 alias or a dotted class path
       env_kwargs: {disturbance: random, rudder_travel_weight: 0.3}
-      normalize_reward: true         # scale rewards by a running estimate of the return's spread
-      n_steps: 600                   # ... any keyword of stable_baselines3.PPO
-      policy_kwargs:
-        net_arch: [64, 64]
-        activation_fn: torch.nn.Tanh
-        features_extractor_class: ship_env.rl.features.ScaledObservation
-        features_extractor_kwargs: {scales: [50, 5, 1, 1, 1]}
+      normalize: "{'norm_obs': False, 'norm_reward': True}"  # VecNormalize's keywords (gamma: the entry's)
+      env_wrapper: gymnasium.wrappers.ClipReward              # optional: class path, or [{path: kwargs}, ...]
+      callback: stable_baselines3.common.callbacks.StopTrainingOnMaxEpisodes  # optional, likewise
+      learning_rate: lin_0.0003     # a number, or rl-zoo3's linear schedule lin_<start>
+      n_steps: 600                   # ... any keyword of the stable-baselines3 algorithm
+      policy_kwargs: "dict(net_arch=[64, 64], activation_fn=nn.Tanh, features_extractor_kwargs=dict(scales=[50, 5]))"
 
-Unlike rl-zoo3, ``policy_kwargs`` is a YAML mapping, never Python source to evaluate; the
-classes it names (:data:`CLASS_KEYWORDS`) are given by their dotted import paths.
+As in rl-zoo3, ``normalize``, ``policy_kwargs``, ``replay_buffer_class`` and
+``replay_buffer_kwargs`` given as strings are Python expressions, evaluated here with only
+``dict``, ``nn`` (``torch.nn``) and ``th`` (``torch``) in scope (the names rl-zoo3 offers its
+configs); a mapping is taken as it is. The rl-zoo3 keys ``ship-env train`` does not support
+(:data:`UNSUPPORTED_KEYS`), observation normalisation (the saved policy must steer without the
+statistics) and keywords the algorithm does not take are refused with the key named.
 """
 
 from __future__ import annotations
 
 import importlib
 import inspect
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -34,15 +39,23 @@ import yaml
 from ship_env.paths import config_dir
 
 if TYPE_CHECKING:
+    import gymnasium as gym
     from stable_baselines3.common.base_class import BaseAlgorithm
+    from stable_baselines3.common.callbacks import BaseCallback
 
 #: The algorithms ``ship-env train`` offers: ``--algo`` name -> stable-baselines3 class name.
 ALGORITHMS: dict[str, str] = {"ppo": "PPO", "sac": "SAC"}
 #: Torch's intra-op threads during training unless told otherwise: on the 2-core machines this
 #: project targets, 2 threads collapse under other load (design notes 9).
 DEFAULT_TORCH_THREADS = 1
-#: The ``policy_kwargs`` that name a class, given in the YAML by its dotted import path.
-CLASS_KEYWORDS = ("activation_fn", "features_extractor_class", "optimizer_class")
+#: rl-zoo3's keys that set up the run rather than the algorithm.
+SETUP_KEYS = ("n_envs", "n_timesteps", "policy", "env_kwargs", "normalize", "env_wrapper", "callback")
+#: rl-zoo3's keys that ``ship-env train`` does not support.
+UNSUPPORTED_KEYS = ("frame_stack", "vec_env_wrapper", "monitor_kwargs", "noise_type", "noise_std")
+#: The algorithm's keywords that rl-zoo3 evaluates when they are strings.
+EVALUATED_KEYWORDS = ("policy_kwargs", "replay_buffer_class", "replay_buffer_kwargs")
+#: The algorithm's keywords that rl-zoo3 reads as a schedule: a number, or ``lin_<start>``.
+SCHEDULE_KEYWORDS = ("learning_rate", "clip_range", "clip_range_vf")
 #: The algorithm's keywords that the run sets itself, not the config.
 RUN_KEYWORDS = frozenset({"self", "policy", "env", "seed", "device", "tensorboard_log", "verbose"})
 
@@ -54,24 +67,29 @@ class AgentConfig:
     Attributes:
         algo: the algorithm's name (a key of :data:`ALGORITHMS`).
         env_id: the Gymnasium id trained on.
+        entry: the YAML entry as written (recorded in the run's metadata).
         n_envs: the number of sub-environments stepped together.
         n_timesteps: the run's default length in environment steps (all sub-environments together).
-        policy: the stable-baselines3 policy name (``MlpPolicy``).
+        policy: the stable-baselines3 policy: an alias (``MlpPolicy``) or a class.
         env_kwargs: the environment's keyword arguments (the task's options and reward weights).
-        normalize_reward: train on rewards divided by a running estimate of the discounted
-            return's standard deviation (SB3's ``VecNormalize(norm_obs=False)``). The
-            observations stay as they are, so the saved policy needs no statistics to steer.
-        hyperparameters: the algorithm's other keyword arguments.
+        normalize: ``VecNormalize``'s keyword arguments (rewards divided by a running estimate of
+            the discounted return's spread), ``None`` for no normalisation.
+        env_wrappers: the wrappers around each sub-environment, innermost first.
+        callbacks: makers of the SB3 callbacks of a run (each called once per run).
+        hyperparameters: the algorithm's other keyword arguments, parsed.
         source: the YAML file the entry was read from.
     """
 
     algo: str
     env_id: str
+    entry: Mapping[str, Any]
     n_envs: int
     n_timesteps: int
-    policy: str
+    policy: str | type = "MlpPolicy"
     env_kwargs: Mapping[str, Any] = field(default_factory=dict)
-    normalize_reward: bool = False
+    normalize: Mapping[str, Any] | None = None
+    env_wrappers: tuple[Callable[[gym.Env], gym.Env], ...] = ()
+    callbacks: tuple[Callable[[], BaseCallback], ...] = ()
     hyperparameters: Mapping[str, Any] = field(default_factory=dict)
     source: Path | None = None
 
@@ -79,23 +97,6 @@ class AgentConfig:
     def algorithm(self) -> type[BaseAlgorithm]:
         """The stable-baselines3 class."""
         return algorithm_class(self.algo)
-
-    def entry(self) -> dict[str, Any]:
-        """The YAML entry (setup keys and hyper-parameters, classes as their dotted paths), for the run's metadata."""
-        hyperparameters = dict(self.hyperparameters)
-        if "policy_kwargs" in hyperparameters:
-            hyperparameters["policy_kwargs"] = {
-                key: f"{value.__module__}.{value.__qualname__}" if key in CLASS_KEYWORDS else value
-                for key, value in hyperparameters["policy_kwargs"].items()
-            }
-        return {
-            "n_envs": self.n_envs,
-            "n_timesteps": self.n_timesteps,
-            "policy": self.policy,
-            "env_kwargs": dict(self.env_kwargs),
-            "normalize_reward": self.normalize_reward,
-            **hyperparameters,
-        }
 
 
 def algorithm_class(algo: str) -> type[BaseAlgorithm]:
@@ -122,17 +123,79 @@ def _import_class(where: str, dotted: object) -> type:
     return found
 
 
+def _evaluated(where: str, value: object) -> object:
+    """A string evaluated as rl-zoo3 does (``dict``, ``nn`` and ``th`` in scope); other values as they are."""
+    if not isinstance(value, str):
+        return value
+    import torch
+
+    try:
+        return eval(value, {"__builtins__": {"dict": dict}, "nn": torch.nn, "th": torch})  # noqa: S307
+    except Exception as error:
+        raise ValueError(f"{where}: cannot evaluate {value!r}: {error}") from None
+
+
+def _classes_with_kwargs(where: str, value: object) -> list[tuple[type, dict[str, Any]]]:
+    """rl-zoo3's ``env_wrapper`` / ``callback`` value: a class path, or a list of paths or ``{path: kwargs}``."""
+    found = []
+    for item in value if isinstance(value, list) else [value]:
+        if isinstance(item, Mapping) and len(item) == 1:
+            ((name, kwargs),) = item.items()
+        else:
+            name, kwargs = item, {}
+        if not isinstance(kwargs, Mapping):
+            raise ValueError(f"{where}.{name}: expected keyword arguments as a mapping, got {kwargs!r}")
+        found.append((_import_class(where, name), dict(kwargs)))
+    return found
+
+
+def _schedule(where: str, value: object) -> object:
+    """rl-zoo3's schedules: ``lin_<start>`` falls linearly to 0 over the run; a number stays as it is."""
+    if not isinstance(value, str):
+        return value
+    kind, _, start = value.partition("_")
+    try:
+        initial = float(start)
+    except ValueError:
+        initial = None
+    if kind != "lin" or initial is None:
+        raise ValueError(f"{where}: expected a number or a linear schedule such as 'lin_0.0003', got {value!r}")
+    from stable_baselines3.common.utils import LinearSchedule
+
+    return LinearSchedule(initial, 0.0, 1.0)
+
+
 def _whole_number(where: str, value: object, minimum: int) -> int:
     if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
         raise ValueError(f"{where}: expected a whole number >= {minimum}, got {value!r}")
     return value
 
 
+def _normalize(where: str, value: object, gamma: object) -> dict[str, Any] | None:
+    """rl-zoo3's ``normalize``: false, true (observations and rewards) or VecNormalize's keywords."""
+    if value is False:
+        return None
+    kwargs = {} if value is True else _evaluated(where, value)
+    if not isinstance(kwargs, Mapping):
+        raise ValueError(f"{where}: expected true, false or VecNormalize's keywords, got {value!r}")
+    kwargs = dict(kwargs)
+    if kwargs.get("norm_obs", True):
+        raise ValueError(
+            f"{where}: observation normalisation (norm_obs) is not supported: a saved policy must steer "
+            "without the running statistics; scale the observations in the network "
+            "(ship_env.rl.features.ScaledObservationPolicy) and normalise rewards only: "
+            "\"{'norm_obs': False, 'norm_reward': True}\""
+        )
+    if gamma is not None:
+        kwargs["gamma"] = gamma  # as rl-zoo3: the algorithm's discount
+    return kwargs
+
+
 def load_agent_config(algo: str, env_id: str, path: Path | None = None) -> AgentConfig:
     """The entry for ``env_id`` in ``path`` (default ``configs/agents/<algo>.yaml``).
 
     ``ValueError`` names the file and what is wrong: an unknown algorithm, no entry for the
-    environment (listing the ones there are), a malformed setup key, or a keyword the
+    environment (listing the ones there are), a malformed or unsupported key, or a keyword the
     algorithm does not take.
     """
     if algo not in ALGORITHMS:
@@ -146,29 +209,45 @@ def load_agent_config(algo: str, env_id: str, path: Path | None = None) -> Agent
         raise ValueError(f"{path}: expected a mapping of environment ids to hyper-parameters")
     if env_id not in document:
         raise ValueError(f"{path}: no entry for {env_id!r}; entries: {', '.join(map(str, document)) or 'none'}")
-    entry = dict(document[env_id] or {})
+    written = dict(document[env_id] or {})
     where = f"{path}: {env_id}"
-    env_kwargs = entry.pop("env_kwargs", None) or {}
+    unsupported = [key for key in UNSUPPORTED_KEYS if key in written]
+    if unsupported:
+        raise ValueError(f"{where}: rl-zoo3's key {unsupported[0]!r} is not supported by ship-env train")
+    setup = {key: written[key] for key in SETUP_KEYS if key in written}
+    hyperparameters = {key: value for key, value in written.items() if key not in SETUP_KEYS}
+    accepted = set(inspect.signature(algorithm_class(algo).__init__).parameters) - RUN_KEYWORDS
+    unknown = sorted(set(hyperparameters) - accepted)
+    if unknown:
+        raise ValueError(
+            f"{where}: {ALGORITHMS[algo]} takes no keyword {', '.join(map(repr, unknown))} "
+            f"(nor is it a setup key: {', '.join(SETUP_KEYS)})"
+        )
+    for key in EVALUATED_KEYWORDS:
+        if key in hyperparameters:
+            hyperparameters[key] = _evaluated(f"{where}.{key}", hyperparameters[key])
+    for key in SCHEDULE_KEYWORDS:
+        if key in hyperparameters:
+            hyperparameters[key] = _schedule(f"{where}.{key}", hyperparameters[key])
+    env_kwargs = setup.get("env_kwargs") or {}
     if not isinstance(env_kwargs, Mapping):
         raise ValueError(f"{where}.env_kwargs: expected a mapping, got {env_kwargs!r}")
-    policy = entry.pop("policy", "MlpPolicy")
+    policy = setup.get("policy", "MlpPolicy")
     if not isinstance(policy, str):
         raise ValueError(f"{where}.policy: expected a policy name such as 'MlpPolicy', got {policy!r}")
-    normalize_reward = entry.pop("normalize_reward", False)
-    if not isinstance(normalize_reward, bool):
-        raise ValueError(f"{where}.normalize_reward: expected true or false, got {normalize_reward!r}")
-    n_envs = _whole_number(f"{where}.n_envs", entry.pop("n_envs", 1), 1)
-    n_timesteps = _whole_number(f"{where}.n_timesteps", entry.pop("n_timesteps", 100_000), 1)
-    policy_kwargs = entry.get("policy_kwargs")
-    if policy_kwargs is not None:
-        if not isinstance(policy_kwargs, Mapping):
-            raise ValueError(f"{where}.policy_kwargs: expected a mapping, got {policy_kwargs!r}")
-        entry["policy_kwargs"] = {
-            key: _import_class(f"{where}.policy_kwargs.{key}", value) if key in CLASS_KEYWORDS else value
-            for key, value in policy_kwargs.items()
-        }
-    accepted = set(inspect.signature(algorithm_class(algo).__init__).parameters) - RUN_KEYWORDS
-    unknown = sorted(set(entry) - accepted)
-    if unknown:
-        raise ValueError(f"{where}: {ALGORITHMS[algo]} takes no keyword {', '.join(map(repr, unknown))}")
-    return AgentConfig(algo, env_id, n_envs, n_timesteps, policy, dict(env_kwargs), normalize_reward, entry, path)
+    wrappers = _classes_with_kwargs(f"{where}.env_wrapper", setup["env_wrapper"]) if "env_wrapper" in setup else []
+    callbacks = _classes_with_kwargs(f"{where}.callback", setup["callback"]) if "callback" in setup else []
+    return AgentConfig(
+        algo=algo,
+        env_id=env_id,
+        entry=written,
+        n_envs=_whole_number(f"{where}.n_envs", setup.get("n_envs", 1), 1),
+        n_timesteps=_whole_number(f"{where}.n_timesteps", setup.get("n_timesteps", 100_000), 1),
+        policy=_import_class(f"{where}.policy", policy) if "." in policy else policy,
+        env_kwargs=dict(env_kwargs),
+        normalize=_normalize(f"{where}.normalize", setup.get("normalize", False), hyperparameters.get("gamma")),
+        env_wrappers=tuple(partial(wrapper, **kwargs) for wrapper, kwargs in wrappers),
+        callbacks=tuple(partial(callback, **kwargs) for callback, kwargs in callbacks),
+        hyperparameters=hyperparameters,
+        source=path,
+    )

@@ -6,6 +6,11 @@ autopilot's rudder answers it in full (the PD's gain is about 19 rudder limits p
 observation). :class:`ScaledObservation` multiplies each observation by a fixed factor before the
 policy's and value's layers, so their weights start on the scale the task needs. The factors are
 saved with the policy (a buffer of the module), so a policy file carries them.
+
+:class:`ScaledObservationPolicy` is PPO's ``MlpPolicy`` with that extractor in front, named in an
+agent config as ``policy: ship_env.rl.features.ScaledObservationPolicy`` with the factors in
+``policy_kwargs: "dict(features_extractor_kwargs=dict(scales=[50, 5, 1, 1, 1]))"`` (rl-zoo3
+evaluates ``policy_kwargs`` without this package in scope, so the class is named by ``policy``).
 """
 
 from __future__ import annotations
@@ -14,6 +19,7 @@ from collections.abc import Sequence
 
 import torch
 from gymnasium import spaces
+from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 
 
@@ -37,3 +43,12 @@ class ScaledObservation(BaseFeaturesExtractor):
 
     def forward(self, observations: torch.Tensor) -> torch.Tensor:
         return observations * self.scales
+
+
+class ScaledObservationPolicy(ActorCriticPolicy):
+    """PPO's (and A2C's) ``MlpPolicy`` whose features extractor is :class:`ScaledObservation`
+    (``features_extractor_kwargs={"scales": [...]}`` gives the factors)."""
+
+    def __init__(self, *args, **kwargs) -> None:
+        kwargs.setdefault("features_extractor_class", ScaledObservation)
+        super().__init__(*args, **kwargs)

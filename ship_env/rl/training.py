@@ -30,15 +30,26 @@ TENSORBOARD_FOLDER = "tensorboard"
 
 
 def make_training_env(config: AgentConfig) -> VecEnv:
-    """The native vector environment of ``config`` as an SB3 ``VecEnv`` recording episode returns
-    (the environment's own), with its rewards normalised if the config asks."""
-    vector_env = gym.make_vec(
-        config.env_id, num_envs=config.n_envs, vectorization_mode="vector_entry_point", **config.env_kwargs
-    )
+    """The vector environment of ``config`` as an SB3 ``VecEnv`` recording episode returns (the
+    environment's own), normalised as the config asks.
+
+    Without ``env_wrapper`` it is the native vector environment (all ships in one simulator call);
+    with wrappers, Gymnasium's synchronous vector environment of wrapped single environments.
+    """
+    if config.env_wrappers:
+        vector_env = gym.make_vec(
+            config.env_id,
+            num_envs=config.n_envs,
+            vectorization_mode="sync",
+            wrappers=list(config.env_wrappers),
+            **config.env_kwargs,
+        )
+    else:
+        vector_env = gym.make_vec(
+            config.env_id, num_envs=config.n_envs, vectorization_mode="vector_entry_point", **config.env_kwargs
+        )
     env = VecMonitor(SB3VecEnvAdapter(vector_env))
-    if config.normalize_reward:
-        env = VecNormalize(env, norm_obs=False, norm_reward=True, gamma=config.hyperparameters.get("gamma", 0.99))
-    return env
+    return env if config.normalize is None else VecNormalize(env, **config.normalize)
 
 
 def tensorboard_installed() -> bool:
@@ -82,7 +93,8 @@ def train(
         seed: seeds torch, numpy and the environments (sub-environment i with ``seed + i``).
         torch_threads: torch's intra-op threads.
         progress_bar: show SB3's progress bar (tqdm and rich).
-        callback: an SB3 callback (it may stop the run early by returning False).
+        callback: an SB3 callback (it may stop the run early by returning False), run after the
+            config's own (``callback``).
     """
     steps = config.n_timesteps if steps is None else steps
     out = Path(out)
@@ -97,9 +109,10 @@ def train(
         tensorboard_log=str(out / TENSORBOARD_FOLDER) if tensorboard_installed() else None,
         **config.hyperparameters,
     )
+    callbacks = [make() for make in config.callbacks] + ([] if callback is None else [callback])
     start = time.perf_counter()
     try:
-        model.learn(total_timesteps=steps, callback=callback, progress_bar=progress_bar)
+        model.learn(total_timesteps=steps, callback=callbacks, progress_bar=progress_bar)
     finally:
         env.close()
     wall_time = time.perf_counter() - start
@@ -109,7 +122,7 @@ def train(
         env_id=config.env_id,
         env_kwargs=dict(config.env_kwargs),
         algo=config.algo,
-        config=config.entry(),
+        config=dict(config.entry),
         config_file=str(config.source),
         seed=seed,
         steps=steps,

@@ -60,6 +60,7 @@ from ship_env.workbench import (
 from ship_env.workbench.fit import NUISANCE
 from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
+from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
 from ship_env.workbench.tables import diagnosis_table, error_table, estimate_table, ladder_table
 from ship_env.workbench.terms import default_terms, with_values
 from ship_env.workbench.validation import CrossValidation
@@ -402,6 +403,15 @@ def _terms(args: argparse.Namespace, setup: ReplayModel) -> list[str]:
     return [key for key in keys if key not in args.fix]
 
 
+def _claim_outputs(args: argparse.Namespace) -> None:
+    """Check every output before any work: no user's file overwritten, no foreign folder written into."""
+    if getattr(args, "json", None) is not None:
+        claim_file(args.json, args.force, "--json")
+    for option in ("plot", "report"):
+        if getattr(args, option, None) is not None:
+            claim_folder(getattr(args, option), args.force, f"--{option}")
+
+
 def _print_validation(validation: CrossValidation, scales: ErrorScales) -> None:
     fitted = validation.fit
     print(f"\nfitted terms ({fitted.evaluations} evaluations; {fitted.message})")
@@ -438,7 +448,7 @@ def _fit_json(validation: CrossValidation, scales: ErrorScales) -> dict:
 def run_fit(args: argparse.Namespace) -> int:
     """``ship-env fit``: fit the model to the logs, validate it leaving one run out."""
     setup, options = _workbench_setup(args), _workbench_options(args)
-    _prepare_outputs(args.plot, args.json)
+    _claim_outputs(args)
     logs = _workbench_logs(args)
     keys = _terms(args, setup)
     print(_model_line(setup, logs) + f"; fitted terms: {', '.join(keys)}")
@@ -460,7 +470,7 @@ def run_fit(args: argparse.Namespace) -> int:
 def run_compare(args: argparse.Namespace) -> int:
     """``ship-env compare``: replay the logs with a model as it is (no fitting)."""
     setup, options = _workbench_setup(args), _workbench_options(args)
-    _prepare_outputs(args.plot, None)
+    _claim_outputs(args)
     logs = _workbench_logs(args)
     print(_model_line(setup, logs))
     comparison = compare(setup, logs, options.initial_window)
@@ -490,6 +500,7 @@ def run_diagnose(args: argparse.Namespace) -> int:
 def run_improve(args: argparse.Namespace) -> int:
     """``ship-env improve``: add effects while the held-out error falls; the error ladder and a report."""
     setup, options = _workbench_setup(args), _workbench_options(args)
+    _claim_outputs(args)
     logs = _workbench_logs(args)
     print(_model_line(setup, logs))
     ladder = improve(
@@ -572,6 +583,11 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     )
     parser.add_argument(
         "--every", type=_whole_number, default=1, metavar="N", help="use every N-th sample (default: 1)"
+    )
+    parser.add_argument(
+        "--force",
+        action="store_true",
+        help="overwrite an existing --json file, or write into a --plot/--report folder the workbench did not write",
     )
     parser.add_argument(
         "--window",
@@ -749,7 +765,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return args.handler(args)
     except UsageError as error:
         args.command_parser.error(f"argument {error.argument}: {error}")
-    except (LogError, FormatError, FitError) as error:
+    except (LogError, FormatError, FitError, OutputError) as error:
         print(f"ship-env {args.command}: error: {error}", file=sys.stderr)
         return 1
 

@@ -75,7 +75,19 @@ def test_compare_replays_a_fitted_model(log_folder, tmp_path, capsys):
     main(["fit", str(log_folder), "--ship", SHIP, "--add", "rudder_offset", "--json", str(fit_file)])
     capsys.readouterr()
     assert (
-        main(["compare", str(log_folder), "--ship", SHIP, "--parameters", str(fit_file), "--plot", str(tmp_path)]) == 0
+        main(
+            [
+                "compare",
+                str(log_folder),
+                "--ship",
+                SHIP,
+                "--parameters",
+                str(fit_file),
+                "--plot",
+                str(tmp_path / "plots"),
+            ]
+        )
+        == 0
     )
     out = capsys.readouterr().out
     assert "effects: yaw, rudder_offset, kinematics" in out and "pooled" in out
@@ -160,3 +172,33 @@ def test_fixing_a_term_that_is_not_fitted_names_it(log_folder, capsys):
     with pytest.raises(SystemExit):
         main(["fit", str(log_folder), "--fix", "rudder_offset.angle"])
     assert "argument --fix: rudder_offset.angle not among the fitted terms" in capsys.readouterr().err
+
+
+def test_json_onto_an_existing_file_fails_without_force(log_folder, tmp_path, capsys):
+    users_file = tmp_path / "fit.json"
+    users_file.write_text("the user's notes\n")
+    assert main(["fit", str(log_folder), "--ship", SHIP, "--json", str(users_file)]) == 1
+    error = capsys.readouterr().err
+    assert "--json" in error and "exists" in error and "--force" in error
+    assert users_file.read_text() == "the user's notes\n"
+    assert main(["fit", str(log_folder), "--ship", SHIP, "--json", str(users_file), "--force"]) == 0
+    assert json.loads(users_file.read_text())["effects"] == ["yaw", "kinematics"]
+
+
+@pytest.mark.parametrize("command", ["compare", "improve"])
+def test_a_folder_the_workbench_did_not_write_is_left_alone(log_folder, tmp_path, capsys, command):
+    folder = tmp_path / "mine"
+    folder.mkdir()
+    (folder / "thesis.tex").write_text("chapter 1\n")
+    option = "--plot" if command == "compare" else "--report"
+    assert main([command, str(log_folder), "--ship", SHIP, option, str(folder)]) == 1
+    error = capsys.readouterr().err
+    assert option in error and "did not write" in error and "--force" in error
+    assert sorted(p.name for p in folder.iterdir()) == ["thesis.tex"]
+
+
+def test_the_workbench_writes_again_into_its_own_folder(log_folder, tmp_path):
+    folder = tmp_path / "plots"
+    assert main(["compare", str(log_folder), "--ship", SHIP, "--plot", str(folder)]) == 0
+    assert main(["compare", str(log_folder), "--ship", SHIP, "--plot", str(folder)]) == 0
+    assert len(list(folder.glob("*.png"))) == 3

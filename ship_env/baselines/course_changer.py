@@ -112,7 +112,7 @@ class PredictiveCourseChanger:
         self.settings = settings
         self.sample_time = sample_time
         self.scaling = scaling or TrackScalingEstimator()
-        self.track: ReferenceTrack | None = None
+        self._track: ReferenceTrack | None = None
         self.leg = 0
         self.turning = False
         self.setpoint = 0.0
@@ -123,7 +123,7 @@ class PredictiveCourseChanger:
     # -- running --------------------------------------------------------------------------------
     def reset(self, measurement: Measurement, track: ReferenceTrack) -> None:
         """Start at the first waypoint of ``track`` on its first leg."""
-        self.track = track
+        self._track = track
         self.leg = 0
         self.turning = False
         self.wheel_over_prediction = None
@@ -134,6 +134,13 @@ class PredictiveCourseChanger:
         self.setpoint = float(track.courses[0])
         self._time_since_decision = self.settings.decision_interval
         self._first_sample = True
+
+    @property
+    def track(self) -> ReferenceTrack:
+        """The reference track being sailed (given to :meth:`reset`)."""
+        if self._track is None:
+            raise RuntimeError("CourseChanger: call reset(measurement, track) before sailing")
+        return self._track
 
     def order(self, measurement: Measurement) -> float:
         """The ordered rudder for this sample, rad."""

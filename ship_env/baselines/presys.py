@@ -15,17 +15,22 @@ first with a zig-zag on its model, as the thesis did before its experiment
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 from ship_env.baselines.adaptive_autopilot import IndirectAdaptiveAutopilot
 from ship_env.baselines.controller import AutopilotController
 from ship_env.baselines.course_changer import CourseChangerSettings, PredictiveCourseChanger, TrackFollowController
-from ship_env.baselines.online_estimators.zigzag_trial import identify_by_zigzag
 from ship_env.baselines.mrac import ModelReferenceAutopilot
 from ship_env.baselines.nomoto import NomotoParameters
+from ship_env.baselines.online_estimators.zigzag_trial import identify_by_zigzag
 from ship_env.baselines.pd_autopilot import PDAutopilot, PDDesign, Schedule
 from ship_env.baselines.position_filter import PositionFilter, PositionFilterNoise
 from ship_env.baselines.yaw_filter import YawFilter
 from ship_env.model import ShipModel
+
+if TYPE_CHECKING:
+    from ship_env.envs.task import ShipTask
+    from ship_env.envs.track_follow_task import TrackFollowTask
 
 #: The PD tuning of the baselines: closed-loop natural frequency (rad/s; at the service speed for
 #: the distance schedule) and damping. About omega_n* = omega_n L/u = 1.4 per ship length at the
@@ -52,7 +57,7 @@ def _design(model: ShipModel, rudder_limit: float, schedule: Schedule = "time") 
     return PDDesign(NATURAL_FREQUENCY, DAMPING, rudder_limit, model.service_speed, schedule)
 
 
-def pd_controller(task, schedule: Schedule = "time") -> AutopilotController:
+def pd_controller(task: ShipTask, schedule: Schedule = "time") -> AutopilotController:
     """The PD autopilot on the raw instruments, gains from the preset's K*, tau* (5.79, 5.80).
 
     ``schedule``: how the gains follow the speed (:class:`~ship_env.baselines.pd_autopilot.PDDesign`);
@@ -63,7 +68,7 @@ def pd_controller(task, schedule: Schedule = "time") -> AutopilotController:
     return AutopilotController(autopilot, task.rudder_limit)
 
 
-def indirect_adaptive_controller(task) -> AutopilotController:
+def indirect_adaptive_controller(task: ShipTask) -> AutopilotController:
     """The indirect adaptive autopilot (5.5.2), its yaw filter starting at the preset's K*, tau*."""
     model = task.model
     yaw_filter = YawFilter(model.length, task.dt, preset_parameters(model))
@@ -72,7 +77,7 @@ def indirect_adaptive_controller(task) -> AutopilotController:
     )
 
 
-def mrac_controller(task, reference_gain: float = REFERENCE_GAIN) -> AutopilotController:
+def mrac_controller(task: ShipTask, reference_gain: float = REFERENCE_GAIN) -> AutopilotController:
     """The MRAC autopilot (5.5.3), filter and reference model starting at the preset's K*, tau*."""
     model = task.model
     parameters = preset_parameters(model)
@@ -83,7 +88,7 @@ def mrac_controller(task, reference_gain: float = REFERENCE_GAIN) -> AutopilotCo
     return AutopilotController(autopilot, task.rudder_limit)
 
 
-def track_follow_controller(task, seed: int = 0) -> TrackFollowController:
+def track_follow_controller(task: TrackFollowTask, seed: int = 0) -> TrackFollowController:
     """PRESYS on TrackFollow-v0: identification trial, MRAC with the identified reference model held
     (6.4.4.1: adaptation of the reference switched off), position filter, predictor-based course changer.
     The autopilot's gains are scheduled in the distance domain (3.52), as the track predictor assumes.

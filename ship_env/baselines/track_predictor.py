@@ -207,7 +207,8 @@ class TrackPredictor:
             east += step * (speed * math.sin(middle_heading) + sway * math.cos(middle_heading))
             rudder, rate, heading = next_rudder, next_rate, next_heading
             track[i] = (i * step, north, east, heading, rate, rudder)
-        return PredictedTrack(*track.T, speed=speed, length=self.length)
+        times, norths, easts, headings, rates, rudders = track.T
+        return PredictedTrack(times, norths, easts, headings, rates, rudders, speed=speed, length=self.length)
 
 
 def _nearest_branch(angle: float, reference: float) -> float:

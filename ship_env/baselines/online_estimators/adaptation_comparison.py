@@ -128,7 +128,8 @@ def compare_adaptation(
         noise = steady_state_noise(estimator.run(calibration.log), calibration.truth, steady_from)
         history = estimator.run(change.log)
         settled = settling_times(history, change.truth)
-        recovery = None if any(t is None for t in settled.values()) else max(settled.values()) - change_time
+        settled_at = [t for t in settled.values() if t is not None]
+        recovery = max(settled_at) - change_time if len(settled_at) == len(settled) else None
         results.append(
             AdaptationResult(
                 estimator.name,

@@ -113,7 +113,7 @@ def run_adaptation(
 ) -> list[AdaptationRow]:
     """Stelling 5 for the least-squares pair and the EKF pair at each drift density."""
     calibration, change = adaptation_trials(seed, scale)
-    length = change.length
+    length = change.ship_length
     rows = []
     for drift in drifts:
         pairs = (
@@ -141,6 +141,7 @@ def comparison_table(runs: Sequence[EstimatorRun]) -> str:
         if run.failure is not None:
             lines.append(f"{run.scenario:<20} {run.estimator:<42} diverged: {run.failure[:120]}")
             continue
+        assert run.final is not None and run.settling is not None  # a run that did not diverge has its figures
         final = " ".join(f"{name} {100.0 * error:.1f}" for name, error in run.final.items())
         settled = " ".join(f"{name} {_seconds(value)}" for name, value in run.settling.items())
         lines.append(
@@ -175,7 +176,7 @@ def plot_scenario(trial: Trial, runs: Sequence[EstimatorRun], path: Path) -> Pat
     figure = Drawing(figsize=(9, 2.2 * len(names) + 0.8))
     FigureCanvasAgg(figure)
     axes = figure.subplots(len(names), 1, sharex=True, squeeze=False)
-    for i, (name, axis) in enumerate(zip(names, axes[:, 0])):
+    for i, (name, axis) in enumerate(zip(names, axes[:, 0], strict=True)):
         truth = trial.truth.values[:, i]
         axis.fill_between(trial.truth.time, truth * (1 - TOLERANCE), truth * (1 + TOLERANCE), color="0.88", lw=0)
         axis.plot(trial.truth.time, truth, "k--", lw=1.2, label="truth")

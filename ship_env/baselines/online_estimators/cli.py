@@ -132,12 +132,18 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument(
-        "--scenarios", type=_scenarios, default=list(SCENARIOS), metavar="NAME[,NAME]",
+        "--scenarios",
+        type=_scenarios,
+        default=list(SCENARIOS),
+        metavar="NAME[,NAME]",
         help=f"scenarios to run (default: all): {', '.join(SCENARIOS)}",
     )
     parser.add_argument("--seed", type=int, default=0, metavar="N", help="noise and rudder seed (default: %(default)s)")
     parser.add_argument(
-        "--scale", type=_scale, default=1.0, metavar="F",
+        "--scale",
+        type=_scale,
+        default=1.0,
+        metavar="F",
         help="multiply every run's duration (and change time) by F, e.g. 0.25 for a quick look (default: %(default)s)",
     )
     parser.add_argument("--no-adaptation", action="store_true", help="leave out the stelling-5 comparison")

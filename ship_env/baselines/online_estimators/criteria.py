@@ -32,7 +32,7 @@ def relative_errors(estimate: ParameterHistory, truth: ParameterHistory) -> np.n
 
 def final_errors(estimate: ParameterHistory, truth: ParameterHistory) -> dict[str, float]:
     """|e_i| at the last sample, per parameter."""
-    return dict(zip(truth.names, map(float, np.abs(relative_errors(estimate, truth)[-1]))))
+    return dict(zip(truth.names, map(float, np.abs(relative_errors(estimate, truth)[-1])), strict=True))
 
 
 def settling_times(

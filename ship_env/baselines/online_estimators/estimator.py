@@ -21,6 +21,8 @@ class Estimator(Protocol):
     """
 
     name: str
-    parameter_names: tuple[str, ...]
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]: ...
 
     def run(self, log: ExcitationLog) -> ParameterHistory: ...

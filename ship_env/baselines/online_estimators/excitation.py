@@ -32,10 +32,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import max_len_seq
 
+from ship_env.baselines.instruments import InstrumentNoise, SimulatedInstruments
 from ship_env.baselines.online_estimators.history import NOMOTO, ParameterHistory
 from ship_env.baselines.online_estimators.log import ExcitationLog
 from ship_env.baselines.online_estimators.zigzag_trial import zigzag_rudder
-from ship_env.baselines.instruments import InstrumentNoise, SimulatedInstruments
 from ship_env.model import ShipModel, Simulator
 from ship_env.model import state as S
 
@@ -199,6 +199,13 @@ class Trial:
     truth: ParameterHistory
     length: float | None
     change_times: tuple[float, ...] = ()
+
+    @property
+    def ship_length(self) -> float:
+        """L, m, for the Nomoto estimators (which scale with it); a trial without a ship has none."""
+        if self.length is None:
+            raise ValueError(f"trial {self.log.name!r}: length is None (a model without a ship length)")
+        return self.length
 
 
 def nomoto_truth(model: ShipModel) -> tuple[float, float]:

@@ -49,7 +49,7 @@ class ParameterHistory:
 
     def final(self) -> dict[str, float]:
         """The values after the last sample."""
-        return dict(zip(self.names, map(float, self.values[-1])))
+        return dict(zip(self.names, map(float, self.values[-1]), strict=True))
 
 
 class HistoryRecorder:

@@ -37,11 +37,11 @@ from __future__ import annotations
 import numpy as np
 
 from ship_env.baselines.filter_health import FilterDivergenceError
+from ship_env.baselines.nomoto import NomotoParameters
 from ship_env.baselines.online_estimators.adaptation import Adaptation, ForgettingFactor
 from ship_env.baselines.online_estimators.discrete_nomoto import discrete_pair, nomoto_from_discrete
 from ship_env.baselines.online_estimators.history import NOMOTO, HistoryRecorder, ParameterHistory
 from ship_env.baselines.online_estimators.log import ExcitationLog
-from ship_env.baselines.nomoto import NomotoParameters
 
 #: Nguyen's defaults: lambda in 0.95..0.998 (here 0.995, a memory of 200 samples), P(0) = 1e3 I.
 NGUYEN_FORGETTING = ForgettingFactor(0.995)

@@ -19,8 +19,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from ship_env.workbench.logs import Log
 
 #: No rudder turns further than this, rad: a larger value is in degrees.
 MAX_PLAUSIBLE_RUDDER = math.pi / 2.0
@@ -174,7 +178,7 @@ def _check_heading_against_rate(time: np.ndarray, heading: np.ndarray, rate: np.
         )
 
 
-def from_workbench_log(log: object, service_speed: float | None = None) -> ExcitationLog:
+def from_workbench_log(log: Log, service_speed: float | None = None) -> ExcitationLog:
     """The measurement workbench's :class:`ship_env.workbench.logs.Log` as an :class:`ExcitationLog`.
 
     The workbench's log is already in SI units and radians with an unwrapped heading. A log without

@@ -36,11 +36,11 @@ from __future__ import annotations
 import numpy as np
 
 from ship_env.baselines.filter_health import FilterDivergenceError
+from ship_env.baselines.nomoto import NomotoParameters
 from ship_env.baselines.online_estimators.adaptation import Adaptation
 from ship_env.baselines.online_estimators.discrete_nomoto import discrete_pair, nomoto_from_discrete
 from ship_env.baselines.online_estimators.history import NOMOTO, HistoryRecorder, ParameterHistory
 from ship_env.baselines.online_estimators.log import ExcitationLog
-from ship_env.baselines.nomoto import NomotoParameters
 
 OBSERVATIONS = ("combined", "series-parallel", "parallel")
 

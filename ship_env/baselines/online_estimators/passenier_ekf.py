@@ -10,10 +10,10 @@ each sample. Its parameters adapt by additive system noise on a_s, b_s (the rand
 
 from __future__ import annotations
 
-from ship_env.baselines.online_estimators.history import NOMOTO, HistoryRecorder, ParameterHistory
-from ship_env.baselines.online_estimators.log import ExcitationLog
 from ship_env.baselines.measurement import Measurement
 from ship_env.baselines.nomoto import NomotoParameters
+from ship_env.baselines.online_estimators.history import NOMOTO, HistoryRecorder, ParameterHistory
+from ship_env.baselines.online_estimators.log import ExcitationLog
 from ship_env.baselines.yaw_filter import YawFilter, YawFilterNoise
 
 

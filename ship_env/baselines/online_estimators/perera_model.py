@@ -144,6 +144,10 @@ def simulate(
     true = np.empty((steps + 1, 4))  # psi, psi', delta, delta'
     jerks = setting.disturbance * rng.normal(size=steps)
     limit = setting.rudder_rate_limit
+
+    def jerk(r: float, r_dot: float, delta: float, forcing: float) -> float:
+        return a1 * r * r * r + a2 * r + a3 * r_dot + b1 * delta + forcing
+
     for k in range(steps + 1):
         order = helmsman(time[k], heading)
         rudder_rate = min(max((order - rudder) / sample_time, -limit), limit)
@@ -151,21 +155,17 @@ def simulate(
         if k == steps:
             break
         forcing = b2 * rudder_rate + jerks[k]
-
-        def jerk(r: float, r_dot: float, delta: float) -> float:
-            return a1 * r * r * r + a2 * r + a3 * r_dot + b1 * delta + forcing
-
         for i in range(setting.substeps):
             delta = rudder + rudder_rate * i * h
-            k1 = (rate, acceleration, jerk(rate, acceleration, delta))
+            k1 = (rate, acceleration, jerk(rate, acceleration, delta, forcing))
             delta += 0.5 * h * rudder_rate
-            k2 = (rate + 0.5 * h * k1[1], acceleration + 0.5 * h * k1[2])
-            k2 = (*k2, jerk(k2[0], k2[1], delta))
-            k3 = (rate + 0.5 * h * k2[1], acceleration + 0.5 * h * k2[2])
-            k3 = (*k3, jerk(k3[0], k3[1], delta))
+            r2, r_dot2 = rate + 0.5 * h * k1[1], acceleration + 0.5 * h * k1[2]
+            k2 = (r2, r_dot2, jerk(r2, r_dot2, delta, forcing))
+            r3, r_dot3 = rate + 0.5 * h * k2[1], acceleration + 0.5 * h * k2[2]
+            k3 = (r3, r_dot3, jerk(r3, r_dot3, delta, forcing))
             delta += 0.5 * h * rudder_rate
-            k4 = (rate + h * k3[1], acceleration + h * k3[2])
-            k4 = (*k4, jerk(k4[0], k4[1], delta))
+            r4, r_dot4 = rate + h * k3[1], acceleration + h * k3[2]
+            k4 = (r4, r_dot4, jerk(r4, r_dot4, delta, forcing))
             heading += h / 6.0 * (k1[0] + 2.0 * k2[0] + 2.0 * k3[0] + k4[0])
             rate += h / 6.0 * (k1[1] + 2.0 * k2[1] + 2.0 * k3[1] + k4[1])
             acceleration += h / 6.0 * (k1[2] + 2.0 * k2[2] + 2.0 * k3[2] + k4[2])

@@ -16,16 +16,20 @@ K = K* u/L and T = tau* L/u, not K*, tau*) make ships that change during the run
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
+from ship_env.baselines.instruments import InstrumentNoise
+from ship_env.baselines.nomoto import NomotoParameters
 from ship_env.baselines.online_estimators.adaptation import ForgettingFactor, RandomWalk
 from ship_env.baselines.online_estimators.discrete_nomoto import discrete_pair
 from ship_env.baselines.online_estimators.estimator import Estimator
 from ship_env.baselines.online_estimators.excitation import (
+    Change,
     Intermittent,
     ModelChange,
     PseudoRandomBinary,
+    RudderProgramme,
     SpeedChange,
     Trial,
     Turning,
@@ -45,8 +49,6 @@ from ship_env.baselines.online_estimators.perera_model import (
     simulate,
 )
 from ship_env.baselines.online_estimators.song_ekf import SongFilter, SongFilterNoise
-from ship_env.baselines.instruments import InstrumentNoise
-from ship_env.baselines.nomoto import NomotoParameters
 from ship_env.manoeuvres.results import KNOT
 from ship_env.model import ShipModel
 
@@ -121,10 +123,12 @@ class Scenario:
 
 
 def _nomoto(trial: Trial) -> list[Estimator]:
-    return nomoto_estimators(trial.length)
+    return nomoto_estimators(trial.ship_length)
 
 
-def _container(programme, duration: float, changes=(), name: str | None = None) -> Callable[[int, float], Trial]:
+def _container(
+    programme: RudderProgramme, duration: float, changes: Sequence[Change] = (), name: str | None = None
+) -> Callable[[int, float], Trial]:
     def make(seed: int, scale: float) -> Trial:
         scaled = [replace(change, time=change.time * scale) for change in changes]
         return sail(container(), programme, duration * scale, SAMPLE_TIME, changes=scaled, seed=seed, name=name)
@@ -132,7 +136,7 @@ def _container(programme, duration: float, changes=(), name: str | None = None) 
     return make
 
 
-def _perera(programme, setting: PereraSetting, duration: float) -> Callable[[int, float], Trial]:
+def _perera(programme: RudderProgramme, setting: PereraSetting, duration: float) -> Callable[[int, float], Trial]:
     def make(seed: int, scale: float) -> Trial:
         seeded = replace(programme, seed=seed) if isinstance(programme, WhiteNoise) else programme
         return simulate(seeded, duration * scale, setting=setting, seed=seed)

@@ -62,9 +62,9 @@ import numpy as np
 from filterpy.kalman import ExtendedKalmanFilter
 
 from ship_env.baselines.filter_health import FilterDivergenceError
+from ship_env.baselines.nomoto import NomotoParameters
 from ship_env.baselines.online_estimators.history import NOMOTO, HistoryRecorder, ParameterHistory
 from ship_env.baselines.online_estimators.log import ExcitationLog
-from ship_env.baselines.nomoto import NomotoParameters
 
 RATE, HEADING, INVERSE_TIME_CONSTANT, GAIN_RATIO, OFFSET = range(5)
 STATE_SIZE = 5

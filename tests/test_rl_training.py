@@ -119,7 +119,7 @@ def test_train_command_writes_model_and_metadata(tmp_path, capsys):
     argv = ["train", "--algo", "ppo", "--steps", "300", "--seed", "3", "--config", str(config), "--out", str(out)]
     assert main([*argv, "--no-progress"]) == 0
     printed = capsys.readouterr().out
-    assert "ppo on ship_env/CourseChange-v0: 512 steps" in printed  # two rollouts of 4 x 64
+    assert "ppo on ship_env/CourseChange-v0, seed 3: 512 steps" in printed  # two rollouts of 4 x 64
     metadata = json.loads((out / "metadata.json").read_text())
     assert metadata["env_id"] == COURSE_CHANGE and metadata["algo"] == "ppo"
     assert metadata["env_kwargs"] == entry["env_kwargs"]

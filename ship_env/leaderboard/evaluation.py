@@ -6,8 +6,9 @@ so both give the same table to the last digit:
 
 - ``local`` (the default): one job after another, in this process;
 - ``ray``: one Ray task per job (:func:`run_on_ray`; the optional extra ``ray``). It joins the Ray
-  cluster already initialised, or starts a local one (``ray.init()``). Policy files must be
-  readable by the workers at the same path.
+  session already open in this process, or the cluster at an address, or starts a local one
+  (:func:`ship_env.ray_cluster.ray_session`). Policy files must be readable by the workers at
+  the same path.
 
 Learned entrants run torch with one intra-op thread (the fastest for one observation at a time).
 """
@@ -62,31 +63,36 @@ def run_locally(jobs: Sequence[Job], advance: Callable[[int], object]) -> list[l
     return [run_job(job, lambda: advance(1)) for job in jobs]
 
 
-def run_on_ray(jobs: Sequence[Job], advance: Callable[[int], object]) -> list[list[EpisodeResult]]:
-    """Run each job as a Ray task; ``advance(n)`` with a job's episodes as it finishes."""
-    try:
-        import ray
-    except ImportError:
-        raise RuntimeError("the ray backend needs Ray: pip install 'ship-env[ray]'") from None
-    if not ray.is_initialized():
-        ray.init()
-    remote_job = ray.remote(run_job)
-    pending = {remote_job.remote(job): index for index, job in enumerate(jobs)}
-    results: list[list[EpisodeResult]] = [[] for _ in jobs]
-    while pending:
-        done, _ = ray.wait(list(pending), num_returns=1)
-        index = pending.pop(done[0])
-        results[index] = ray.get(done[0])
-        advance(len(jobs[index].suite.episodes))
+def run_on_ray(
+    jobs: Sequence[Job], advance: Callable[[int], object], address: str | None = None
+) -> list[list[EpisodeResult]]:
+    """Run each job as a Ray task (on the cluster at ``address``, default: this process's Ray session
+    or a local one); ``advance(n)`` with a job's episodes as it finishes."""
+    from ship_env.ray_cluster import ray_session
+
+    with ray_session(address) as ray:
+        remote_job = ray.remote(run_job)
+        pending = {remote_job.remote(job): index for index, job in enumerate(jobs)}
+        results: list[list[EpisodeResult]] = [[] for _ in jobs]
+        while pending:
+            done, _ = ray.wait(list(pending), num_returns=1)
+            index = pending.pop(done[0])
+            results[index] = ray.get(done[0])
+            advance(len(jobs[index].suite.episodes))
     return results
 
 
-def evaluate(jobs: Sequence[Job], backend: str = "local", progress: bool = True) -> list[EpisodeResult]:
-    """Run ``jobs`` on ``backend`` with a progress bar over episodes; their episodes in job order."""
+def evaluate(
+    jobs: Sequence[Job], backend: str = "local", progress: bool = True, ray_address: str | None = None
+) -> list[EpisodeResult]:
+    """Run ``jobs`` on ``backend`` (Ray: at ``ray_address``) with a progress bar over episodes; their
+    episodes in job order."""
     if backend not in BACKENDS:
         raise ValueError(f"backend: expected one of {', '.join(BACKENDS)}, got {backend!r}")
-    runner = run_locally if backend == "local" else run_on_ray
     total = sum(len(job.suite.episodes) for job in jobs)
     with tqdm(total=total, desc="leaderboard", unit="episode", file=sys.stderr, disable=not progress) as bar:
-        per_job = runner(jobs, bar.update)
+        if backend == "local":
+            per_job = run_locally(jobs, bar.update)
+        else:
+            per_job = run_on_ray(jobs, bar.update, ray_address)
     return [result for results in per_job for result in results]

@@ -8,10 +8,12 @@ from __future__ import annotations
 
 import argparse
 import shlex
+import time
 from pathlib import Path
 
 from ship_env.rl.agents import ALGORITHMS, DEFAULT_TORCH_THREADS
-from ship_env.rl.metadata import METADATA_FILE
+from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE, PolicyMetadata
+from ship_env.rl.seeds import BACKENDS, SeedRun
 
 #: The environment ``--env`` defaults to.
 DEFAULT_ENV = "ship_env/CourseChange-v0"
@@ -30,14 +32,14 @@ def _whole_number(minimum: int):
     return parse
 
 
-def default_out(env_id: str, algo: str, seed: int) -> Path:
-    """``runs/<Env-vN>/<algo>/seed<S>``: where a run goes without ``--out``."""
-    return Path("runs") / env_id.rsplit("/", 1)[-1] / algo / f"seed{seed}"
+def default_out(env_id: str, algo: str) -> Path:
+    """``runs/<Env-vN>/<algo>``: the folder of the seeds' folders (``seed<S>``) without ``--out``."""
+    return Path("runs") / env_id.rsplit("/", 1)[-1] / algo
 
 
-def reproducing_command(args: argparse.Namespace, out: Path) -> str:
-    """The ``ship-env train`` command line that repeats this run, every choice spelled out."""
-    words = ["ship-env", "train", "--algo", args.algo, "--env", args.env, "--seed", str(args.seed)]
+def reproducing_command(args: argparse.Namespace, seed: int, out: Path) -> str:
+    """The ``ship-env train`` command line that repeats one seed's run, every choice spelled out."""
+    words = ["ship-env", "train", "--algo", args.algo, "--env", args.env, "--seed", str(seed)]
     if args.steps is not None:
         words += ["--steps", str(args.steps)]
     if args.config is not None:
@@ -48,34 +50,73 @@ def reproducing_command(args: argparse.Namespace, out: Path) -> str:
     return shlex.join(words)
 
 
-def run_train(args: argparse.Namespace) -> int:
-    """Train, save ``model.zip`` and ``metadata.json`` into ``--out``, print a summary."""
-    from ship_env.rl.agents import load_agent_config
-    from ship_env.rl.training import TENSORBOARD_FOLDER, tensorboard_installed, train
+def seed_runs(args: argparse.Namespace) -> list[SeedRun]:
+    """Each seed's run: ``--seed S`` goes to ``--out`` itself (default ``runs/<Env>/<algo>/seed<S>``),
+    ``--seeds`` to ``<out>/seed<S>`` each."""
+    if args.seeds is None:
+        out = args.out if args.out is not None else default_out(args.env, args.algo) / f"seed{args.seed}"
+        return [SeedRun(args.seed, out, reproducing_command(args, args.seed, out))]
+    parent = args.out if args.out is not None else default_out(args.env, args.algo)
+    runs = [(seed, parent / f"seed{seed}") for seed in args.seeds]
+    return [SeedRun(seed, out, reproducing_command(args, seed, out)) for seed, out in runs]
 
+
+def run_train(args: argparse.Namespace) -> int:
+    """Train each seed, save ``model.zip`` and ``metadata.json`` into its folder, print a summary."""
+    from ship_env.ray_cluster import RayUnavailable
+    from ship_env.rl.agents import load_agent_config
+    from ship_env.rl.seeds import train_seeds, trained_already
+    from ship_env.rl.training import TENSORBOARD_FOLDER, tensorboard_installed
+
+    if args.ray_address is not None and args.backend != "ray":
+        args.command_parser.error(f"argument --ray-address: {args.ray_address!r} needs --backend ray")
     try:
         config = load_agent_config(args.algo, args.env, args.config)
     except ValueError as error:
         args.command_parser.error(f"argument --env/--config: {error}")
-    out = args.out if args.out is not None else default_out(args.env, args.algo, args.seed)
-    run = train(
-        config,
-        out,
-        reproducing_command(args, out),
-        steps=args.steps,
-        seed=args.seed,
-        torch_threads=args.torch_threads,
-        progress_bar=not args.no_progress,
-    )
-    metadata = run.metadata
-    print(
-        f"{args.algo} on {args.env}: {metadata.timesteps} steps in {metadata.wall_time_s:.1f} s "
-        f"({config.n_envs} envs, {args.torch_threads} torch thread(s), seed {args.seed})"
-    )
-    print(f"model    {run.model_path}\nmetadata {out / METADATA_FILE}")
+    runs = seed_runs(args)
+    existing = trained_already(runs)
+    if existing and not args.force:
+        args.command_parser.error(
+            f"argument --out: already trained, not overwritten without --force: {', '.join(map(str, existing))}"
+        )
+
+    def report(run: SeedRun, metadata: PolicyMetadata) -> None:
+        print(
+            f"{args.algo} on {args.env}, seed {run.seed}: {metadata.timesteps} steps in {metadata.wall_time_s:.1f} s "
+            f"({config.n_envs} envs, {args.torch_threads} torch thread(s)) -> {run.out / MODEL_FILE}",
+            flush=True,
+        )
+
+    start = time.perf_counter()
+    try:
+        train_seeds(
+            config,
+            runs,
+            steps=args.steps,
+            torch_threads=args.torch_threads,
+            backend=args.backend,
+            ray_address=args.ray_address,
+            on_done=report,
+            progress_bar=not args.no_progress and len(runs) == 1,
+        )
+    except RayUnavailable as error:
+        args.command_parser.error(f"argument --ray-address: {error}")
+    if len(runs) > 1:
+        print(f"{len(runs)} seeds in {time.perf_counter() - start:.1f} s on the {args.backend} backend")
+    print(f"metadata (with the command that repeats each run): {METADATA_FILE} beside each model")
     if tensorboard_installed():
-        print(f"tensorboard --logdir {out / TENSORBOARD_FOLDER}")
+        print("tensorboard --logdir " + " --logdir ".join(str(run.out / TENSORBOARD_FOLDER) for run in runs))
     return 0
+
+
+def _seed_list(text: str) -> tuple[int, ...]:
+    from ship_env.rl.seeds import parse_seeds
+
+    try:
+        return parse_seeds(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def add_parser(subcommands: argparse._SubParsersAction) -> None:
@@ -87,12 +128,15 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
             "Train a stable-baselines3 agent on the native vector environment with the hyper-parameters\n"
             "of configs/agents/<algo>.yaml (one entry per environment id, as rl-zoo3 keeps them), and\n"
             "save model.zip with metadata.json (environment and its kwargs, config, seed, steps, wall\n"
-            "time, package versions, the command that reproduces the run). TensorBoard logs go to\n"
+            "time, package versions, the command that reproduces the run). --seeds trains several seeds,\n"
+            "one after another or as Ray tasks (--backend ray), each the same run as its own --seed command.\n"
+            "A folder that already holds a run is not overwritten without --force. TensorBoard logs go to\n"
             "<out>/tensorboard when tensorboard is installed."
         ),
         epilog=(
             "examples:\n"
             "  ship-env train --algo ppo --env ship_env/CourseChange-v0\n"
+            "  ship-env train --algo ppo --env ship_env/CourseChange-v0 --seeds 0-4 --backend ray\n"
             "  ship-env train --algo sac --env ship_env/CourseChange-v0 --steps 50000 --seed 3 --out runs/sac3"
         ),
         formatter_class=argparse.RawDescriptionHelpFormatter,
@@ -108,13 +152,36 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
         metavar="N",
         help="environment steps to train (default: the config's n_timesteps)",
     )
-    parser.add_argument("--seed", type=_whole_number(0), default=0, metavar="S", help="random seed (default: 0)")
+    seeds = parser.add_mutually_exclusive_group()
+    seeds.add_argument("--seed", type=_whole_number(0), default=0, metavar="S", help="random seed (default: 0)")
+    seeds.add_argument(
+        "--seeds",
+        type=_seed_list,
+        default=None,
+        metavar="LIST",
+        help="train several seeds, one folder <out>/seed<S> each: a range 0-4, a list 0,2,5, or both 0-2,7",
+    )
     parser.add_argument(
         "--out",
         type=Path,
         default=None,
         metavar="DIR",
-        help="folder for model.zip and metadata.json (default: runs/<Env>/<algo>/seed<S>)",
+        help="folder for model.zip and metadata.json (default: runs/<Env>/<algo>/seed<S>); "
+        "with --seeds, the folder of the seeds' folders (default: runs/<Env>/<algo>)",
+    )
+    parser.add_argument("--force", action="store_true", help="overwrite runs already trained in those folders")
+    parser.add_argument(
+        "--backend",
+        choices=BACKENDS,
+        default="local",
+        help="local: the seeds one after another in this process; ray: one Ray task per seed, the same "
+        "weights bit for bit (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--ray-address",
+        default=None,
+        metavar="ADDRESS",
+        help="the Ray cluster to run on (host:port, ray://host:port or auto; default: a local Ray)",
     )
     parser.add_argument(
         "--config",

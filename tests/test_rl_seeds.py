@@ -1,0 +1,131 @@
+"""``ship-env train --seeds``: a run per seed, each repeated by its own command, the same on Ray, none overwritten."""
+
+from __future__ import annotations
+
+import json
+import shlex
+
+import pytest
+import torch
+import yaml
+from stable_baselines3.common.save_util import load_from_zip_file
+
+from ship_env.cli import main
+from ship_env.rl.seeds import parse_seeds
+
+COURSE_CHANGE = "ship_env/CourseChange-v0"
+#: A config small enough for a run of two 128-step rollouts in about a second.
+TINY_ENTRY = {"n_envs": 2, "n_steps": 64, "batch_size": 64, "n_epochs": 1, "policy_kwargs": "dict(net_arch=[16])"}
+
+
+@pytest.fixture
+def tiny_config(tmp_path):
+    path = tmp_path / "ppo.yaml"
+    path.write_text(yaml.safe_dump({COURSE_CHANGE: TINY_ENTRY}))
+    return path
+
+
+def _train(config, out, *more):
+    argv = ["train", "--algo", "ppo", "--steps", "256", "--config", str(config), "--out", str(out), *more]
+    return main([*argv, "--no-progress"])
+
+
+def _weights(folder):
+    _, parameters, _ = load_from_zip_file(folder / "model.zip", device="cpu", load_data=False)
+    return parameters["policy"]
+
+
+def _same_weights(one, other):
+    first, second = _weights(one), _weights(other)
+    return first.keys() == second.keys() and all(torch.equal(first[key], second[key]) for key in first)
+
+
+@pytest.mark.parametrize(
+    "text, seeds", [("0-4", (0, 1, 2, 3, 4)), ("0,2,5", (0, 2, 5)), ("0-2,7", (0, 1, 2, 7)), ("3", (3,))]
+)
+def test_seed_lists_and_ranges(text, seeds):
+    assert parse_seeds(text) == seeds
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("4-0", "expected an ascending seed range such as 0-4, got '4-0'"),
+        ("0-x", "got '0-x'"),
+        ("-1", "got '-1'"),
+        ("0,1,1", "seed 1 is listed twice in '0,1,1'"),
+        ("", "got ''"),
+    ],
+)
+def test_a_seed_list_that_does_not_parse_is_named(text, message, capsys):
+    with pytest.raises(ValueError, match=message):
+        parse_seeds(text)
+    with pytest.raises(SystemExit) as raised:
+        main(["train", "--algo", "ppo", "--seeds", text])
+    assert raised.value.code == 2
+    err = capsys.readouterr().err
+    assert "argument --seeds: " in err and message in err
+
+
+def test_each_seed_gets_a_folder_and_the_command_that_repeats_it(tmp_path, tiny_config, capsys):
+    """Seeds trained one after another in one process are the runs their own commands make alone."""
+    assert _train(tiny_config, tmp_path / "runs", "--seeds", "1,3") == 0
+    assert "2 seeds in" in capsys.readouterr().out
+    assert sorted(path.name for path in (tmp_path / "runs").iterdir()) == ["seed1", "seed3"]
+    metadata = json.loads((tmp_path / "runs" / "seed3" / "metadata.json").read_text())
+    assert metadata["seed"] == 3
+    words = shlex.split(metadata["command"])
+    assert words[words.index("--seed") + 1] == "3" and words[words.index("--out") + 1] == str(tmp_path / "runs/seed3")
+    words[words.index("--out") + 1] = str(tmp_path / "again")
+    assert main([*words[1:], "--no-progress"]) == 0
+    assert _same_weights(tmp_path / "runs" / "seed3", tmp_path / "again")
+    assert not _same_weights(tmp_path / "runs" / "seed3", tmp_path / "runs" / "seed1")
+
+
+def test_nothing_trained_is_overwritten_without_force(tmp_path, tiny_config, capsys):
+    assert _train(tiny_config, tmp_path / "run", "--seed", "1") == 0
+    before = (tmp_path / "run" / "model.zip").read_bytes()
+    with pytest.raises(SystemExit) as raised:
+        _train(tiny_config, tmp_path / "run", "--seed", "2")
+    assert raised.value.code == 2
+    assert f"not overwritten without --force: {tmp_path / 'run'}" in capsys.readouterr().err
+    assert (tmp_path / "run" / "model.zip").read_bytes() == before
+    assert json.loads((tmp_path / "run" / "metadata.json").read_text())["seed"] == 1
+    assert _train(tiny_config, tmp_path / "run", "--seed", "2", "--force") == 0
+    assert json.loads((tmp_path / "run" / "metadata.json").read_text())["seed"] == 2
+
+
+@pytest.mark.parametrize(
+    "more, message",
+    [
+        (
+            ["--backend", "ray", "--ray-address", "127.0.0.1:1"],
+            "Ray address '127.0.0.1:1': no Ray cluster answers there",
+        ),
+        (["--backend", "ray", "--ray-address", "headnode"], "Ray address 'headnode': expected host:port"),
+        (["--ray-address", "127.0.0.1:6379"], "'127.0.0.1:6379' needs --backend ray"),
+    ],
+)
+def test_a_ray_address_that_does_not_answer_is_named(tmp_path, tiny_config, capsys, more, message):
+    pytest.importorskip("ray", reason="Ray (the dev extra) is not installed")
+    with pytest.raises(SystemExit) as raised:
+        _train(tiny_config, tmp_path / "runs", "--seeds", "0-1", *more)
+    assert raised.value.code == 2
+    assert f"argument --ray-address: {message}" in capsys.readouterr().err
+    assert not (tmp_path / "runs").exists()
+
+
+def test_seeds_trained_as_ray_tasks_are_the_seeds_trained_here(tmp_path, tiny_config, capsys):
+    ray = pytest.importorskip("ray", reason="Ray (the dev extra) is not installed")
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        assert _train(tiny_config, tmp_path / "ray", "--seeds", "0-1", "--backend", "ray") == 0
+    finally:
+        ray.shutdown()
+    assert "2 seeds in" in capsys.readouterr().out
+    assert _train(tiny_config, tmp_path / "here", "--seeds", "0-1") == 0
+    for seed in ("seed0", "seed1"):
+        assert _same_weights(tmp_path / "ray" / seed, tmp_path / "here" / seed)
+        on_ray = json.loads((tmp_path / "ray" / seed / "metadata.json").read_text())
+        here = json.loads((tmp_path / "here" / seed / "metadata.json").read_text())
+        assert on_ray["command"] == here["command"].replace(str(tmp_path / "here"), str(tmp_path / "ray"))

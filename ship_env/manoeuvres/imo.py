@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import TypeGuard
 
 from ship_env.manoeuvres.results import ManoeuvreResult
 from ship_env.manoeuvres.turning_circle import TurningCircle
@@ -63,7 +64,7 @@ def _is_angle(angle: float, degrees: float) -> bool:
     return math.isclose(abs(angle), math.radians(degrees), rel_tol=1e-9)
 
 
-def _is_zigzag(result: ManoeuvreResult, degrees: float) -> bool:
+def _is_zigzag(result: ManoeuvreResult, degrees: float) -> TypeGuard[ZigZag]:
     """Whether ``result`` is the zig-zag test degrees/degrees, to either side."""
     return (
         isinstance(result, ZigZag)

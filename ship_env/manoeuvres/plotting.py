@@ -80,7 +80,7 @@ def plot_manoeuvre(result: ManoeuvreResult, path: str | Path) -> Path:
         axes.grid(True, alpha=0.3)
     if len(runs) <= MAX_LEGEND_RUNS:
         heading.legend(fontsize="small")
-    if spiral:
+    if isinstance(result, SpiralTest):
         _draw_spiral(drawing.add_subplot(grid[:, 3]), result)
 
     speed_kn = result.approach_speed / KNOT

@@ -92,7 +92,7 @@ def report_dict(model: ShipModel, results: Sequence[ManoeuvreResult], checks: Se
     """The report as plain data for JSON: ship, results' figures (display units), spiral tables, criteria."""
     manoeuvres = []
     for result in results:
-        entry = {
+        entry: dict[str, object] = {
             "manoeuvre": result.manoeuvre,
             "label": result.label,
             "figures": {f.key: {"value": _number(f.value), "unit": f.unit} for f in result.figures()},

@@ -52,6 +52,6 @@ def velocity_over_ground(time: np.ndarray, north: np.ndarray, east: np.ndarray) 
     return np.gradient(north, time), np.gradient(east, time)
 
 
-def wrap_angle(angle: np.ndarray | float) -> np.ndarray | float:
-    """Angles wrapped to [-pi, pi)."""
+def wrap_angle(angle: np.ndarray | float) -> np.ndarray:
+    """Angles wrapped to [-pi, pi) (an array, 0-d for a scalar)."""
     return (np.asarray(angle) + math.pi) % (2.0 * math.pi) - math.pi

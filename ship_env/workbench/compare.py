@@ -13,6 +13,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -23,9 +24,14 @@ from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import INITIAL_WINDOW, ReplayModel, Simulated, simulate
 from ship_env.workbench.validation import CrossValidation
 
-MEASURED_STYLE = {"color": "black", "linewidth": 1.0, "label": "measured"}
-SIMULATED_STYLE = {"color": "tab:red", "linewidth": 1.0, "label": "simulated"}
-TRACK_STYLE = {"color": "tab:blue", "linewidth": 1.0, "linestyle": "--", "label": "track with measured heading"}
+MEASURED_STYLE: dict[str, Any] = {"color": "black", "linewidth": 1.0, "label": "measured"}
+SIMULATED_STYLE: dict[str, Any] = {"color": "tab:red", "linewidth": 1.0, "label": "simulated"}
+TRACK_STYLE: dict[str, Any] = {
+    "color": "tab:blue",
+    "linewidth": 1.0,
+    "linestyle": "--",
+    "label": "track with measured heading",
+}
 
 
 @dataclass(frozen=True)
@@ -105,7 +111,7 @@ def plot_run(log: Log, simulated: Simulated, errors: RunErrors, title: str, path
     residual_axes.set_ylabel("simulated - measured")
     residual_axes.legend(loc="best", fontsize=8)
     track_axes = drawing.add_subplot(grid[:, 1])
-    if log.has_position:
+    if log.north is not None and log.east is not None:
         track_axes.plot(log.east, log.north, **MEASURED_STYLE)
         track_axes.plot(simulated.east, simulated.north, **SIMULATED_STYLE)
         track_axes.plot(simulated.track_east, simulated.track_north, **TRACK_STYLE)

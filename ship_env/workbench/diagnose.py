@@ -91,6 +91,18 @@ class CandidateResult:
     def held_out(self) -> RunErrors | None:
         return None if self.cross_validation is None else self.cross_validation.pooled
 
+    @property
+    def refitted(self) -> CrossValidation:
+        """The cross-validation with the effect added; raises for a candidate that was not refitted."""
+        if self.cross_validation is None:
+            raise ValueError(f"{self.effect}: not refitted ({self.skipped or 'evidence only'})")
+        return self.cross_validation
+
+    @property
+    def variance_explained(self) -> float:
+        """The share of the residual variance its evidence explains (0 without evidence)."""
+        return 0.0 if self.evidence is None else self.evidence.variance_explained
+
 
 @dataclass(frozen=True)
 class Diagnosis:
@@ -104,11 +116,11 @@ class Diagnosis:
     def ranked(self) -> list[CandidateResult]:
         """Refitted candidates by held-out score, then those with evidence only, then the skipped."""
         refitted = sorted(
-            (c for c in self.candidates if c.cross_validation), key=lambda c: c.held_out.score(self.scales)
+            (c for c in self.candidates if c.cross_validation), key=lambda c: c.refitted.score(self.scales)
         )
         evidence_only = sorted(
             (c for c in self.candidates if c.evidence and not c.cross_validation),
-            key=lambda c: -c.evidence.variance_explained,
+            key=lambda c: -c.variance_explained,
         )
         return refitted + evidence_only + [c for c in self.candidates if not c.evidence and not c.cross_validation]
 
@@ -241,12 +253,9 @@ def pairs(
     """
     options = options or FitOptions()
     strongest = sorted(
-        (c for c in diagnosis.candidates if c.evidence is not None and len(c.effects) == 1),
-        key=lambda c: -c.evidence.variance_explained,
+        ((c.effect, c.evidence) for c in diagnosis.candidates if c.evidence is not None and len(c.effects) == 1),
+        key=lambda named: -named[1].variance_explained,
     )[:width]
-    results = [
-        refit_with(diagnosis.baseline, logs, {a.effect: a.evidence, b.effect: b.evidence}, options)
-        for a, b in combinations(strongest, 2)
-    ]
+    results = [refit_with(diagnosis.baseline, logs, dict(pair), options) for pair in combinations(strongest, 2)]
     tried = [c for c in results if c.cross_validation is not None]
-    return sorted(tried, key=lambda c: c.held_out.score(diagnosis.scales))
+    return sorted(tried, key=lambda c: c.refitted.score(diagnosis.scales))

@@ -124,10 +124,10 @@ def improve(
                 f"the best next {'pair' if len(best.effects) > 1 else 'effect'}, {best.effect}, changes the held-out "
                 f"score by {-100.0 * _gain(best, score, scales):+.1f}% (needs -{100.0 * min_gain:.0f}%)",
             )
-        added, validation = best.effects, best.cross_validation
+        added, validation = best.effects, best.refitted
         say(f"added {best.effect}: held-out score {score:.3g} -> {validation.score(scales):.3g}")
 
 
 def _gain(candidate: CandidateResult, score: float, scales: ErrorScales) -> float:
     """The relative fall of the held-out score from ``score`` with the candidate added."""
-    return 1.0 - candidate.held_out.score(scales) / score
+    return 1.0 - candidate.refitted.score(scales) / score

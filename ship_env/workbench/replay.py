@@ -102,7 +102,7 @@ def initial_state(log: Log, window: float = INITIAL_WINDOW) -> np.ndarray:
     heading = polynomial(log.heading, 2)
     state[S.HEADING] = heading[0]
     state[S.RATE_OF_TURN] = heading[1] if log.rate_of_turn is None else polynomial(log.rate_of_turn, 1)[0]
-    if log.has_position:
+    if log.north is not None and log.east is not None:
         state[S.NORTH] = polynomial(log.north, 1)[0]
         state[S.EAST] = polynomial(log.east, 1)[0]
     state[S.RUDDER] = log.rudder[0]
@@ -117,7 +117,7 @@ def _conditions(log: Log, model: ShipModel) -> np.ndarray:
         rows[:, S.SERVICE_SPEED] = model.service_speed if log.service_speed is None else log.service_speed
     if log.propeller_rate is not None:
         rows[:, S.PROPELLER_RATE] = np.maximum(log.propeller_rate, 0.0)
-    if log.has_wind:
+    if log.wind_speed is not None and log.wind_direction is not None:
         rows[:, S.WIND_SPEED] = np.maximum(log.wind_speed, 0.0)
         rows[:, S.WIND_DIRECTION] = log.wind_direction
     return rows

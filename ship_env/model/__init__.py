@@ -1,6 +1,9 @@
 """The ship as equations: one module per physical effect, composed by :class:`ShipModel`."""
 
+from ship_env.model.contributions import Contribution
+from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
+from ship_env.model.registry import register_effect
 from ship_env.model.ship import PRINCIPAL, Ship, ShipModel, list_ships, load_ship
 from ship_env.model.simulator import Conditions, Simulator
 
@@ -10,9 +13,13 @@ __all__ = [
     "PRINCIPAL",
     "REQUIRED_EFFECTS",
     "Conditions",
+    "Contribution",
+    "Effect",
+    "Parameter",
     "Ship",
     "ShipModel",
     "Simulator",
     "list_ships",
     "load_ship",
+    "register_effect",
 ]

@@ -33,6 +33,10 @@ class Parameter:
         description: what the number means, with the thesis symbol where there is one.
         minimum, maximum: the valid range (inclusive); a value outside it is rejected.
         integer: whether the value must be a whole number (a count).
+        default: the value a model takes where the ship's config gives none (an effect written outside
+            ``ship_env`` that the presets do not know), or None: the config must give it.
+        source: where ``default`` comes from (required with a default: every number has a source).
+        null: the value at which the effect vanishes, where there is one (a fit probes from it).
     """
 
     name: str
@@ -41,6 +45,9 @@ class Parameter:
     minimum: float = -math.inf
     maximum: float = math.inf
     integer: bool = False
+    default: float | None = None
+    source: str = ""
+    null: float | None = None
 
     def convert(self, value: object, unit: str | None, where: str) -> float:
         """Check a value read from a config and convert it to this parameter's SI unit."""

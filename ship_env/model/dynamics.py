@@ -1,15 +1,22 @@
-"""The ship's equations of motion: the effects composed into one state derivative.
+"""The ship's equations of motion: the registered effects' contributions composed into one derivative.
 
-``derivatives`` evaluates d(state)/dt for one ship at one instant. Each effect's equations live in
-its own module under ``effects/``; here they are only combined, each behind its on/off flag in the
-parameter record, in this order:
+``derivatives`` evaluates d(state)/dt for one ship at one instant. It names no effect: its code is
+written from the registry (``registry.EFFECTS``) for the effects a parameter record holds, each
+contribution behind its effect's on/off flag, quantity by quantity in the order of
+``contributions.QUANTITIES``:
 
 1. speed u = U0 (1 - u*) (2.53) and normalised rate of turn r* = L r / u (2.40);
-2. sway v (Van Leeuwen), velocity over the ground (kinematics, current);
-3. relative wind (2.74) with gusts, giving the wind moment, resistance and leeway;
-4. effective rudder (offset) and rudder inflow (propeller slipstream);
-5. yaw acceleration (De Keizer, Norrbin, wind, the wave spectrum's excitation), speed-loss rate;
-6. disturbance states: HF wave filter, gusts.
+2. sway v, then the velocity over the ground (2.64);
+3. the apparent wind (2.74), where an effect that reads it is on, then the contributions that
+   read it;
+4. effective rudder and rudder inflow, H(r*) and side moments;
+5. yaw accelerations (the hull's, then the outside moments on top of the one held over the step),
+   and the rates of the states effects own (speed loss, disturbance states).
+
+The code is compiled where a compiled caller (``integrators.step_ship``) meets a record type: the
+record's fields name the effects, and its ``equations_<hash>`` field the version of their
+equations, so numba's on-disk cache holds one compiled step per set of effects and is never
+reused for changed equations. :func:`source` shows the code for a record.
 
 The actual rudder is not integrated here: the steering machine moves it exactly (see
 ``integrators``), and the derivative takes the rudder angle at the instant as an argument.
@@ -17,30 +24,240 @@ The actual rudder is not integrated here: the steering machine moves it exactly 
 
 from __future__ import annotations
 
+import hashlib
+import inspect
 import math
+import sys
+from collections.abc import Callable, Sequence
+from functools import cache
+from typing import Any
 
+import numpy as np
+from numba import types
+from numba.extending import overload
+
+from ship_env.model import contributions
 from ship_env.model import state as S
-from ship_env.model.effects import (
-    asymmetry,
-    current,
-    gusts,
-    kinematics,
-    norrbin,
-    propeller_slipstream,
-    rudder_offset,
-    speed_loss,
-    sway,
-    wave_filter,
-    wind,
-    wind_drift,
-    wind_moment,
-    yaw,
-)
-from ship_env.model.kernel import kernel
+from ship_env.model.contributions import INPUTS, QUANTITIES, STATE_DERIVATIVES, WIND
+from ship_env.model.effects.wind import relative_wind
+from ship_env.model.registry import EFFECTS, PRINCIPAL_NAMES, RegisteredEffect
+
+#: The record field that names the version of the effects' equations (``equations_<hash>``).
+FINGERPRINT_PREFIX = "equations_"
+
+_INPUT_EXPRESSIONS = {
+    "wave_white_noise": f"white_noise[{S.NOISE_WAVE}]",
+    "gust_white_noise": f"white_noise[{S.NOISE_GUST}]",
+}
+_PREAMBLE = f"""    length = p["length"]
+    heading = state[{S.HEADING}]
+    rate_of_turn = state[{S.RATE_OF_TURN}]
+    speed = conditions[{S.SERVICE_SPEED}] * (1.0 - state[{S.SPEED_LOSS}])  # (2.53)
+    scheduling_speed = max(speed, p["minimum_speed"])
+    normalised_rate = length * rate_of_turn / scheduling_speed  # (2.40)
+    cos_heading = math.cos(heading)
+    sin_heading = math.sin(heading)
+"""
 
 
-@kernel
-def derivatives(state, rudder, conditions, white_noise, wave_yaw, p, out):
+def _composer_source() -> str:
+    """The source of what writes the composed code: this module, the quantities and the state layout."""
+    return "".join(inspect.getsource(module) for module in (sys.modules[__name__], contributions, S))
+
+
+def fingerprint(effects: Sequence[str]) -> str:
+    """A short hash of the composed code's sources: the effects' equations and the composer's."""
+    composed = f"{EFFECTS.fingerprint(effects)}:{_COMPOSER_SOURCE}"
+    return hashlib.sha256(composed.encode()).hexdigest()[:16]
+
+
+def record_effects(field_names: Sequence[str]) -> tuple[list[str], str]:
+    """The effects a parameter record holds (its flags, in order) and its equations' fingerprint."""
+    effects = [name[:-3] for name in field_names if name.endswith("_on") and name[:-3] in EFFECTS]
+    found = next((name[len(FINGERPRINT_PREFIX) :] for name in field_names if name.startswith(FINGERPRINT_PREFIX)), "")
+    if found != fingerprint(effects):
+        raise ValueError(
+            "derivatives: the parameter record was built for other equations than the effects registered now "
+            f"({', '.join(effects)}); build the ShipModel again after registering an effect"
+        )
+    return effects, found
+
+
+class _Writer:
+    """Writes the composed function's source, one contribution at a time."""
+
+    def __init__(self, entries: list[RegisteredEffect], fields: Sequence[str], checked: bool = False) -> None:
+        self.entries = entries
+        self.fields = set(fields)
+        self.checked = checked
+        self.lines: list[str] = []
+        self.namespace: dict[str, Any] = {"math": math, "relative_wind": relative_wind, "finite": _finite}
+
+    def expression(self, argument: str, entry: RegisteredEffect) -> str:
+        """The code that reads a contribution's argument."""
+        own = {parameter.name for parameter in entry.effect.parameters}
+        if argument in QUANTITIES or argument in INPUTS and argument not in _INPUT_EXPRESSIONS:
+            return argument
+        if argument in _INPUT_EXPRESSIONS:
+            return _INPUT_EXPRESSIONS[argument]
+        if argument == "rudder":
+            return "rudder"
+        if argument in S.STATE_NAMES:
+            return f"state[{S.STATE_NAMES.index(argument)}]"
+        if argument in S.CONDITION_NAMES:
+            return f"conditions[{S.CONDITION_NAMES.index(argument)}]"
+        if argument in own:
+            return f'p["{entry.effect.field_name(argument)}"]'
+        if argument in PRINCIPAL_NAMES or argument in self.fields:
+            return f'p["{argument}"]'
+        raise ValueError(
+            f"effect {entry.effect.name!r} from {entry.origin}: argument {argument!r} of its contribution names "
+            "nothing the model has: no input, quantity, state, condition, principal particular or parameter"
+        )
+
+    def call(self, entry: RegisteredEffect, index: int) -> str:
+        contribution = entry.contributions[index]
+        name = f"{entry.effect.name}_{index}"
+        self.namespace[name] = contribution.function
+        arguments = ", ".join(self.expression(argument, entry) for argument in entry.arguments(contribution))
+        if self.checked:
+            return f"finite({name}({arguments}), {entry.effect.name!r}, {contribution.quantity!r})"
+        return f"{name}({arguments})"
+
+    def quantity(self, quantity: str, select: Callable[[RegisteredEffect, int], bool] | None = None) -> None:
+        """Apply the contributions to ``quantity`` (those ``select`` picks), each behind its flag."""
+        for entry in self.entries:
+            for index, contribution in enumerate(entry.contributions):
+                if contribution.quantity != quantity or (select is not None and not select(entry, index)):
+                    continue
+                call = self.call(entry, index)
+                self.lines.append(f'    if p["{entry.effect.flag_name}"]:')
+                if quantity == "ground_velocity":
+                    self.lines.append(f"        added_north, added_east = {call}")
+                    self.lines.append("        north_rate += added_north")
+                    self.lines.append("        east_rate += added_east")
+                elif quantity in entry.arguments(contribution):
+                    self.lines.append(f"        {quantity} = {call}")
+                else:
+                    self.lines.append(f"        {quantity} = {quantity} + {call}")
+
+    def reads_wind(self, entry: RegisteredEffect, index: int) -> bool:
+        contribution = entry.contributions[index]
+        return contribution.quantity not in WIND and bool(set(entry.arguments(contribution)) & set(WIND))
+
+    def wind(self) -> None:
+        """The apparent wind, where an effect that reads it is on, with the contributions to it."""
+        for name in WIND:
+            self.lines.append(f"    {name} = {QUANTITIES[name][0]}")
+        readers = sorted(
+            {e.effect.flag_name for e in self.entries for i in range(len(e.contributions)) if self.reads_wind(e, i)},
+            key=[e.effect.flag_name for e in self.entries].index,
+        )
+        if not readers:
+            return
+        self.lines.append(f"    if {' or '.join(f'p[{flag!r}]' for flag in readers)}:")
+        self.lines.append(
+            "        relative_wind_speed, cos_wind, sin_wind = relative_wind("
+            f"cos_heading, sin_heading, north_rate, east_rate, conditions[{S.WIND_SPEED}], "
+            f"conditions[{S.WIND_DIRECTION}])"
+        )
+        start = len(self.lines)
+        for name in WIND:
+            self.quantity(name)
+        self.lines[start:] = ["    " + line for line in self.lines[start:]]
+
+    def motion(self) -> None:
+        """Sway and the velocity over the ground, the wind, and what reads it."""
+        self.lines.append("    sway_velocity = 0.0")
+        self.quantity("sway_velocity")
+        self.lines.append("    north_rate = 0.0")
+        self.lines.append("    east_rate = 0.0")
+        self.quantity("ground_velocity", lambda e, i: not self.reads_wind(e, i))
+        self.wind()
+        self.quantity("ground_velocity", self.reads_wind)
+
+    def derivative(self) -> str:
+        self.lines.append(_PREAMBLE.rstrip("\n"))
+        self.motion()
+        done = {"sway_velocity", "ground_velocity", *WIND}
+        for quantity, (start, _) in QUANTITIES.items():
+            if quantity in done:
+                continue
+            self.lines.append(f"    {quantity} = {start}")
+            self.quantity(quantity)
+        owners = {state: e.effect.flag_name for e in self.entries for state in e.states}
+        rates = {
+            S.TIME: "1.0",
+            S.NORTH: "north_rate",
+            S.EAST: "east_rate",
+            S.HEADING: "rate_of_turn",
+            S.RATE_OF_TURN: "hull_yaw_acceleration + yaw_acceleration",
+            S.RUDDER: "0.0",
+        }
+        for index, name in enumerate(S.STATE_NAMES):
+            if index in rates:
+                self.lines.append(f"    out[{index}] = {rates[index]}")
+                continue
+            self.lines.append(f"    out[{index}] = 0.0")
+            if name in owners:
+                self.lines.append(f"    if p[{owners[name]!r}]:")
+                self.lines.append(f"        out[{index}] = {STATE_DERIVATIVES[name]}")
+        body = "\n".join(self.lines)
+        return f"def derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):\n{body}\n"
+
+    def sway(self) -> str:
+        self.lines.append(_PREAMBLE.rstrip("\n"))
+        self.lines.append("    sway_velocity = 0.0")
+        self.quantity("sway_velocity")
+        body = "\n".join(self.lines)
+        return f"def sway_velocity(state, conditions, p):\n{body}\n    return sway_velocity\n"
+
+
+_COMPOSER_SOURCE = _composer_source()
+
+
+def _finite(value: Any, effect: str, quantity: str) -> Any:
+    """``value`` if every number in it is finite, else a ValueError naming the effect and quantity."""
+    if all(math.isfinite(number) for number in np.atleast_1d(np.asarray(value, dtype=float))):
+        return value
+    raise ValueError(
+        f"effect {effect!r} from {EFFECTS.entry(effect).origin}: its contribution to {quantity!r} is {value!r}"
+    )
+
+
+@cache
+def _composed(kind: str, field_names: tuple[str, ...], fingerprint: str) -> tuple[Callable[..., Any], str]:
+    """The composed Python function of ``kind`` ('derivatives', 'checked' or 'sway') for a record, and its source.
+
+    'checked' is ``derivatives`` checking each contribution for a NaN or infinity as it goes.
+    """
+    effects, _ = record_effects(field_names)
+    writer = _Writer([EFFECTS.entry(name) for name in effects], field_names, checked=kind == "checked")
+    code = writer.sway() if kind == "sway" else writer.derivative()
+    exec(compile(code, f"<ship_env.model.dynamics {kind} {fingerprint}>", "exec"), writer.namespace)
+    return writer.namespace["sway_velocity" if kind == "sway" else "derivatives"], code
+
+
+def _field_names(p: Any) -> tuple[str, ...]:
+    """A record's field names, from numpy (a record) or numba (its type)."""
+    if isinstance(p, types.Record):
+        return tuple(p.fields)
+    return tuple(np.asarray(p).dtype.names or ())
+
+
+def _implementation(kind: str, p: Any) -> Callable[..., Any]:
+    names = _field_names(p)
+    _, fingerprint = record_effects(names)
+    return _composed(kind, names, fingerprint)[0]
+
+
+def source(record: np.ndarray) -> str:
+    """The code of ``derivatives`` composed for a parameter record (``ShipModel.record``)."""
+    names = _field_names(record)
+    return _composed("derivatives", names, record_effects(names)[1])[1]
+
+
+def derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):
     """Write d(state)/dt into ``out`` for one ship.
 
     Args:
@@ -48,144 +265,55 @@ def derivatives(state, rudder, conditions, white_noise, wave_yaw, p, out):
         rudder: the actual rudder angle at this instant, rad.
         conditions: the ship's conditions (service speed, propeller rate, current, wind, waves).
         white_noise: the white-noise inputs held over the step (already scaled by 1/sqrt(dt)).
-        wave_yaw: the wave-spectrum yaw acceleration held over the step, rad/s^2 (2.91).
+        held_yaw_acceleration: a yaw acceleration held over the step, rad/s^2 (the wave
+            spectrum's excitation, 2.91).
         p: the model's parameter record (see ``ShipModel.record``).
         out: array of the state's size receiving the derivative.
     """
-    length = p["length"]
-    heading = state[S.HEADING]
-    rate_of_turn = state[S.RATE_OF_TURN]
-    speed = conditions[S.SERVICE_SPEED] * (1.0 - state[S.SPEED_LOSS])  # (2.53)
-    # The normalisation divides by the speed: below ``minimum_speed`` the floor is used.
-    scheduling_speed = max(speed, p["minimum_speed"])
-    normalised_rate = length * rate_of_turn / scheduling_speed  # (2.40)
-
-    sway_velocity = 0.0
-    if p["sway_on"]:
-        sway_velocity = sway.velocity(speed, normalised_rate, p["sway_linear"], p["sway_cubic"])
-    cos_heading = math.cos(heading)
-    sin_heading = math.sin(heading)
-    north_rate, east_rate = kinematics.velocity_over_ground(speed, sway_velocity, cos_heading, sin_heading)
-    if p["current_on"]:
-        current_north, current_east = current.drift(
-            state[S.TIME],
-            conditions[S.CURRENT_SPEED],
-            conditions[S.CURRENT_DIRECTION],
-            p["current_variation"],
-            p["current_swing"],
-            p["current_period"],
-        )
-        north_rate += current_north
-        east_rate += current_east
-
-    wind_yaw = 0.0
-    wind_loss = 0.0
-    if p["wind_moment_on"] or p["wind_drift_on"]:
-        wind_speed, cos_wind, sin_wind = wind.relative_wind(
-            cos_heading, sin_heading, north_rate, east_rate, conditions[S.WIND_SPEED], conditions[S.WIND_DIRECTION]
-        )
-        if p["gusts_on"]:
-            wind_speed = max(wind_speed + state[S.GUST], 0.0)
-        if p["wind_moment_on"]:
-            wind_yaw = wind_moment.yaw_acceleration(
-                wind_speed, cos_wind, sin_wind, p["wind_moment_yaw_coefficient"], p["wind_moment_beam_coefficient"]
-            )
-            wind_loss = wind_moment.speed_loss_rate(
-                wind_speed, cos_wind, scheduling_speed, p["wind_moment_surge_coefficient"], length
-            )
-        if p["wind_drift_on"]:
-            drift_velocity = wind_drift.leeway(
-                speed,
-                wind_speed,
-                sin_wind,
-                p["wind_drift_force_ratio"],
-                p["wind_drift_lift_slope"],
-                p["wind_drift_crossflow_drag"],
-            )
-            drift_north, drift_east = kinematics.velocity_over_ground(0.0, drift_velocity, cos_heading, sin_heading)
-            north_rate += drift_north
-            east_rate += drift_east
-
-    effective_rudder = rudder
-    if p["rudder_offset_on"]:
-        effective_rudder = rudder_offset.effective_rudder(rudder, p["rudder_offset_angle"])
-    inflow_speed_squared = speed * speed
-    if p["propeller_slipstream_on"]:
-        inflow_speed_squared = propeller_slipstream.inflow_speed_squared(
-            speed,
-            conditions[S.PROPELLER_RATE],
-            p["propeller_slipstream_coefficient"],
-            p["propeller_slipstream_propeller_diameter"],
-        )
-
-    restoring = yaw.restoring(normalised_rate, p["yaw_linear"])
-    side_moment = 0.0
-    if p["asymmetry_on"]:
-        restoring += asymmetry.restoring(normalised_rate, p["asymmetry_constant"], p["asymmetry_quadratic"])
-        side_moment = asymmetry.side_force_moment(
-            conditions[S.PROPELLER_RATE], p["propeller_slipstream_propeller_diameter"], p["asymmetry_side_force"]
-        )
-    if p["norrbin_on"]:
-        restoring += norrbin.restoring(normalised_rate, p["norrbin_cubic"], p["norrbin_odd_quadratic"])
-    yaw_acceleration = yaw.acceleration(
-        speed,
-        inflow_speed_squared,
-        effective_rudder,
-        restoring,
-        side_moment,
-        p["yaw_gain"] * (1.0 + conditions[S.YAW_GAIN_CHANGE]),
-        p["yaw_time_constant"] * (1.0 + conditions[S.YAW_TIME_CONSTANT_CHANGE]),
-        length,
-    )
-    yaw_acceleration += wind_yaw + wave_yaw
-
-    speed_loss_rate = 0.0
-    if p["speed_loss_on"]:
-        speed_loss_rate = wind_loss + speed_loss.rate(
-            scheduling_speed,
-            normalised_rate,
-            state[S.SPEED_LOSS],
-            p["speed_loss_gain"],
-            p["speed_loss_time_constant"],
-            p["speed_loss_cubic"],
-            length,
-        )
-
-    out[S.TIME] = 1.0
-    out[S.NORTH] = north_rate
-    out[S.EAST] = east_rate
-    out[S.HEADING] = rate_of_turn
-    out[S.RATE_OF_TURN] = yaw_acceleration
-    out[S.SPEED_LOSS] = speed_loss_rate
-    out[S.RUDDER] = 0.0
-    out[S.WAVE_HEADING] = 0.0
-    out[S.WAVE_RATE] = 0.0
-    out[S.GUST] = 0.0
-    if p["wave_filter_on"]:
-        out[S.WAVE_HEADING] = state[S.WAVE_RATE]
-        out[S.WAVE_RATE] = wave_filter.acceleration(
-            state[S.WAVE_HEADING],
-            state[S.WAVE_RATE],
-            white_noise[S.NOISE_WAVE],
-            p["wave_filter_natural_frequency"],
-            p["wave_filter_damping"],
-            p["wave_filter_rate_rms"],
-        )
-    if p["gusts_on"]:
-        out[S.GUST] = gusts.rate(
-            state[S.GUST],
-            conditions[S.WIND_SPEED],
-            white_noise[S.NOISE_GUST],
-            p["gusts_intensity"],
-            p["gusts_time_constant"],
-        )
+    _implementation("derivatives", p)(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out)
 
 
-@kernel
 def sway_velocity(state, conditions, p):
-    """The Van Leeuwen sway velocity v (m/s) of one ship, for observations and drawings."""
-    if not p["sway_on"]:
-        return 0.0
-    speed = conditions[S.SERVICE_SPEED] * (1.0 - state[S.SPEED_LOSS])
-    normalised_rate = p["length"] * state[S.RATE_OF_TURN] / max(speed, p["minimum_speed"])
-    return sway.velocity(speed, normalised_rate, p["sway_linear"], p["sway_cubic"])
+    """The sway velocity v (m/s) of one ship, without leeway, for observations and drawings."""
+    return _implementation("sway", p)(state, conditions, p)
+
+
+_JIT_OPTIONS = {"fastmath": False, "error_model": "numpy"}
+
+
+@overload(derivatives, jit_options=_JIT_OPTIONS)
+def _derivatives_overload(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):
+    return _implementation("derivatives", p)
+
+
+@overload(sway_velocity, jit_options=_JIT_OPTIONS)
+def _sway_velocity_overload(state, conditions, p):
+    return _implementation("sway", p)
+
+
+def check_contributions(model: Any) -> None:
+    """Evaluate the contributions of a model's effects from outside ``ship_env`` at a few states.
+
+    A contribution that gives a NaN or an infinity where the ship sails normally (at service
+    speed, turning either way, in wind, current and a propeller's slipstream) raises a ValueError
+    naming the effect, where it comes from and the quantity, before any simulation runs.
+    """
+    if all(EFFECTS.entry(name).builtin for name in model.effects):
+        return
+    record = model.record[0]
+    names = _field_names(model.record)
+    composed = _composed("checked", names, record_effects(names)[1])[0]
+    conditions = np.zeros(S.CONDITION_SIZE)
+    conditions[S.SERVICE_SPEED] = model.service_speed
+    conditions[S.PROPELLER_RATE] = 1.5
+    conditions[S.CURRENT_SPEED] = 0.3
+    conditions[S.WIND_SPEED] = 10.0
+    conditions[S.WIND_DIRECTION] = math.radians(45.0)
+    out = np.zeros(S.STATE_SIZE)
+    for sign in (1.0, -1.0):
+        state = np.zeros(S.STATE_SIZE)
+        state[S.HEADING] = 0.3
+        state[S.RATE_OF_TURN] = sign * math.radians(0.3)
+        state[S.SPEED_LOSS] = 0.05
+        rudder = sign * math.radians(20.0)
+        composed(state, rudder, conditions, np.ones(S.NOISE_SIZE), 0.0, record, out)

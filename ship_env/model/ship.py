@@ -18,12 +18,14 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
+from functools import cache
 from pathlib import Path
 
 import numpy as np
 import yaml
 
 from ship_env.model.declarations import ENVELOPE_LIMITS, Envelope, Parameter
+from ship_env.model.dynamics import FINGERPRINT_PREFIX, check_contributions, fingerprint
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
 from ship_env.paths import config_dir
 
@@ -43,17 +45,26 @@ PRINCIPAL: tuple[Parameter, ...] = (
 _PRINCIPAL_BY_NAME = {parameter.name: parameter for parameter in PRINCIPAL}
 
 
-def _record_dtype() -> np.dtype:
+def record_dtype() -> np.dtype:
+    """The layout of the compiled parameter record for the effects registered now.
+
+    Principal particulars, then per effect its flag and parameters (``yaw_on``, ``yaw_gain``, ...),
+    then a flag ``equations_<hash>`` naming the version of the effects' equations. The same for
+    every model while the registry does not change, so the kernels compile once per set of effects.
+    """
+    names = list(EFFECTS)
+    return _record_dtype(tuple(names), fingerprint(names))
+
+
+@cache
+def _record_dtype(names: tuple[str, ...], fingerprint: str) -> np.dtype:
     fields: list[tuple[str, type]] = [(parameter.name, np.float64) for parameter in PRINCIPAL]
-    for effect in EFFECTS.values():
+    for name in names:
+        effect = EFFECTS[name]
         fields.append((effect.flag_name, np.bool_))
         fields.extend((effect.field_name(parameter.name), np.float64) for parameter in effect.parameters)
+    fields.append((f"{FINGERPRINT_PREFIX}{fingerprint}", np.bool_))
     return np.dtype(fields)
-
-
-#: The layout of the compiled parameter record: principal particulars, then per effect its flag and
-#: parameters (``yaw_on``, ``yaw_gain``, ...). The same for every model, so the kernels compile once.
-RECORD_DTYPE = _record_dtype()
 
 
 @dataclass(frozen=True)
@@ -247,10 +258,15 @@ class ShipModel:
         self.effects: tuple[str, ...] = tuple(n for n in EFFECTS if n in chosen or n in REQUIRED_EFFECTS)
         self._principal = dict(self.ship.principal)
         self._values = {name: dict(values) for name, values in self.ship.values.items()}
+        for effect_name in self.effects:
+            for parameter in EFFECTS[effect_name].parameters:
+                if parameter.default is not None:
+                    self._values.setdefault(effect_name, {}).setdefault(parameter.name, float(parameter.default))
         self.overrides: dict[str, float] = {}
         for key, value in (parameters or {}).items():
             self._set(key, value)
         self.record = self._build_record()
+        check_contributions(self)
 
     def _set(self, key: str, value: float) -> None:
         if key in _PRINCIPAL_BY_NAME:
@@ -268,7 +284,7 @@ class ShipModel:
         self.overrides[key] = float(value)
 
     def _build_record(self) -> np.ndarray:
-        record = np.zeros(1, dtype=RECORD_DTYPE)
+        record = np.zeros(1, dtype=record_dtype())
         for name, value in self._principal.items():
             record[0][name] = value
         for effect_name, effect in EFFECTS.items():

@@ -34,8 +34,8 @@ from ship_env.workbench.fit import FitOptions, Problem
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.terms import (
-    DEFAULT_TERMS,
     Term,
+    effect_terms,
     make_term,
     value_of,
     why_not_fitted,
@@ -147,7 +147,7 @@ def candidate_effects(setup: ReplayModel, logs: Sequence[Log]) -> tuple[list[str
 def with_effect_at_null(setup: ReplayModel, *effects: str) -> tuple[ReplayModel, list[Term]]:
     """The model with ``effects`` added and their terms at their null values (where they have one)."""
     added = ReplayModel(setup.model.with_effects(*effects), setup.current_north, setup.current_east)
-    terms = [make_term(key, added) for effect in effects for key in DEFAULT_TERMS[effect]]
+    terms = [make_term(key, added) for effect in effects for key in effect_terms(effect)]
     nulls = {term.key: term.null for term in terms if term.null is not None}
     return with_values(added, nulls), terms
 

@@ -264,7 +264,7 @@ def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndar
 
     Args:
         runs: the packed runs.
-        records: parameter records (``ShipModel.record`` rows, dtype ``RECORD_DTYPE``).
+        records: parameter records (``ShipModel.record`` rows, dtype ``ship.record_dtype()``).
         tasks: what to replay.
 
     Returns:

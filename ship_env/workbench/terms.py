@@ -7,10 +7,12 @@ conditions of a run, not parameters of the ship). Each term has a range, a scale
 the fitter works in units of it) and, where one exists, the null value at which its effect
 vanishes (an offset of 0, a slipstream coefficient of 0).
 
-Each effect names the terms fitted when it is added (``DEFAULT_TERMS``); the parameters left out
-keep the preset's value (e.g. the propeller diameter, the hull's cross-flow drag). Effects that
-output-error fitting cannot estimate (random disturbances) and effects a log cannot show (a speed
-loss where the speed is measured) are excluded with the reason (:func:`why_not_fitted`).
+Each effect names the terms fitted when it is added (``DEFAULT_TERMS``; an effect registered from
+outside ``ship_env`` has all its parameters fitted, in their declared ranges, with the declared
+null value; see :func:`effect_terms`); the parameters left out keep the preset's value (e.g. the
+propeller diameter, the hull's cross-flow drag). Effects that output-error fitting cannot estimate
+(random disturbances) and effects a log cannot show (a speed loss where the speed is measured) are
+excluded with the reason (:func:`why_not_fitted`).
 """
 
 from __future__ import annotations
@@ -125,6 +127,24 @@ class Term:
         return EFFECTS[effect].field_name(name) if name else effect
 
 
+def effect_terms(effect: str) -> tuple[str, ...]:
+    """The terms fitted when ``effect`` is added: ``DEFAULT_TERMS``, or every parameter of an effect from outside."""
+    if effect in DEFAULT_TERMS or EFFECTS.entry(effect).builtin:
+        return DEFAULT_TERMS.get(effect, ())
+    return tuple(f"{effect}.{parameter.name}" for parameter in EFFECTS[effect].parameters)
+
+
+def _rule(key: str, minimum: float, maximum: float) -> TermRule:
+    """A term's fit rule: ``_RULES``, else its declared range and null, scaled by a hundredth of the range."""
+    if key in _RULES:
+        return _RULES[key]
+    effect_name, _, name = key.partition(".")
+    declared = {parameter.name: parameter for parameter in EFFECTS[effect_name].parameters} if name else {}
+    null = declared[name].null if name in declared else None
+    span = maximum - minimum
+    return TermRule(minimum, maximum, null, span / 100.0 if math.isfinite(span) and span > 0.0 else 1.0)
+
+
 def _declaration(key: str) -> tuple[str, str, float, float]:
     """(unit, description, minimum, maximum) of a model parameter or principal particular."""
     if key in CURRENT_TERMS:
@@ -157,7 +177,7 @@ def value_of(setup: ReplayModel, key: str) -> float:
 def make_term(key: str, setup: ReplayModel) -> Term:
     """The term ``key`` with its range and a scale fitted to the model's value and the ship's size."""
     unit, description, minimum, maximum = _declaration(key)
-    rule = _RULES.get(key, TermRule(minimum, maximum))
+    rule = _rule(key, minimum, maximum)
     natural = {
         # A yaw acceleration from a wind of ten times the ship's speed comparable to (u/L)^2.
         "wind_moment.yaw_coefficient": 1.0 / (100.0 * setup.model.length**2),
@@ -183,7 +203,7 @@ def make_term(key: str, setup: ReplayModel) -> Term:
 
 def default_terms(effects: Sequence[str]) -> list[str]:
     """The terms fitted by default for a set of effects, in the order of ``EFFECTS``."""
-    return [key for name in EFFECTS if name in effects for key in DEFAULT_TERMS.get(name, ())]
+    return [key for name in EFFECTS if name in effects for key in effect_terms(name)]
 
 
 def with_values(setup: ReplayModel, values: Mapping[str, float]) -> ReplayModel:

@@ -1,12 +1,17 @@
-"""The library of physical effects, one module each, in the order the model applies them.
+"""The library of physical effects, one module each, registered in the order the model applies them.
 
-``EFFECTS`` maps each effect's name to its declaration (:class:`~ship_env.model.declarations.Effect`).
-A ship model is a choice of these effects plus a ship preset; see :class:`ship_env.model.ShipModel`.
+Each module declares its ``EFFECT`` (:class:`~ship_env.model.declarations.Effect`), its
+``CONTRIBUTIONS`` to the state derivative (:class:`~ship_env.model.contributions.Contribution`) and
+the ``STATES`` it owns, if any. ``EFFECTS`` maps every registered effect's name to its declaration:
+these built-ins, then the effects registered from outside ``ship_env`` (see ``registry``). A ship
+model is a choice of these effects plus a ship preset; see :class:`ship_env.model.ShipModel`.
+
+The contributions to one quantity are applied in this order (the asymmetry's part of H(r*) before
+Norrbin's).
 """
 
 from __future__ import annotations
 
-from ship_env.model.declarations import Effect
 from ship_env.model.effects import (
     asymmetry,
     current,
@@ -24,32 +29,33 @@ from ship_env.model.effects import (
     wind_moment,
     yaw,
 )
+from ship_env.model.registry import EFFECTS, register_module
 
-EFFECTS: dict[str, Effect] = {
-    module.EFFECT.name: module.EFFECT
-    for module in (
-        yaw,
-        norrbin,
-        asymmetry,
-        speed_loss,
-        sway,
-        steering_machine,
-        rudder_offset,
-        propeller_slipstream,
-        kinematics,
-        current,
-        wind_moment,
-        wind_drift,
-        gusts,
-        wave_filter,
-        wave_spectrum,
-    )
-}
+#: The built-in effects' modules, in the order they register.
+LIBRARY = (
+    yaw,
+    asymmetry,
+    norrbin,
+    speed_loss,
+    sway,
+    steering_machine,
+    rudder_offset,
+    propeller_slipstream,
+    kinematics,
+    current,
+    wind_moment,
+    wind_drift,
+    gusts,
+    wave_filter,
+    wave_spectrum,
+)
+for _module in LIBRARY:
+    register_module(_module, "ship_env")
 
 #: Effects every model has.
-REQUIRED_EFFECTS: tuple[str, ...] = tuple(name for name, effect in EFFECTS.items() if effect.required)
+REQUIRED_EFFECTS: tuple[str, ...] = tuple(module.EFFECT.name for module in LIBRARY if module.EFFECT.required)
 
 #: The minimal model: a first-order Nomoto ship with its steering machine (2.58, Fig. 2.9).
 MINIMAL_EFFECTS: tuple[str, ...] = ("yaw", "kinematics", "steering_machine")
 
-__all__ = ["EFFECTS", "MINIMAL_EFFECTS", "REQUIRED_EFFECTS"]
+__all__ = ["EFFECTS", "LIBRARY", "MINIMAL_EFFECTS", "REQUIRED_EFFECTS"]

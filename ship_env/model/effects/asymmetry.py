@@ -17,6 +17,7 @@ coefficients of H(r*).
 
 from __future__ import annotations
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -41,7 +42,10 @@ def restoring(normalised_rate, constant, quadratic):
 
 
 @kernel
-def side_force_moment(propeller_rate, propeller_diameter, side_force):
+def side_force_moment(propeller_rate, propeller_slipstream_propeller_diameter, side_force):
     """c_p (n D)^2, m^2/s^2: the propeller's yaw moment in the units of u_R^2 K* delta."""
-    induced = propeller_rate * propeller_diameter
+    induced = propeller_rate * propeller_slipstream_propeller_diameter
     return side_force * induced * induced
+
+
+CONTRIBUTIONS = (Contribution("restoring", restoring), Contribution("side_moment", side_force_moment))

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -35,3 +36,6 @@ def drift(time, current_speed, current_direction, variation, swing, period):
     speed = current_speed * (1.0 + variation * phase)
     direction = current_direction + swing * phase
     return speed * math.cos(direction), speed * math.sin(direction)
+
+
+CONTRIBUTIONS = (Contribution("ground_velocity", drift),)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -27,6 +28,16 @@ EFFECT = Effect(
 
 
 @kernel
-def rate(gust, wind_speed, white_noise, intensity, time_constant):
+def rate(gust, wind_speed, gust_white_noise, intensity, time_constant):
     """dg/dt of the Gauss-Markov gust process."""
-    return -gust / time_constant + intensity * wind_speed * math.sqrt(2.0 / time_constant) * white_noise
+    return -gust / time_constant + intensity * wind_speed * math.sqrt(2.0 / time_constant) * gust_white_noise
+
+
+@kernel
+def gusty_wind(relative_wind_speed, gust):
+    """V_wr with the gust on it, never below zero."""
+    return max(relative_wind_speed + gust, 0.0)
+
+
+CONTRIBUTIONS = (Contribution("relative_wind_speed", gusty_wind), Contribution("gust_derivative", rate))
+STATES = ("gust",)

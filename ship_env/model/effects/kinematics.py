@@ -9,6 +9,7 @@ x0 points north, y0 east, psi is clockwise from north; v is positive to starboar
 
 from __future__ import annotations
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect
 from ship_env.model.kernel import kernel
 
@@ -27,3 +28,6 @@ def velocity_over_ground(speed, sway_velocity, cos_heading, sin_heading):
         speed * cos_heading - sway_velocity * sin_heading,
         speed * sin_heading + sway_velocity * cos_heading,
     )
+
+
+CONTRIBUTIONS = (Contribution("ground_velocity", velocity_over_ground),)

@@ -13,6 +13,7 @@ the effect vanishes.
 
 from __future__ import annotations
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -32,3 +33,6 @@ def restoring(normalised_rate, cubic, odd_quadratic):
     """The |r*| r* and cubic part of H(r*) (2.27)."""
     cubic_part = cubic * normalised_rate * normalised_rate * normalised_rate
     return cubic_part + odd_quadratic * abs(normalised_rate) * normalised_rate
+
+
+CONTRIBUTIONS = (Contribution("restoring", restoring),)

@@ -18,6 +18,7 @@ Symbols: n propeller rate (rps), D propeller diameter (m), c_s slipstream coeffi
 
 from __future__ import annotations
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -33,7 +34,10 @@ EFFECT = Effect(
 
 
 @kernel
-def inflow_speed_squared(speed, propeller_rate, coefficient, propeller_diameter):
-    """u_R^2 = u^2 + c_s (n D)^2, m^2/s^2."""
+def inflow_speed_squared(inflow_speed_squared, propeller_rate, coefficient, propeller_diameter):
+    """u_R^2 = u^2 + c_s (n D)^2, m^2/s^2, from the inflow without it (u^2)."""
     induced = propeller_rate * propeller_diameter
-    return speed * speed + coefficient * induced * induced
+    return inflow_speed_squared + coefficient * induced * induced
+
+
+CONTRIBUTIONS = (Contribution("inflow_speed_squared", inflow_speed_squared),)

@@ -9,6 +9,7 @@ but, being an angle, it scales with the rudder's effectiveness (e.g. with the sl
 
 from __future__ import annotations
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -21,6 +22,9 @@ EFFECT = Effect(
 
 
 @kernel
-def effective_rudder(rudder, angle):
+def effective_rudder(effective_rudder, angle):
     """delta_e = delta + delta_0."""
-    return rudder + angle
+    return effective_rudder + angle
+
+
+CONTRIBUTIONS = (Contribution("effective_rudder", effective_rudder),)

@@ -14,6 +14,7 @@ normalised gain, beta3 cubic coefficient.
 
 from __future__ import annotations
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -30,7 +31,11 @@ EFFECT = Effect(
 
 
 @kernel
-def rate(speed, normalised_rate, speed_loss, gain, time_constant, cubic, length):
+def rate(scheduling_speed, normalised_rate, speed_loss, gain, time_constant, cubic, length):
     """du*/dt from (2.55) with H_u from (2.39)."""
     restoring_value = speed_loss + cubic * speed_loss * speed_loss * speed_loss
-    return speed / length * (gain * normalised_rate * normalised_rate - restoring_value) / time_constant
+    return scheduling_speed / length * (gain * normalised_rate * normalised_rate - restoring_value) / time_constant
+
+
+CONTRIBUTIONS = (Contribution("speed_loss_derivative", rate),)
+STATES = ("speed_loss",)

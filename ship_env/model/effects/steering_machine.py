@@ -32,3 +32,7 @@ def rudder_after(rudder, limited_order, duration, rudder_rate):
     """The actual rudder ``duration`` seconds later, moving towards the order at most at the rate."""
     largest_move = rudder_rate * duration
     return rudder + min(max(limited_order - rudder, -largest_move), largest_move)
+
+
+#: The steering machine moves the actual rudder itself, exactly (``integrators``): no derivative.
+CONTRIBUTIONS = ()

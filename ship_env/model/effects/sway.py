@@ -9,6 +9,7 @@ the circle by the drift angle beta = atan(-v/u).
 
 from __future__ import annotations
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -27,3 +28,6 @@ EFFECT = Effect(
 def velocity(speed, normalised_rate, linear, cubic):
     """v from (2.47)-(2.49), m/s, positive to starboard."""
     return -speed * (linear * normalised_rate + cubic * normalised_rate * normalised_rate * normalised_rate)
+
+
+CONTRIBUTIONS = (Contribution("sway_velocity", velocity),)

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -32,11 +33,24 @@ EFFECT = Effect(
 
 
 @kernel
-def acceleration(wave_heading, wave_rate, white_noise, natural_frequency, damping, rate_rms):
+def acceleration(wave_heading, wave_rate, wave_white_noise, natural_frequency, damping, rate_rms):
     """d r_g / dt of the shaping filter (Fig. 2.14)."""
     noise_gain = rate_rms * math.sqrt(4.0 * damping * natural_frequency)
     return (
         -natural_frequency * natural_frequency * wave_heading
         - 2.0 * damping * natural_frequency * wave_rate
-        + noise_gain * white_noise
+        + noise_gain * wave_white_noise
     )
+
+
+@kernel
+def heading_rate(wave_rate):
+    """d psi_g / dt: the wave heading moves at the wave rate of turn."""
+    return wave_rate
+
+
+CONTRIBUTIONS = (
+    Contribution("wave_heading_derivative", heading_rate),
+    Contribution("wave_rate_derivative", acceleration),
+)
+STATES = ("wave_heading", "wave_rate")

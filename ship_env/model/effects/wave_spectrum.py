@@ -96,3 +96,8 @@ def yaw_acceleration(time, north, east, heading, wave_direction, waves, yaw_coef
         phase = frequency * time - wave_number * (north * cos_travel + east * sin_travel) + waves[2, i]
         slope += wave_number * waves[1, i] * math.cos(phase)
     return yaw_coefficient * slope * math.sin(2.0 * (heading - travel_direction))
+
+
+#: The sea's excitation is evaluated once per step and held over it (``integrators``); the derivative
+#: receives it as the starting value of ``yaw_acceleration``.
+CONTRIBUTIONS = ()

@@ -20,7 +20,9 @@ from __future__ import annotations
 
 import math
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.effects.kinematics import velocity_over_ground
 from ship_env.model.kernel import kernel
 
 EFFECT = Effect(
@@ -48,3 +50,15 @@ def leeway(speed, relative_wind_speed, sin_angle, force_ratio, lift_slope, cross
     # Root of C_D |v| v + C_L u v = force, written without cancellation.
     magnitude = 2.0 * abs(force) / (linear + math.sqrt(linear * linear + 4.0 * crossflow_drag * abs(force)))
     return math.copysign(magnitude, force)
+
+
+@kernel
+def drift_over_ground(
+    speed, relative_wind_speed, sin_wind, cos_heading, sin_heading, force_ratio, lift_slope, crossflow_drag
+):
+    """The leeway's (dx0/dt, dy0/dt) in m/s: a sway velocity turned into the earth frame (2.64, 2.65)."""
+    drift_velocity = leeway(speed, relative_wind_speed, sin_wind, force_ratio, lift_slope, crossflow_drag)
+    return velocity_over_ground(0.0, drift_velocity, cos_heading, sin_heading)
+
+
+CONTRIBUTIONS = (Contribution("ground_velocity", drift_over_ground),)

@@ -29,6 +29,7 @@ speed-loss equation (2.86) is on.
 
 from __future__ import annotations
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -49,14 +50,20 @@ EFFECT = Effect(
 
 
 @kernel
-def yaw_acceleration(relative_wind_speed, cos_angle, sin_angle, yaw_coefficient, beam_coefficient):
+def yaw_acceleration(relative_wind_speed, cos_wind, sin_wind, yaw_coefficient, beam_coefficient):
     """Added dr/dt in rad/s^2 from (2.85, 2.87) and the beam term; sin(2 gamma_r) = 2 sin(gamma_r) cos(gamma_r)."""
-    coefficient = yaw_coefficient * 2.0 * cos_angle + beam_coefficient
-    return coefficient * sin_angle * relative_wind_speed * relative_wind_speed
+    coefficient = yaw_coefficient * 2.0 * cos_wind + beam_coefficient
+    return coefficient * sin_wind * relative_wind_speed * relative_wind_speed
 
 
 @kernel
-def speed_loss_rate(relative_wind_speed, cos_angle, speed, surge_coefficient, length):
+def speed_loss_rate(relative_wind_speed, cos_wind, scheduling_speed, surge_coefficient, length):
     """Added du*/dt in 1/s from (2.86, 2.88), beyond the still-air resistance in U0."""
-    added = cos_angle * relative_wind_speed * relative_wind_speed - speed * speed
-    return surge_coefficient * length / speed * added
+    added = cos_wind * relative_wind_speed * relative_wind_speed - scheduling_speed * scheduling_speed
+    return surge_coefficient * length / scheduling_speed * added
+
+
+CONTRIBUTIONS = (
+    Contribution("yaw_acceleration", yaw_acceleration),
+    Contribution("speed_loss_derivative", speed_loss_rate),
+)

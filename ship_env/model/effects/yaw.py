@@ -21,6 +21,7 @@ K* normalised gain, tau* normalised time constant, alpha1 linear coefficient.
 
 from __future__ import annotations
 
+from ship_env.model.contributions import Contribution
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
 
@@ -44,10 +45,37 @@ def restoring(normalised_rate, linear):
 
 
 @kernel
-def acceleration(
-    speed, inflow_speed_squared, effective_rudder, restoring_value, side_moment, gain, time_constant, length
-):
+def acceleration(speed, inflow_speed_squared, effective_rudder, restoring, side_moment, gain, time_constant, length):
     """dr/dt from (2.54): rudder moment at the rudder inflow speed minus the hull's H(r*) and any side moment."""
-    return (inflow_speed_squared * gain * effective_rudder - speed * speed * restoring_value - side_moment) / (
+    return (inflow_speed_squared * gain * effective_rudder - speed * speed * restoring - side_moment) / (
         time_constant * length * length
     )
+
+
+@kernel
+def ship_acceleration(
+    speed,
+    inflow_speed_squared,
+    effective_rudder,
+    restoring,
+    side_moment,
+    gain,
+    time_constant,
+    length,
+    yaw_gain_change,
+    yaw_time_constant_change,
+):
+    """dr/dt of this ship: the model's K* and tau* changed by the conditions' factors (a batch of ships)."""
+    return acceleration(
+        speed,
+        inflow_speed_squared,
+        effective_rudder,
+        restoring,
+        side_moment,
+        gain * (1.0 + yaw_gain_change),
+        time_constant * (1.0 + yaw_time_constant_change),
+        length,
+    )
+
+
+CONTRIBUTIONS = (Contribution("restoring", restoring), Contribution("hull_yaw_acceleration", ship_acceleration))

@@ -1,0 +1,168 @@
+"""Effects written outside ship_env: registered, simulated, fitted, and refused with a clear error when wrong."""
+
+from __future__ import annotations
+
+import math
+
+import effect_plugin
+import numpy as np
+import pytest
+import yaml
+
+from ship_env.model import (
+    EFFECTS,
+    REQUIRED_EFFECTS,
+    Conditions,
+    Contribution,
+    Effect,
+    Parameter,
+    ShipModel,
+    Simulator,
+    register_effect,
+)
+from ship_env.model import state as S
+from ship_env.paths import config_dir
+from ship_env.workbench import fit
+from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.synthetic import LogSettings, model_test_programme, sail_all
+
+SHIP = "esso_osaka_model"
+NAME = effect_plugin.EFFECT.name
+
+
+@pytest.fixture
+def plugin():
+    """The test module's effect, registered as a notebook would, removed afterwards."""
+    register_effect(effect_plugin.EFFECT, effect_plugin.CONTRIBUTIONS)
+    yield effect_plugin
+    EFFECTS.unregister(NAME)
+
+
+def _turn(model: ShipModel, ships: int) -> np.ndarray:
+    sim = Simulator(model, num_ships=ships, dt=0.5)
+    sim.reset(seed=3, conditions=Conditions(propeller_rate=10.0))
+    for _ in range(600):
+        sim.step(math.radians(20.0) if ships == 1 else np.full(ships, math.radians(20.0)))
+    return sim.state.copy()
+
+
+def test_a_registered_effect_sails_single_and_batched_bit_for_bit(plugin):
+    model = ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME], {f"{NAME}.loss": 0.8})
+    single = _turn(model, 1)
+    batch = _turn(model, 4)
+    assert all(np.array_equal(row, single[0]) for row in batch)
+    # The steady turn of the linear ship (2.58): r = K delta_e with K = K* u / L, delta_e its lift loss.
+    delta = math.radians(20.0)
+    gain = model.parameter("yaw.gain") * model.service_speed / model.length
+    expected = gain * delta * (1.0 - 0.8 * delta) / model.parameter("yaw.linear")
+    assert single[0, S.RATE_OF_TURN] == pytest.approx(expected, rel=1e-6)
+    without = _turn(ShipModel(SHIP, REQUIRED_EFFECTS), 1)
+    assert without[0, S.RATE_OF_TURN] == pytest.approx(expected / (1.0 - 0.8 * delta), rel=1e-6)
+
+
+def test_its_parameters_come_from_the_ship_yaml_or_its_defaults(plugin, tmp_path):
+    assert ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME]).parameter(f"{NAME}.loss") == 0.0  # the declared default
+    document = yaml.safe_load((config_dir() / "ships" / f"{SHIP}.yaml").read_text())
+    document["effects"][NAME] = {"enabled": True, "loss": {"value": 0.4, "unit": "1/rad", "source": "basin test"}}
+    path = tmp_path / "with_loss.yaml"
+    path.write_text(yaml.safe_dump(document))
+    model = ShipModel(path)
+    assert model.has(NAME) and model.parameter(f"{NAME}.loss") == 0.4
+    assert model.ship.sources[f"{NAME}.loss"] == "basin test"
+    with pytest.raises(ValueError, match=r"rudder_lift_loss.loss.*outside"):
+        ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME], {f"{NAME}.loss": 3.0})
+
+
+def test_a_hidden_instance_is_recovered_by_the_fit(plugin):
+    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME], {f"{NAME}.loss": 0.6}))
+    logs = sail_all(truth, model_test_programme(duration=60.0)[:4], seed=5, settings=LogSettings())
+    result = fit(ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME]), logs)
+    estimates = {estimate.term.key: estimate.value for estimate in result.estimates}
+    assert set(estimates) == {"yaw.gain", "yaw.time_constant", f"{NAME}.loss"}
+    assert estimates[f"{NAME}.loss"] == pytest.approx(0.6, abs=0.06)
+    assert estimates["yaw.gain"] == pytest.approx(truth.model.parameter("yaw.gain"), rel=0.05)
+
+
+# -- errors ---------------------------------------------------------------------------------------
+def _effect(name: str = "bad_effect", **parameter) -> Effect:
+    fields = {"minimum": 0.0, "maximum": 1.0, "default": 0.0, "source": "assumed", **parameter}
+    return Effect(name, "a test effect", "none", (Parameter("size", fields.pop("unit", "-"), "a size", **fields),))
+
+
+def _adds(effective_rudder, size):
+    return effective_rudder + size
+
+
+def test_an_unregistered_effect_is_refused_by_name():
+    with pytest.raises(ValueError, match=r"unknown effect 'shallow_water'; known: yaw"):
+        ShipModel(SHIP, [*REQUIRED_EFFECTS, "shallow_water"])
+
+
+def test_a_clash_with_a_built_in_name_is_refused():
+    with pytest.raises(
+        ValueError, match=r"effect 'norrbin' from module test_model_user_effects: name: 'norrbin' is already"
+    ):
+        register_effect(_effect("norrbin"), [Contribution("effective_rudder", _adds)])
+
+
+@pytest.mark.parametrize(
+    ("parameter", "message"),
+    [
+        ({"unit": ""}, r"effect 'bad_effect' from module test_model_user_effects: parameter 'size': unit"),
+        ({"minimum": -math.inf}, r"effect 'bad_effect' .*: parameter 'size': range: give a finite minimum and maximum"),
+        ({"maximum": math.inf}, r"parameter 'size': range"),
+        ({"source": ""}, r"parameter 'size': source: a default needs its source"),
+    ],
+)
+def test_a_parameter_without_unit_range_or_source_is_refused(parameter, message):
+    with pytest.raises(ValueError, match=message):
+        register_effect(_effect(**parameter), [Contribution("effective_rudder", _adds)])
+    assert "bad_effect" not in EFFECTS
+
+
+def test_a_contribution_to_an_unknown_quantity_or_reading_nothing_is_refused():
+    with pytest.raises(ValueError, match=r"effect 'bad_effect' .* contribution quantity 'yaw_moment' is unknown"):
+        register_effect(_effect(), [Contribution("yaw_moment", _adds)])
+
+    def reads_depth(water_depth, size):
+        return size / water_depth
+
+    with pytest.raises(ValueError, match=r"argument 'water_depth' names nothing the model has"):
+        register_effect(_effect(), [Contribution("yaw_acceleration", reads_depth)])
+
+
+def test_a_contribution_returning_nan_is_named_before_any_simulation():
+    def not_a_number(effective_rudder, size):
+        return effective_rudder + math.log(size - 1.0)
+
+    register_effect(_effect(default=0.5), [Contribution("effective_rudder", not_a_number)])
+    try:
+        with pytest.raises(
+            ValueError,
+            match=r"effect 'bad_effect' from module test_model_user_effects: its contribution to "
+            r"'effective_rudder' is nan",
+        ):
+            ShipModel(SHIP, [*REQUIRED_EFFECTS, "bad_effect"])
+    finally:
+        EFFECTS.unregister("bad_effect")
+
+
+def test_an_entry_point_registers_an_installed_effect(tmp_path, monkeypatch):
+    """A package that declares ``[project.entry-points."ship_env.effects"]`` (a dist-info on sys.path)."""
+    distribution = tmp_path / "ship_effects_example-1.0.dist-info"
+    distribution.mkdir()
+    (distribution / "METADATA").write_text("Metadata-Version: 2.1\nName: ship-effects-example\nVersion: 1.0\n")
+    (distribution / "entry_points.txt").write_text(f"[ship_env.effects]\n{NAME} = effect_plugin\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    EFFECTS.load_entry_points()
+    try:
+        assert EFFECTS.entry(NAME).origin == f"entry point '{NAME}' (effect_plugin)"
+        model = ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME], {f"{NAME}.loss": 0.8})
+        assert _turn(model, 1)[0, S.RATE_OF_TURN] < _turn(ShipModel(SHIP, REQUIRED_EFFECTS), 1)[0, S.RATE_OF_TURN]
+    finally:
+        EFFECTS.unregister(NAME)
+    (distribution / "entry_points.txt").write_text("[ship_env.effects]\nbroken = no_such_module_for_ship_env\n")
+    with pytest.raises(
+        ImportError, match=r"effect 'broken' from entry point 'broken' \(no_such_module_for_ship_env\): cannot import"
+    ):
+        EFFECTS.load_entry_points()

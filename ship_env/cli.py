@@ -61,6 +61,7 @@ from ship_env.workbench.fit import NUISANCE
 from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
 from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
+from ship_env.workbench.signals import past_the_library
 from ship_env.workbench.tables import diagnosis_table, error_table, estimate_table, ladder_table
 from ship_env.workbench.terms import default_terms, with_values
 from ship_env.workbench.validation import CrossValidation
@@ -494,6 +495,9 @@ def run_diagnose(args: argparse.Namespace) -> int:
         "(corr, var. expl.: residual evidence; score: held out after adding and refitting)"
     )
     print(diagnosis_table(diagnosis).text())
+    beyond = past_the_library(diagnosis)
+    if beyond:
+        print(f"\n{beyond}")
     return 0
 
 

@@ -33,6 +33,7 @@ from ship_env.workbench.errors import ErrorScales, RunErrors
 from ship_env.workbench.fit import FitOptions, Problem
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.signals import ResidualSignals, residual_signals
 from ship_env.workbench.terms import (
     Term,
     effect_terms,
@@ -111,6 +112,8 @@ class Diagnosis:
     baseline: CrossValidation
     candidates: tuple[CandidateResult, ...]
     scales: ErrorScales
+    #: Past the library: the signals the fitted model's missing yaw acceleration follows.
+    signals: ResidualSignals | None = None
 
     @property
     def ranked(self) -> list[CandidateResult]:
@@ -219,7 +222,12 @@ def diagnose(
         else CandidateResult((effect,), found)
         for rank, (effect, found) in enumerate(with_evidence)
     ]
-    return Diagnosis(baseline=current, candidates=tuple(results + skipped), scales=options.scales)
+    return Diagnosis(
+        baseline=current,
+        candidates=tuple(results + skipped),
+        scales=options.scales,
+        signals=residual_signals(current.fit.setup, logs),
+    )
 
 
 def refit_with(

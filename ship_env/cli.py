@@ -16,6 +16,7 @@ import re
 import sys
 import warnings
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 from tqdm import tqdm
@@ -57,12 +58,21 @@ from ship_env.workbench import (
     plot_comparison,
     write_report,
 )
+from ship_env.workbench.envelope import MIN_SEGMENT, EnvelopeCheck, check_envelope, inside_logs
+from ship_env.workbench.errors import pooled, run_errors
 from ship_env.workbench.fit import NUISANCE
 from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
 from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
 from ship_env.workbench.signals import past_the_library
-from ship_env.workbench.tables import diagnosis_table, error_table, estimate_table, ladder_table
+from ship_env.workbench.tables import (
+    diagnosis_table,
+    envelope_line,
+    envelope_table,
+    error_table,
+    estimate_table,
+    ladder_table,
+)
 from ship_env.workbench.terms import default_terms, with_values
 from ship_env.workbench.validation import CrossValidation
 
@@ -383,14 +393,92 @@ def _workbench_options(args: argparse.Namespace) -> FitOptions:
     return FitOptions(scales=scales, nuisance=nuisance, initial_window=args.window)
 
 
-def _workbench_logs(args: argparse.Namespace) -> list[Log]:
-    """The logs, each loader warning printed as one line on stderr."""
+def _workbench_logs(args: argparse.Namespace, paths: Sequence[Path] | None = None) -> list[Log]:
+    """The logs (``args.logs`` or ``paths``), each loader warning printed as one line on stderr."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", LogWarning)
-        logs = load_logs(args.logs, args.format, args.service_speed)
+        logs = load_logs(args.logs if paths is None else paths, args.format, args.service_speed)
     for warning in caught:
         print(f"ship-env {args.command}: warning: {warning.message}", file=sys.stderr)
     return [every_nth(log, args.every) for log in logs]
+
+
+@dataclass(frozen=True)
+class WorkbenchRuns:
+    """The runs a command works on, after the envelope check.
+
+    Attributes:
+        logs: the runs fitted and scored: whole runs, or with ``--inside`` their segments inside the envelope.
+        groups: per run in ``logs``, the group left out with it (None: each run alone).
+        validation: the ``--validate-on`` runs (never fitted), whole or cut like ``logs``.
+        checks: per whole run (fitted or validation), its envelope check.
+    """
+
+    logs: list[Log]
+    groups: list[str] | None
+    validation: list[Log]
+    checks: dict[str, EnvelopeCheck]
+
+
+def _group_of(log: Log, rule: str | None) -> str:
+    """The group of a run under ``--group-by``: its folder, or the part of its name the pattern matches."""
+    if rule == "folder":
+        return Path(log.source).parent.name
+    match = re.search(rule, log.name)
+    if match is None:
+        raise UsageError("--group-by", f"the pattern {rule!r} does not match the run {log.name!r}")
+    return match.group(1) if match.groups() else match.group(0)
+
+
+def _workbench_runs(args: argparse.Namespace, setup: ReplayModel) -> WorkbenchRuns:
+    """Load the logs, check them against the model's envelope (printed), and cut or group them as asked."""
+    logs = _workbench_logs(args)
+    validate_paths = getattr(args, "validate_on", None)
+    validation = _workbench_logs(args, validate_paths) if validate_paths else []
+    model = setup.model
+    checks = {log.name: check_envelope(log, model.envelope, model.length) for log in (*logs, *validation)}
+    print(f"envelope of {model.ship.name} with {', '.join(model.effects)}: {envelope_line(model.envelope)}")
+    print(envelope_table(list(checks.values())).text())
+    outside = [name for name, check in checks.items() if check.share == 1.0]
+    for name in outside:
+        print(
+            f"{name} lies wholly outside the model's envelope ({checks[name].reasons()}): left out; its errors would "
+            "say nothing about the model"
+        )
+    logs = [log for log in logs if log.name not in outside]
+    validation = [log for log in validation if log.name not in outside]
+    groups = None
+    if getattr(args, "inside", False):
+        length = sum(log.duration for log in logs)
+        logs, parents = inside_logs(logs, model.envelope, model.length, args.min_segment)
+        validation, _ = inside_logs(validation, model.envelope, model.length, args.min_segment)
+        print(
+            f"--inside: {len(logs)} segments inside the envelope ({sum(log.duration for log in logs):.0f} s of "
+            f"{length:.0f} s), each replayed from its measured state; a run's segments are left out together"
+        )
+        groups = parents
+    rule = getattr(args, "group_by", None)
+    if rule is not None:
+        groups = [_group_of(log, rule) for log in logs]
+        print(f"--group-by {rule}: {len(set(groups))} groups left out in turn: {', '.join(dict.fromkeys(groups))}")
+    if not logs:
+        raise UsageError("logs", "no run (or segment) lies inside the model's envelope; nothing to fit or score")
+    return WorkbenchRuns(logs, groups, validation, checks)
+
+
+def _print_inside_outside(title: str, logs: Sequence[Log], replays: Sequence, runs: WorkbenchRuns, scales) -> None:
+    """RMS errors over the samples inside and outside the envelope, where a run has both."""
+    checks = [runs.checks.get(log.name) for log in logs]
+    if not any(check is not None and 0.0 < check.share for check in checks):
+        return
+    for label, pick in (("inside", lambda check: ~check.outside), ("outside", lambda check: check.outside)):
+        errors = [
+            run_errors(log, replay, pick(check))
+            for log, replay, check in zip(logs, replays, checks, strict=True)
+            if check is not None
+        ]
+        print(f"\n{title}, over the samples {label} the envelope")
+        print(error_table(errors, scales, pooled(errors)).text())
 
 
 def _terms(args: argparse.Namespace, setup: ReplayModel) -> list[str]:
@@ -428,42 +516,58 @@ def _model_line(setup: ReplayModel, logs: Sequence[Log]) -> str:
     return f"{model.ship.name}: {len(logs)} runs; effects: {', '.join(model.effects)}"
 
 
-def _fit_json(validation: CrossValidation, scales: ErrorScales) -> dict:
+def _fit_json(validation: CrossValidation, scales: ErrorScales, runs: WorkbenchRuns) -> dict:
     fitted = validation.fit
 
     def errors(errors) -> dict:
         return {**errors.in_display_units(), "score": errors.score(scales), "samples": errors.samples}
 
-    return {
+    document = {
         "ship": fitted.setup.model.ship.name,
         "effects": list(fitted.setup.model.effects),
         "values": fitted.values(),
         "std_errors": {e.term.key: e.std_error for e in fitted.estimates},
         "units": {e.term.key: e.term.unit for e in fitted.estimates},
         "error_units": {"heading": "deg", "rate_of_turn": "deg/s", "position": "m", "track": "m"},
+        "envelope": {name: {"outside": check.share, "why": check.reasons()} for name, check in runs.checks.items()},
         "in_sample": {e.name: errors(e) for e in (*fitted.errors, fitted.pooled)},
         "held_out": {e.name: errors(e) for e in (*validation.held_out, validation.pooled)},
     }
+    if validation.validation:
+        document["validation"] = {e.name: errors(e) for e in (*validation.validation, validation.pooled_validation)}
+    return document
+
+
+def _print_validation_runs(validation: CrossValidation, runs: WorkbenchRuns, scales: ErrorScales) -> None:
+    """The --validate-on runs' errors under the all-run fit, whole and inside/outside the envelope."""
+    if not validation.validation:
+        return
+    print("\nvalidation runs (another kind, never fitted), replayed by the fit to all runs")
+    print(error_table(validation.validation, scales, validation.pooled_validation).text())
+    _print_inside_outside("validation runs", validation.validation_logs, validation.validation_replays, runs, scales)
 
 
 def run_fit(args: argparse.Namespace) -> int:
     """``ship-env fit``: fit the model to the logs, validate it leaving one run out."""
     setup, options = _workbench_setup(args), _workbench_options(args)
     _claim_outputs(args)
-    logs = _workbench_logs(args)
+    runs = _workbench_runs(args, setup)
+    logs = runs.logs
     keys = _terms(args, setup)
     print(_model_line(setup, logs) + f"; fitted terms: {', '.join(keys)}")
-    validation = cross_validate(setup, logs, keys, options)
+    validation = cross_validate(setup, logs, keys, options, groups=runs.groups, validate_on=runs.validation)
     _print_validation(validation, options.scales)
+    _print_inside_outside("held-out RMS errors", logs, validation.replays, runs, options.scales)
+    _print_validation_runs(validation, runs, options.scales)
     if args.per_run:
         fits = fit_each_run(validation.fit.setup, logs, keys, options)
         print("\neach run fitted on its own (in-sample)")
         print(error_table([f.errors[0] for f in fits], options.scales).text())
     if args.plot is not None:
-        plot_comparison(held_out_comparison(validation, logs, options.initial_window), args.plot, "held out")
+        plot_comparison(held_out_comparison(validation, logs), args.plot, "held out")
         print(f"\nplots written to {args.plot}/")
     if args.json is not None:
-        args.json.write_text(json.dumps(_fit_json(validation, options.scales), indent=2) + "\n")
+        args.json.write_text(json.dumps(_fit_json(validation, options.scales, runs), indent=2) + "\n")
         print(f"fit written to {args.json}")
     return 0
 
@@ -472,10 +576,12 @@ def run_compare(args: argparse.Namespace) -> int:
     """``ship-env compare``: replay the logs with a model as it is (no fitting)."""
     setup, options = _workbench_setup(args), _workbench_options(args)
     _claim_outputs(args)
-    logs = _workbench_logs(args)
+    runs = _workbench_runs(args, setup)
+    logs = [*runs.logs, *runs.validation]
     print(_model_line(setup, logs))
     comparison = compare(setup, logs, options.initial_window)
     print(error_table(comparison.errors, options.scales, comparison.pooled).text())
+    _print_inside_outside("RMS errors", logs, comparison.simulated, runs, options.scales)
     if args.plot is not None:
         plot_comparison(comparison, args.plot, f"{setup.model.ship.name}: {', '.join(setup.model.effects)}")
         print(f"\nplots written to {args.plot}/")
@@ -485,10 +591,14 @@ def run_compare(args: argparse.Namespace) -> int:
 def run_diagnose(args: argparse.Namespace) -> int:
     """``ship-env diagnose``: rank the effects the model lacks."""
     setup, options = _workbench_setup(args), _workbench_options(args)
-    logs = _workbench_logs(args)
+    runs = _workbench_runs(args, setup)
+    logs = runs.logs
     print(_model_line(setup, logs))
-    validation = cross_validate(setup, logs, _terms(args, setup), options)
+    validation = cross_validate(
+        setup, logs, _terms(args, setup), options, groups=runs.groups, validate_on=runs.validation
+    )
     _print_validation(validation, options.scales)
+    _print_validation_runs(validation, runs, options.scales)
     diagnosis = diagnose(validation, logs, options, args.candidates, args.refit)
     print(
         "\nmissing effects, best first "
@@ -505,7 +615,8 @@ def run_improve(args: argparse.Namespace) -> int:
     """``ship-env improve``: add effects while the held-out error falls; the error ladder and a report."""
     setup, options = _workbench_setup(args), _workbench_options(args)
     _claim_outputs(args)
-    logs = _workbench_logs(args)
+    runs = _workbench_runs(args, setup)
+    logs = runs.logs
     print(_model_line(setup, logs))
     ladder = improve(
         setup,
@@ -517,6 +628,9 @@ def run_improve(args: argparse.Namespace) -> int:
         args.refit,
         progress=lambda text: print(text, file=sys.stderr),
         pair_width=args.pairs,
+        groups=runs.groups,
+        validate_on=runs.validation,
+        require_validation=args.require_validation,
     )
     print("\nerror ladder (held out: leave one run out)")
     print(ladder_table(ladder).text())
@@ -587,6 +701,35 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     )
     parser.add_argument(
         "--every", type=_whole_number, default=1, metavar="N", help="use every N-th sample (default: 1)"
+    )
+    parser.add_argument(
+        "--inside",
+        action="store_true",
+        help="fit and score only the stretches of each run inside the model's envelope, each replayed from its "
+        "measured state",
+    )
+    parser.add_argument(
+        "--min-segment",
+        type=_positive_number,
+        default=MIN_SEGMENT,
+        metavar="S",
+        help="with --inside, the shortest stretch kept, s (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--validate-on",
+        nargs="+",
+        type=Path,
+        default=None,
+        metavar="LOG",
+        help="runs of another kind (or a named set) scored by the fit to LOGS and never fitted, "
+        "e.g. fit on zig-zags, validate on turning runs",
+    )
+    parser.add_argument(
+        "--group-by",
+        default=None,
+        metavar="folder|REGEX",
+        help="leave out groups of runs instead of single runs: by folder, or by the part of the run's name "
+        "a regular expression matches (its first group if it has one)",
     )
     parser.add_argument(
         "--force",
@@ -734,6 +877,11 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         help="smallest relative fall of the held-out score to add an effect (default: %(default)s)",
     )
     parser.add_argument("--max-steps", type=_whole_number, default=None, metavar="N", help="add at most N effects")
+    parser.add_argument(
+        "--require-validation",
+        action="store_true",
+        help="add an effect only if it also lowers the --validate-on runs' score by --min-gain",
+    )
     parser.add_argument(
         "--report",
         type=Path,

@@ -3,17 +3,26 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
+import numpy as np
 import pytest
 import yaml
 
-from ship_env.model import ShipModel, load_ship
+from ship_env.cli import main
+from ship_env.model import REQUIRED_EFFECTS, ShipModel, load_ship
 from ship_env.model.declarations import Envelope
 from ship_env.paths import config_dir
+from ship_env.workbench import FitOptions, Log, ReplayModel, fit, write_log
+from ship_env.workbench.envelope import check_envelope, inside_logs
+from ship_env.workbench.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
+
+SHIP = "esso_osaka_model"
+SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 def test_presets_state_their_envelope_with_sources():
-    ship = load_ship("esso_osaka_model")
+    ship = load_ship(SHIP)
     assert ship.envelope.minimum_speed == pytest.approx(0.1)
     assert ship.envelope.propeller_ahead_only is True
     assert ship.envelope.maximum_drift == pytest.approx(math.radians(40.0))
@@ -47,3 +56,82 @@ def test_a_bad_envelope_is_rejected_naming_the_field(tmp_path, entry, message):
     path.write_text(yaml.safe_dump(document))
     with pytest.raises((TypeError, ValueError), match=message):
         load_ship(path)
+
+
+def harbour_log(name: str = "harbour", astern_share: float = 0.6, samples: int = 600) -> Log:
+    """A run at 0.05 m/s astern with the propeller astern, then at 0.3 m/s ahead."""
+    time = np.arange(samples) * 0.1
+    astern = np.arange(samples) < astern_share * samples
+    return Log(
+        name=name,
+        time=time,
+        heading=0.001 * time,
+        rudder=np.zeros(samples),
+        rate_of_turn=np.full(samples, 0.001),
+        north=np.cumsum(np.where(astern, -0.005, 0.03)),
+        east=np.zeros(samples),
+        speed=np.where(astern, -0.05, 0.3),
+        propeller_rate=np.where(astern, -5.0, 10.0),
+    )
+
+
+def test_a_run_at_0_05_m_s_astern_is_flagged_with_the_share_and_the_reason():
+    model = ShipModel(SHIP)
+    check = check_envelope(harbour_log(), model.envelope, model.length)
+    assert check.share == pytest.approx(0.6)
+    assert check.describe() == "60 % outside: 60 % below 0.1 m/s; propeller astern 60 % of the time"
+    wholly = check_envelope(harbour_log(astern_share=1.0), model.envelope, model.length)
+    assert wholly.describe() == (
+        "wholly outside the model's envelope: 100 % below 0.1 m/s; propeller astern 100 % of the time"
+    )
+    # An effect that models the astern propeller widens the envelope: that reason goes.
+    wider = model.envelope.widened(Envelope(propeller_ahead_only=False))
+    assert check_envelope(harbour_log(), wider, model.length).reasons() == "60 % below 0.1 m/s"
+
+
+def test_a_run_wholly_outside_gets_a_message_not_an_error(tmp_path, capsys):
+    folder = tmp_path / "logs"
+    folder.mkdir()
+    write_log(harbour_log("alongside", astern_share=1.0), folder / "alongside.csv")
+    write_log(harbour_log("approach", astern_share=0.5), folder / "approach.csv")
+    assert main(["compare", str(folder), "--ship", SHIP]) == 0
+    out = capsys.readouterr().out
+    assert "alongside lies wholly outside the model's envelope (100 % below 0.1 m/s; propeller astern 100 %" in out
+    rows = [line for line in out.splitlines() if line.startswith("alongside ") and "lies wholly" not in line]
+    assert len(rows) == 1 and "100" in rows[0]  # in the envelope table only: never scored
+    assert "over the samples inside the envelope" in out and "over the samples outside the envelope" in out
+
+
+def corrupted(logs: list[Log], start: float, stop: float, heading_error: float) -> list[Log]:
+    """The logs with the propeller astern and a wrong heading between ``start`` and ``stop`` (shares of each run)."""
+    result = []
+    for log in logs:
+        stretch = (np.arange(log.samples) >= start * log.samples) & (np.arange(log.samples) < stop * log.samples)
+        result.append(
+            replace(
+                log,
+                heading=np.where(stretch, log.heading + heading_error, log.heading),
+                propeller_rate=np.where(stretch, -8.0, log.propeller_rate),
+            )
+        )
+    return result
+
+
+def test_fitting_on_valid_segments_ignores_the_rest():
+    truth = ReplayModel(ShipModel(SHIP, REQUIRED_EFFECTS))
+    clean = sail_all(truth, model_test_programme(duration=40.0)[::2], seed=2, settings=LogSettings(noise=SILENT))
+    start = truth.model.with_parameters({"yaw.gain": 1.0, "yaw.time_constant": 1.0})
+    options = FitOptions(initial_window=0.0)
+    fits = []
+    for heading_error in (0.5, -1.0):
+        logs = corrupted(clean, 0.3, 0.5, heading_error)
+        segments, groups = inside_logs(logs, truth.model.envelope, truth.model.length)
+        assert len(segments) >= len(logs) and set(groups) == {log.name for log in logs}
+        assert all(np.all(segment.propeller_rate >= 0.0) for segment in segments)
+        fits.append(fit(start, segments, options=options))
+        whole = fit(start, logs, options=options)
+        assert abs(whole.values()["yaw.gain"] / truth.model.parameter("yaw.gain") - 1.0) > 0.05
+    # The samples outside the envelope do not reach the fit: two different corruptions, one fit.
+    assert fits[0].values() == fits[1].values()
+    for key, value in fits[0].values().items():
+        assert value == pytest.approx(truth.model.parameter(key), rel=1e-4)

@@ -89,7 +89,7 @@ def test_cross_validation_leaves_each_run_out():
     validation = cross_validate(truth.model, logs)
     assert [e.name for e in validation.held_out] == [log.name for log in logs]
     assert len(validation.folds) == len(logs)
-    assert all(len(fold.errors) == len(logs) - 1 for fold in validation.folds)
+    assert [fold.left_out for fold in validation.folds] == [(log.name,) for log in logs]
     assert validation.pooled.samples == sum(log.samples for log in logs)
     with pytest.raises(FitError, match="at least two runs"):
         cross_validate(truth.model, logs[:1])

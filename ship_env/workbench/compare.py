@@ -59,15 +59,9 @@ def compare(setup: ReplayModel, logs: Sequence[Log], window: float = INITIAL_WIN
     )
 
 
-def held_out_comparison(validation: CrossValidation, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> Comparison:
+def held_out_comparison(validation: CrossValidation, logs: Sequence[Log]) -> Comparison:
     """Each run replayed by the fit that left it out: what the held-out errors measure."""
-    simulated = [simulate(fold.setup, [log], window)[0] for fold, log in zip(validation.folds, logs, strict=True)]
-    return Comparison(
-        validation.fit.setup,
-        tuple(logs),
-        tuple(simulated),
-        tuple(run_errors(log, sim) for log, sim in zip(logs, simulated, strict=True)),
-    )
+    return Comparison(validation.fit.setup, tuple(logs), validation.replays, validation.held_out)
 
 
 def file_name(run: str) -> str:

@@ -244,7 +244,15 @@ def refit_with(
     linearised = {key: value for evidence_ in found.values() for key, value in evidence_.linearised.items()}
     own_evidence = next(iter(found.values())) if len(found) == 1 else None
     try:
-        validation = cross_validate(added, logs, keys, options, starts=(linearised, preset_values(added, keys)))
+        validation = cross_validate(
+            added,
+            logs,
+            keys,
+            options,
+            starts=(linearised, preset_values(added, keys)),
+            groups=current.groups or None,
+            validate_on=current.validation_logs,
+        )
     except (ValueError, FloatingPointError) as error:
         return CandidateResult(effects, own_evidence, skipped=f"refit failed: {error}")
     return CandidateResult(effects, own_evidence, validation)

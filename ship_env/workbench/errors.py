@@ -71,7 +71,7 @@ class RunErrors:
             self.track / scales.position,
         ]
         measured = [part**2 for part in parts if math.isfinite(part)]
-        return math.sqrt(sum(measured) / len(measured))
+        return math.sqrt(sum(measured) / len(measured)) if measured else math.nan
 
     def in_display_units(self) -> dict[str, float]:
         """The RMS values in deg, deg/s and m."""
@@ -87,18 +87,22 @@ def _rms(values: np.ndarray) -> float:
     return float(np.sqrt(np.mean(values**2)))
 
 
-def run_errors(log: Log, simulated: Simulated) -> RunErrors:
-    """The RMS errors of one replayed run."""
+def run_errors(log: Log, simulated: Simulated, where: np.ndarray | None = None) -> RunErrors:
+    """The RMS errors of one replayed run, over all its samples or those ``where`` is True (NaN if none)."""
     nan = math.nan
+    keep = np.ones(log.samples, dtype=bool) if where is None else where
+    count = int(np.count_nonzero(keep))
+    if count == 0:
+        return RunErrors(name=log.name, samples=0, heading=nan, rate_of_turn=nan, position=nan, track=nan)
     position = track = nan
     if log.has_position:
-        position = _rms(np.hypot(simulated.north - log.north, simulated.east - log.east))
-        track = _rms(np.hypot(simulated.track_north - log.north, simulated.track_east - log.east))
+        position = _rms(np.hypot(simulated.north - log.north, simulated.east - log.east)[keep])
+        track = _rms(np.hypot(simulated.track_north - log.north, simulated.track_east - log.east)[keep])
     return RunErrors(
         name=log.name,
-        samples=log.samples,
-        heading=_rms(simulated.heading - log.heading),
-        rate_of_turn=nan if log.rate_of_turn is None else _rms(simulated.rate_of_turn - log.rate_of_turn),
+        samples=count,
+        heading=_rms((simulated.heading - log.heading)[keep]),
+        rate_of_turn=nan if log.rate_of_turn is None else _rms((simulated.rate_of_turn - log.rate_of_turn)[keep]),
         position=position,
         track=track,
     )
@@ -109,7 +113,7 @@ def pooled(errors: Sequence[RunErrors], name: str = "pooled") -> RunErrors:
 
     def pool(channel: str) -> float:
         pairs = [(e.samples, getattr(e, channel)) for e in errors if math.isfinite(getattr(e, channel))]
-        if not pairs:
+        if not pairs or not sum(n for n, _ in pairs):
             return math.nan
         return math.sqrt(sum(n * value**2 for n, value in pairs) / sum(n for n, _ in pairs))
 

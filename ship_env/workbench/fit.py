@@ -60,6 +60,8 @@ NUISANCE: dict[str, tuple[int, float, float]] = {
     "heading": (S.HEADING, math.radians(1.0), math.radians(45.0)),
     "rate_of_turn": (S.RATE_OF_TURN, math.radians(0.1), math.radians(10.0)),
 }
+#: How cross-validation fits a fold (see :mod:`.validation`).
+FOLD_METHODS = ("linearised", "refit")
 #: Forward-difference step, in units of each term's scale.
 DIFFERENCE_STEP = 1e-4
 
@@ -78,6 +80,8 @@ class FitOptions:
         initial_window: seconds at a run's start from which its initial state is estimated.
         max_evaluations: most cost evaluations per fit (each is a batch of replays).
         tolerance: relative change of cost and terms at which the fit stops.
+        fold_method: how cross-validation fits a fold from the all-run fit: ``"linearised"``
+            (one Gauss-Newton step with the left-out rows removed) or ``"refit"`` (a full fit).
     """
 
     scales: ErrorScales = field(default_factory=ErrorScales)
@@ -85,8 +89,11 @@ class FitOptions:
     initial_window: float = INITIAL_WINDOW
     max_evaluations: int = 100
     tolerance: float = 1e-6
+    fold_method: str = "linearised"
 
     def __post_init__(self) -> None:
+        if self.fold_method not in FOLD_METHODS:
+            raise FitError(f"fit: unknown fold_method {self.fold_method!r}; known: {', '.join(FOLD_METHODS)}")
         unknown = [name for name in self.nuisance if name not in NUISANCE]
         if unknown:
             raise FitError(f"fit: unknown nuisance terms {unknown}; known: {', '.join(NUISANCE)}")
@@ -275,7 +282,7 @@ class Problem:
                 requests += self._requests(j, [(j - len(self.terms)) // per_run], with_track=False)
         outputs, _ = self._outputs(points, requests)
         blocks = self._residual_blocks(requests, outputs)
-        bounds = np.concatenate([[0], np.cumsum([self._residual_length(run) for run in all_runs])])
+        bounds = np.concatenate([[0], np.cumsum([self.residual_length(run) for run in all_runs])])
         matrix = np.zeros((len(base), self.size))
         for (j, run), block in blocks.items():
             rows = slice(bounds[run], bounds[run + 1])
@@ -286,9 +293,34 @@ class Problem:
             matrix[rows, j] = (changed - base[rows]) / steps[j]
         return matrix
 
-    def _residual_length(self, run: int) -> int:
+    def residual_length(self, run: int) -> int:
         log = self.logs[run]
         return (1 + (log.rate_of_turn is not None) + 2 * log.has_position) * log.samples
+
+    def padded(self, term_values: np.ndarray) -> np.ndarray:
+        """A point with these terms (scale units) and every nuisance term zero (runs start as measured)."""
+        x = np.zeros(self.size)
+        x[: len(self.terms)] = term_values
+        return x
+
+    def point_of(self, values: Mapping[str, float]) -> np.ndarray:
+        """The point (scale units, nuisance zero) with the terms at ``values``, SI units."""
+        return self.padded(np.array([values[term.key] / term.scale for term in self.terms]))
+
+    def values_at(self, x: np.ndarray) -> dict[str, float]:
+        """The terms at ``x``, SI units."""
+        return {term.key: float(value) for term, value in zip(self.terms, self._term_values(x), strict=True)}
+
+    def setup_at(self, x: np.ndarray) -> ReplayModel:
+        """The replay model with the terms at ``x``."""
+        return with_values(self.setup, self.values_at(x))
+
+    def replay_each(self, points: Sequence[np.ndarray], point_of_run: Sequence[int]) -> list[Simulated]:
+        """Each run replayed (free and track) at its own point ``points[point_of_run[run]]``, in one batch."""
+        runs = range(len(self.logs))
+        requests = [(point_of_run[run], run, False) for run in runs] + [(point_of_run[run], run, True) for run in runs]
+        outputs, valid = self._outputs(points, requests)
+        return unpack(self.logs, outputs, valid)
 
     def simulated(self, x: np.ndarray) -> list[Simulated]:
         """Each run replayed at ``x`` (with its nuisance terms)."""
@@ -301,6 +333,8 @@ class Problem:
     def solve(self, x0: np.ndarray | None = None) -> FitResult:
         """Least squares from ``x0`` (default: the model's values); the fitted model and its errors."""
         lower, upper = self.bounds()
+        if x0 is not None and len(x0) < self.size:
+            x0 = self.padded(x0[: len(self.terms)])
         start = np.clip(self.start() if x0 is None else x0, lower, upper)
         if self.size == 0:
             return self._result(start, self.residual(start), np.zeros((len(self.residual(start)), 0)), "nothing to fit")

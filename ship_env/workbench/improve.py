@@ -1,15 +1,27 @@
 """Add effects one at a time while the held-out error falls: the error ladder.
 
 Start from a model, validate it (leave one run out), diagnose the missing effects, add the one
-with the lowest held-out error if it lowers the error by at least ``min_gain``, and repeat. Where
-no single effect does, the strongest candidates are tried two at a time (some effects only pay
-together, :func:`~.diagnose.pairs`) and the best pair is added if it does. Each rung of the ladder
-is a model and its held-out error; the diagnosis made on a rung says why the next effects were
-chosen.
+with the lowest held-out error if it pays, and repeat. Where no single effect pays, the strongest
+candidates are tried two at a time (some effects only pay together, :func:`~.diagnose.pairs`) and
+the best pair is added if it does. Each rung of the ladder is a model and its held-out error; the
+diagnosis made on a rung says why the next effects were chosen.
+
+An effect *pays* (:func:`verdict`) when
+
+1. it lowers the held-out score by at least ``min_gain`` (5 %);
+2. the fall exceeds its uncertainty: ``NOISE_SIGMAS`` times the jackknife standard error, over the
+   runs (or groups) left out, of the difference of the two scores -- a gain within it is noise;
+3. its fitted terms differ from their null values (an offset of 0) by more than ``NOISE_SIGMAS``
+   standard errors for at least one term (the larger of the Jacobian's and the jackknife's);
+4. with validation runs of another kind and ``require_validation``, it lowers their score by at
+   least ``min_gain`` as well.
+
+Near the noise floor the gains fail 2 or 3: the ladder says so and stops.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -25,6 +37,8 @@ from ship_env.workbench.validation import CrossValidation, cross_validate
 MIN_GAIN = 0.05
 #: Where no single effect pays, pairs of this many candidates (those with most evidence) are tried.
 PAIR_WIDTH = 4
+#: Standard errors by which a gain, and an added term's distance from its null value, must exceed noise.
+NOISE_SIGMAS = 2.0
 
 
 @dataclass(frozen=True)
@@ -81,6 +95,9 @@ def improve(
     refit: int | None = None,
     progress: Callable[[str], None] | None = None,
     pair_width: int = PAIR_WIDTH,
+    groups: Sequence[str] | None = None,
+    validate_on: Sequence[Log] = (),
+    require_validation: bool = False,
 ) -> Ladder:
     """Climb the error ladder greedily (see the module docstring).
 
@@ -94,40 +111,102 @@ def improve(
         refit: per step, refit only this many candidates with the most evidence.
         pair_width: where no single effect pays, try pairs of this many candidates (0: never).
         progress: called with a line of text at each step.
+        groups: per run, the group it is left out with (default: each run alone).
+        validate_on: runs of another kind, never fitted, scored by each rung's all-run fit.
+        require_validation: an effect must also lower the validation runs' score by ``min_gain``.
     """
     options = options or FitOptions()
     say = progress or (lambda text: None)
     scales = options.scales
-    validation = cross_validate(as_setup(model), logs, options=options)
+    validation = cross_validate(as_setup(model), logs, options=options, groups=groups, validate_on=validate_on)
     say(f"start: {', '.join(validation.fit.setup.model.effects)}; held-out score {validation.score(scales):.3g}")
     rungs: list[Rung] = []
     added: tuple[str, ...] = ()
+    rules = Rules(min_gain, require_validation and bool(validate_on))
     while True:
         if max_steps is not None and len(rungs) >= max_steps:
             rungs.append(Rung(added, validation))
             return Ladder(tuple(rungs), scales, f"reached the most steps, {max_steps}")
         diagnosis = diagnose(validation, logs, options, candidates, refit)
-        score = validation.score(scales)
-        best = diagnosis.best
+        tried = [c for c in diagnosis.ranked if c.cross_validation is not None]
+        best = _best_paying(tried, validation, scales, rules)
         tried_pairs: list[CandidateResult] = []
-        if (best is None or _gain(best, score, scales) < min_gain) and pair_width >= 2:
+        if best is None and pair_width >= 2:
             tried_pairs = pairs(diagnosis, logs, options, pair_width)
-            if tried_pairs and (best is None or _gain(tried_pairs[0], score, scales) > _gain(best, score, scales)):
-                best = tried_pairs[0]
+            best = _best_paying(tried_pairs, validation, scales, rules)
         rungs.append(Rung(added, validation, diagnosis, tuple(tried_pairs)))
         if best is None:
-            return Ladder(tuple(rungs), scales, "no effect left to add")
-        if _gain(best, score, scales) < min_gain:
+            leading = sorted(tried + tried_pairs, key=lambda c: c.refitted.score(scales))
+            if not leading:
+                return Ladder(tuple(rungs), scales, "no effect left to add")
+            first = leading[0]
+            kind = "pair" if len(first.effects) > 1 else "effect"
             return Ladder(
                 tuple(rungs),
                 scales,
-                f"the best next {'pair' if len(best.effects) > 1 else 'effect'}, {best.effect}, changes the held-out "
-                f"score by {-100.0 * _gain(best, score, scales):+.1f}% (needs -{100.0 * min_gain:.0f}%)",
+                f"the best next {kind}, {first.effect}: {verdict(first, validation, scales, rules)}",
             )
+        score = validation.score(scales)
         added, validation = best.effects, best.refitted
         say(f"added {best.effect}: held-out score {score:.3g} -> {validation.score(scales):.3g}")
 
 
-def _gain(candidate: CandidateResult, score: float, scales: ErrorScales) -> float:
-    """The relative fall of the held-out score from ``score`` with the candidate added."""
-    return 1.0 - candidate.refitted.score(scales) / score
+@dataclass(frozen=True)
+class Rules:
+    """When an effect pays: the smallest relative gain, and whether validation runs must gain too."""
+
+    min_gain: float = MIN_GAIN
+    require_validation: bool = False
+
+
+def _best_paying(
+    tried: Sequence[CandidateResult], current: CrossValidation, scales: ErrorScales, rules: Rules
+) -> CandidateResult | None:
+    """The candidate with the lowest held-out score among those that pay, or None."""
+    paying = [c for c in tried if c.cross_validation is not None and not verdict(c, current, scales, rules)]
+    return min(paying, key=lambda c: c.refitted.score(scales)) if paying else None
+
+
+def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorScales, rules: Rules) -> str:
+    """Why the candidate does not pay (see the module docstring), or '' if it does."""
+    validation = candidate.refitted
+    score, new = current.score(scales), validation.score(scales)
+    gain = 1.0 - new / score
+    if gain < rules.min_gain:
+        return f"changes the held-out score by {-100.0 * gain:+.1f}% (needs -{100.0 * rules.min_gain:.0f}%)"
+    spread = validation.score_jackknife(scales, current)
+    if math.isfinite(spread) and score - new <= NOISE_SIGMAS * spread:
+        return (
+            f"lowers the held-out score by {100.0 * gain:.1f}%, within its uncertainty "
+            f"({NOISE_SIGMAS:g} x {100.0 * spread / score:.1f}%, jackknife over the runs): the model is at the "
+            "noise floor of these logs"
+        )
+    weak = _terms_at_null(candidate)
+    if weak is not None:
+        return f"lowers the held-out score by {100.0 * gain:.1f}%, but {weak}: at the noise floor of these logs"
+    if rules.require_validation and current.pooled_validation and validation.pooled_validation:
+        before, after = current.pooled_validation.score(scales), validation.pooled_validation.score(scales)
+        if after > (1.0 - rules.min_gain) * before:
+            return (
+                f"lowers the held-out score by {100.0 * gain:.1f}% but changes the validation runs' score by "
+                f"{100.0 * (after / before - 1.0):+.1f}% (needs -{100.0 * rules.min_gain:.0f}%)"
+            )
+    return ""
+
+
+def _terms_at_null(candidate: CandidateResult) -> str | None:
+    """Words saying that none of the added effects' terms is clear of its null value, or None if one is."""
+    validation = candidate.refitted
+    jackknife = validation.jackknife_errors()
+    added = [e for e in validation.fit.estimates if e.term.effect in candidate.effects and e.term.null is not None]
+    if not added:
+        return None
+    ratios = {
+        e.term.key: abs(e.value - (e.term.null or 0.0)) / max(e.std_error, jackknife[e.term.key], 1e-300) for e in added
+    }
+    if max(ratios.values()) > NOISE_SIGMAS:
+        return None
+    shown = ", ".join(f"{key} {ratio:.1f}" for key, ratio in ratios.items())
+    return (
+        f"its terms lie within {NOISE_SIGMAS:g} standard errors of their null values (|value - null| / s.e.: {shown})"
+    )

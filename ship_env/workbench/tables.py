@@ -9,7 +9,9 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from ship_env.model.declarations import Envelope
 from ship_env.workbench.diagnose import Diagnosis
+from ship_env.workbench.envelope import EnvelopeCheck
 from ship_env.workbench.errors import ErrorScales, RunErrors
 from ship_env.workbench.improve import Ladder
 from ship_env.workbench.logs import Log
@@ -190,3 +192,27 @@ def log_table(logs: Sequence[Log]) -> Table:
         for log in logs
     )
     return Table(("run", "samples", "duration [s]", "channels", "notes"), rows)
+
+
+def envelope_table(checks: Sequence[EnvelopeCheck]) -> Table:
+    """Per run, the share of samples outside the model's envelope and why."""
+    rows = tuple(
+        (check.run, str(len(check.outside)), number(100.0 * check.share, 0), check.reasons() or "-") for check in checks
+    )
+    return Table(("run", "samples", "outside [%]", "why"), rows)
+
+
+def envelope_line(envelope: Envelope) -> str:
+    """The envelope's limits in words."""
+    parts = []
+    if envelope.minimum_speed is not None:
+        parts.append(f"speed >= {envelope.minimum_speed:g} m/s")
+    if envelope.minimum_froude is not None:
+        parts.append(f"Froude number >= {envelope.minimum_froude:g}")
+    if envelope.propeller_ahead_only:
+        parts.append("propeller ahead")
+    if envelope.maximum_drift is not None:
+        parts.append(f"drift angle <= {math.degrees(envelope.maximum_drift):.0f} deg")
+    if envelope.maximum_rate is not None:
+        parts.append(f"rate of turn <= {math.degrees(envelope.maximum_rate):.3g} deg/s")
+    return ", ".join(parts) or "no limits stated"

@@ -1,13 +1,24 @@
-"""Leave-one-run-out cross-validation: the error that matters is on runs the fit did not see.
+"""Cross-validation: the error that matters is on runs the fit did not see.
 
-The model is fitted to all runs; then each run in turn is left out, the model refitted to the
-others (starting from the all-run fit), and the run left out replayed from its measured initial
-state -- no per-run refitting. The pooled errors of these replays are the *held-out* errors the
-workbench ranks models by; the spread of the fold estimates gives jackknife standard errors.
+The model is fitted to all runs; then each run in turn -- or each *group* of runs (a manoeuvre
+type, a folder, the segments cut from one run) -- is left out, the model refitted to the others,
+and the runs left out replayed from their measured initial states -- no per-run refitting. The
+pooled errors of these replays are the *held-out* errors the workbench ranks models by; the spread
+of the fold estimates gives jackknife standard errors.
+
+A fold's fit starts from the all-run fit, which already is nearly its optimum: by default
+(``FitOptions.fold_method = "linearised"``) it is one Gauss-Newton step from the all-run fit with
+the left-out rows removed from its Jacobian, the classic one-step approximation of leave-one-out
+(no replay needed); ``"refit"`` runs a full least-squares fit per fold instead. The held-out replays
+of every fold run in one compiled batch.
+
+Runs of another kind (``validate_on``: fit on zig-zags, score on turning runs) are replayed by the
+all-run fit: they are *validation runs*, never fitted.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
@@ -17,8 +28,23 @@ from ship_env.model import ShipModel
 from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
 from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup
 from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import ReplayModel, simulate
+from ship_env.workbench.replay import ReplayModel, Simulated, simulate
 from ship_env.workbench.terms import default_terms, with_values
+
+
+@dataclass(frozen=True)
+class Fold:
+    """The fit with some runs left out.
+
+    Attributes:
+        left_out: the names of the runs left out.
+        setup: the model fitted to the other runs.
+        values: its fitted terms, SI units.
+    """
+
+    left_out: tuple[str, ...]
+    setup: ReplayModel
+    values: Mapping[str, float]
 
 
 @dataclass(frozen=True)
@@ -27,33 +53,97 @@ class CrossValidation:
 
     Attributes:
         fit: the fit on all runs.
-        folds: per run, the fit on the other runs.
+        folds: per group of runs left out, the fit on the others.
         held_out: per run, its errors under the fold that left it out (from its measured state).
+        replays: per run, that held-out replay (for errors over parts of a run, drawings).
+        validation: per validation run (never fitted), its errors under the all-run fit.
+        validation_replays: those replays.
+        groups: per run, the group it was left out with.
+        validation_logs: the validation runs.
     """
 
     fit: FitResult
-    folds: tuple[FitResult, ...]
+    folds: tuple[Fold, ...]
     held_out: tuple[RunErrors, ...]
+    replays: tuple[Simulated, ...] = ()
+    validation: tuple[RunErrors, ...] = ()
+    validation_replays: tuple[Simulated, ...] = ()
+    groups: tuple[str, ...] = ()
+    validation_logs: tuple[Log, ...] = ()
 
     @property
     def pooled(self) -> RunErrors:
         """The held-out errors pooled over all runs."""
         return pooled(self.held_out, "held out")
 
+    @property
+    def pooled_validation(self) -> RunErrors | None:
+        """The validation runs' errors pooled, or None without validation runs."""
+        return pooled(self.validation, "validation") if self.validation else None
+
     def score(self, scales: ErrorScales) -> float:
         return self.pooled.score(scales)
 
+    def score_jackknife(self, scales: ErrorScales, other: CrossValidation | None = None) -> float:
+        """Jackknife standard error, over the groups of runs, of the held-out score (or its difference to ``other``'s).
+
+        The pooled score is recomputed with each group left out in turn; the standard error is
+        sqrt((n - 1) / n * sum_i (S_i - mean S)^2) over the n groups. With ``other`` (a model on
+        the same runs) it is that of the difference of the two scores: the runs that are hard for
+        one model are hard for the other, so the difference is known better than either score.
+        """
+        labels = self.groups or tuple(e.name for e in self.held_out)
+        names = sorted(set(labels))
+        if len(names) < 2:
+            return math.nan
+
+        def without(errors: Sequence[RunErrors], name: str) -> float:
+            return pooled([e for e, label in zip(errors, labels, strict=True) if label != name]).score(scales)
+
+        values = np.array(
+            [
+                without(self.held_out, name) - (without(other.held_out, name) if other is not None else 0.0)
+                for name in names
+            ]
+        )
+        count = len(names)
+        return float(math.sqrt((count - 1) / count * np.sum((values - values.mean()) ** 2)))
+
     def jackknife_errors(self) -> dict[str, float]:
-        """Standard errors of the fitted terms from the spread of the leave-one-run-out fits.
+        """Standard errors of the fitted terms from the spread of the leave-one-group-out fits.
 
         The jackknife estimate sqrt((n - 1) / n * sum_i (theta_i - mean theta)^2) over the n folds:
         unlike the Jacobian's, it holds what differs from run to run (correlated residuals, noisy
         inputs, effects the model lacks).
         """
-        values = np.array([[estimate.value for estimate in fold.estimates] for fold in self.folds])
+        keys = [estimate.term.key for estimate in self.fit.estimates]
+        values = np.array([[fold.values[key] for key in keys] for fold in self.folds])
         count = len(self.folds)
         spread = np.sqrt((count - 1) / count * np.sum((values - values.mean(axis=0)) ** 2, axis=0))
-        return {estimate.term.key: float(value) for estimate, value in zip(self.fit.estimates, spread, strict=True)}
+        return {key: float(value) for key, value in zip(keys, spread, strict=True)}
+
+
+def fold_groups(logs: Sequence[Log], groups: Sequence[str] | None) -> list[list[int]]:
+    """The runs of each fold: one per run, or one per distinct group label (in order of first appearance)."""
+    if groups is None:
+        return [[i] for i in range(len(logs))]
+    if len(groups) != len(logs):
+        raise FitError(f"cross-validation: {len(groups)} group labels for {len(logs)} runs")
+    order = list(dict.fromkeys(groups))
+    return [[i for i, label in enumerate(groups) if label == name] for name in order]
+
+
+def _linearised_fold(problem: Problem, fitted: FitResult, left_out: Sequence[int]) -> np.ndarray:
+    """One Gauss-Newton step from the all-run fit with the left-out runs' rows removed (in scale units)."""
+    lengths = [problem.residual_length(run) for run in range(len(problem.logs))]
+    edges = np.concatenate([[0], np.cumsum(lengths)])
+    keep = np.ones(len(fitted.residual), dtype=bool)
+    for run in left_out:
+        keep[edges[run] : edges[run + 1]] = False
+    jacobian, residual = fitted.jacobian[keep], fitted.residual[keep]
+    step = np.linalg.lstsq(jacobian, -residual, rcond=None)[0] if jacobian.shape[1] else np.zeros(0)
+    lower, upper = problem.bounds()
+    return np.clip(fitted.solution + step, lower, upper)
 
 
 def cross_validate(
@@ -62,25 +152,62 @@ def cross_validate(
     terms: Sequence[str] | None = None,
     options: FitOptions | None = None,
     starts: Sequence[Mapping[str, float]] = (),
+    groups: Sequence[str] | None = None,
+    validate_on: Sequence[Log] = (),
 ) -> CrossValidation:
-    """Fit on all runs, then leave each run out in turn: fit on the rest, replay the one left out.
+    """Fit on all runs, then leave each run (or group of runs) out in turn and replay what was left out.
 
     Output-error fits have local minima, so the all-run fit may start from several points: the
     model's own values and each of ``starts`` (values for some terms); the fit with the lowest
     cost is kept, and every fold starts from it.
+
+    Args:
+        groups: per run, a label; the runs with one label are left out together (default: each run alone).
+        validate_on: runs replayed by the all-run fit and never fitted (another manoeuvre type).
     """
-    if len(logs) < 2:
-        raise FitError("cross-validation: leaving one run out needs at least two runs")
     options = options or FitOptions()
+    folds_runs = fold_groups(logs, groups)
+    if len(folds_runs) < 2:
+        raise FitError("cross-validation: leaving one run out needs at least two runs (or two groups)")
     setup = as_setup(model)
     keys = default_terms(setup.model.effects) if terms is None else list(terms)
-    candidates = [Problem(with_values(setup, start), logs, keys, options).solve() for start in ({}, *starts)]
-    everything = min(candidates, key=lambda result: float(result.residual @ result.residual))
-    folds = []
-    held_out = []
-    for left_out, log in enumerate(logs):
-        others = [other for i, other in enumerate(logs) if i != left_out]
-        fold = Problem(everything.setup, others, keys, options).solve()
-        folds.append(fold)
-        held_out.append(run_errors(log, simulate(fold.setup, [log], options.initial_window)[0]))
-    return CrossValidation(fit=everything, folds=tuple(folds), held_out=tuple(held_out))
+    problems = [Problem(with_values(setup, start), logs, keys, options) for start in ({}, *starts)]
+    fits = [problem.solve() for problem in problems]
+    best = min(range(len(fits)), key=lambda i: float(fits[i].residual @ fits[i].residual))
+    problem, everything = problems[best], fits[best]
+    points = []
+    for left_out in folds_runs:
+        if options.fold_method == "refit":
+            others = [log for i, log in enumerate(logs) if i not in left_out]
+            fold = Problem(everything.setup, others, keys, options)
+            points.append(problem.point_of(fold.values_at(fold.solve().solution)))
+        else:
+            points.append(problem.padded(_linearised_fold(problem, everything, left_out)[: len(keys)]))
+    # Every fold's runs left out, replayed from their measured states, in one batch.
+    owner = {run: f for f, left_out in enumerate(folds_runs) for run in left_out}
+    replays = problem.replay_each(points, [owner[run] for run in range(len(logs))])
+    folds = tuple(
+        Fold(
+            left_out=tuple(logs[run].name for run in left_out),
+            setup=problem.setup_at(point),
+            values=problem.values_at(point),
+        )
+        for left_out, point in zip(folds_runs, points, strict=True)
+    )
+    validation_replays: list[Simulated] = []
+    if validate_on:
+        validation_replays = simulate(everything.setup, validate_on, options.initial_window)
+    labels = groups if groups is not None else [log.name for log in logs]
+    return CrossValidation(
+        fit=everything,
+        folds=folds,
+        held_out=tuple(run_errors(log, sim) for log, sim in zip(logs, replays, strict=True)),
+        replays=tuple(replays),
+        validation=tuple(run_errors(log, sim) for log, sim in zip(validate_on, validation_replays, strict=True)),
+        validation_replays=tuple(validation_replays),
+        groups=tuple(labels),
+        validation_logs=tuple(validate_on),
+    )
+
+
+__all__ = ["CrossValidation", "Fold", "cross_validate", "fold_groups"]

@@ -20,6 +20,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import yaml
@@ -127,7 +128,7 @@ def _read_envelope(entries: object, label: str, sources: dict, assumed: set) -> 
     if not isinstance(entries, Mapping):
         raise TypeError(f"{label}: envelope: expected a mapping, got {entries!r}")
     by_name = {parameter.name: parameter for parameter in ENVELOPE_LIMITS}
-    limits: dict[str, float | bool] = {}
+    limits: dict[str, Any] = {}  # float limits and the propeller flag, checked as read
     for key, entry in entries.items():
         where = f"{label}:envelope.{key}"
         if key == "propeller_ahead_only":
@@ -285,8 +286,8 @@ class ShipModel:
 
     def _build_record(self) -> np.ndarray:
         record = np.zeros(1, dtype=record_dtype())
-        for name, value in self._principal.items():
-            record[0][name] = value
+        for name, particular in self._principal.items():
+            record[0][name] = particular
         for effect_name, effect in EFFECTS.items():
             on = effect_name in self.effects
             record[0][effect.flag_name] = on

@@ -12,12 +12,13 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numba
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ship_env.model import noise
 from ship_env.model import state as S
@@ -256,14 +257,18 @@ class Simulator:
     def _seeds(self, seed: int | Sequence[int] | None, count: int) -> np.ndarray:
         if seed is None:
             seed = int(np.random.SeedSequence().generate_state(1, np.uint32)[0])
-        if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+        if isinstance(seed, bool):
+            raise ValueError(f"seed: expected an integer or {count} integers, got {seed!r}")
+        if isinstance(seed, (int, np.integer)):
             return int(seed) + np.arange(count, dtype=np.int64)
         seeds = list(seed)
         if len(seeds) != count or not all(isinstance(s, (int, np.integer)) for s in seeds):
             raise ValueError(f"seed: expected an integer or {count} integers, got {seed!r}")
         return np.asarray(seeds, dtype=np.int64)
 
-    def _per_ship_conditions(self, conditions, count: int) -> list[Conditions]:
+    def _per_ship_conditions(
+        self, conditions: Conditions | Iterable[Conditions] | None, count: int
+    ) -> list[Conditions]:
         if conditions is None:
             return [Conditions()] * count
         if isinstance(conditions, Conditions):
@@ -273,7 +278,7 @@ class Simulator:
             raise ValueError(f"conditions: expected one Conditions or {count} of them")
         return items
 
-    def _per_ship_value(self, name: str, value, count: int | None = None) -> np.ndarray:
+    def _per_ship_value(self, name: str, value: ArrayLike, count: int | None = None) -> np.ndarray:
         try:
             array = np.broadcast_to(np.asarray(value, dtype=float), (self.num_ships if count is None else count,))
         except (TypeError, ValueError):

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.kernel import kernel
@@ -43,7 +44,9 @@ EFFECT = Effect(
 )
 
 
-def spectral_density(frequency: np.ndarray, significant_height: float, peak_period: float) -> np.ndarray:
+def spectral_density(
+    frequency: np.ndarray, significant_height: float | np.ndarray, peak_period: float | np.ndarray
+) -> np.ndarray:
     """S(omega) of (2.89) with p = 5, q = 4, in m^2 s/rad."""
     peak_frequency = 2.0 * math.pi / peak_period
     a = 5.0 / 16.0 * significant_height**2 * peak_frequency**4
@@ -51,7 +54,7 @@ def spectral_density(frequency: np.ndarray, significant_height: float, peak_peri
     return a * frequency**-5.0 * np.exp(-b * frequency**-4.0)
 
 
-def components(significant_height, peak_period, uniforms: np.ndarray) -> np.ndarray:
+def components(significant_height: ArrayLike, peak_period: ArrayLike, uniforms: np.ndarray) -> np.ndarray:
     """Regular wave components of Pierson-Moskowitz seas, one per pair of uniform samples.
 
     Frequencies lie in equal bands from 0.6 to 3 times the peak frequency, each placed at random

@@ -7,6 +7,7 @@ import json
 import gymnasium as gym
 import numpy as np
 import pytest
+from packaging.version import Version
 from stable_baselines3 import PPO
 
 import ship_env  # noqa: F401  (registers the environments)
@@ -53,11 +54,16 @@ def test_shipped_policies_load_with_their_metadata_and_steer():
     for path in paths:
         policy_file = read_policy_file(path)
         assert policy_file.metadata is not None and policy_file.metadata.command.startswith("ship-env train ")
+        Version(policy_file.metadata.versions["ship-env"])  # the package version that trained it
         env = gym.make(policy_file.env_id)
         policy_file.check(policy_file.env_id, env.observation_space, env.action_space)
         observation, _ = env.reset(seed=0)
         action, _ = policy_file.policy().predict(observation, deterministic=True)
         assert env.action_space.contains(np.asarray(action, dtype=np.float32))
+
+
+def test_a_run_records_the_version_of_the_ship_env_code_that_trained_it():
+    assert package_versions()["ship-env"] == ship_env.__version__
 
 
 def test_a_file_that_is_not_a_model_names_the_file(tmp_path):

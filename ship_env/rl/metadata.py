@@ -15,16 +15,20 @@ from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
 
+import ship_env
+
 #: The file names of a run's folder.
 MODEL_FILE = "model.zip"
 METADATA_FILE = "metadata.json"
-#: The distributions whose versions a run records.
-RECORDED_PACKAGES = ("ship-env", "stable-baselines3", "torch", "numpy", "gymnasium", "numba")
+
+#: The distributions whose installed versions a run records beside ship-env's.
+RECORDED_PACKAGES = ("stable-baselines3", "torch", "numpy", "gymnasium", "numba")
 
 
 def package_versions() -> dict[str, str]:
-    """The installed versions of :data:`RECORDED_PACKAGES` and Python's."""
-    versions = {"python": platform.python_version()}
+    """Python's version, ship-env's (``ship_env.__version__``: the code that ran, installed or not)
+    and the installed versions of :data:`RECORDED_PACKAGES`."""
+    versions = {"python": platform.python_version(), "ship-env": ship_env.__version__}
     for package in RECORDED_PACKAGES:
         try:
             versions[package] = version(package)

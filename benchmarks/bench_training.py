@@ -65,7 +65,7 @@ class BeatBaselineCheck(BaseCallback):
         start = time.perf_counter()
         path = self.folder / f"ppo_{self.num_timesteps}.zip"  # a new file per check: entrants cache by path
         self.model.save(path)
-        entrant = Entrant("PPO", COURSE_CHANGE, "learned", path)
+        entrant = Entrant("PPO", COURSE_CHANGE, "learned", (path,), (0,))
         table = rank(self.suite, self.baseline_results + sail_suite(entrant, self.suite))
         (comparison,) = comparisons(table)
         self.check_seconds += time.perf_counter() - start

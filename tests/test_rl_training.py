@@ -171,18 +171,20 @@ def test_train_command_rejects_an_environment_without_a_config_entry(tmp_path, c
 @pytest.mark.slow
 @pytest.mark.parametrize("env_id", [COURSE_CHANGE, TRACK_FOLLOW])
 def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id):
-    """Same command, seed, thread count and package versions: the same weights, bit for bit."""
+    """Same command, seed, thread count and package versions: the same weights, bit for bit (the
+    shipped entrant's last training seed)."""
     import torch
     from stable_baselines3.common.save_util import load_from_zip_file
 
+    from ship_env.rl.policy_file import seed_models
     from ship_env.rl.shipped import shipped_folder
 
-    folder = shipped_folder(env_id, "ppo")
-    words = shlex.split(json.loads((folder / "metadata.json").read_text())["command"])
+    model = seed_models(shipped_folder(env_id, "ppo"))[-1]
+    words = shlex.split(json.loads((model.parent / "metadata.json").read_text())["command"])
     out_index = words.index("--out") + 1
     words[out_index] = str(tmp_path / "run")
     assert main([*words[1:], "--no-progress"]) == 0
-    _, shipped, _ = load_from_zip_file(folder / "model.zip", device="cpu", load_data=False)
+    _, shipped, _ = load_from_zip_file(model, device="cpu", load_data=False)
     _, again, _ = load_from_zip_file(tmp_path / "run" / "model.zip", device="cpu", load_data=False)
     assert shipped["policy"].keys() == again["policy"].keys()
     assert all(torch.equal(shipped["policy"][key], again["policy"][key]) for key in shipped["policy"])

@@ -2,9 +2,12 @@
 
 - :mod:`ship_env.leaderboard.suites`: the suites (CourseChange per disturbance, TrackFollow) and
   the robustness conditions (K*, tau* off by 2x, half speed), quick and full;
-- :mod:`ship_env.leaderboard.entrants`: the controllers (:mod:`ship_env.baselines.presys`, SB3 policy files);
+- :mod:`ship_env.leaderboard.entrants`: the controllers (:mod:`ship_env.baselines.presys`, SB3 policy
+  files, one per training seed);
 - :mod:`ship_env.leaderboard.sailing`: the seeded episode loop;
 - :mod:`ship_env.leaderboard.evaluation`: jobs run in this process or on Ray;
+- :mod:`ship_env.leaderboard.statistics`: IQM, normalised score and probability of improvement
+  with stratified-bootstrap intervals (rliable);
 - :mod:`ship_env.leaderboard.tables`, :mod:`ship_env.leaderboard.plots`: ranked tables (markdown,
   CSV) and drawings;
 - :mod:`ship_env.leaderboard.board`: all of it together; :mod:`ship_env.leaderboard.cli`:

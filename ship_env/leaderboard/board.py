@@ -18,13 +18,23 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import gymnasium as gym
+import numpy as np
 
 from ship_env.leaderboard.entrants import Entrant, classic_entrants, policy_entrants
 from ship_env.leaderboard.evaluation import evaluate, jobs_for
-from ship_env.leaderboard.plots import plot_course_changes, plot_scores, plot_tracks
+from ship_env.leaderboard.plots import plot_aggregate, plot_course_changes, plot_scores, plot_tracks
 from ship_env.leaderboard.sailing import EpisodeResult, sail_recorded
+from ship_env.leaderboard.statistics import REFERENCES, Estimate
 from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, TRACK_FOLLOW, Suite, SuiteSpec
-from ship_env.leaderboard.tables import Table, markdown, rank, write_csv, write_episodes_csv
+from ship_env.leaderboard.tables import (
+    Table,
+    grouped_estimates,
+    markdown,
+    rank,
+    score_matrix,
+    write_csv,
+    write_episodes_csv,
+)
 
 #: The scenario every CourseChange controller is drawn on: a 75-deg change in wind and current.
 SAMPLE_COURSE_CHANGE = ("CourseChange wind_current", "+75 deg")
@@ -33,6 +43,7 @@ MARKDOWN_FILE = "leaderboard.md"
 CSV_FILE = "leaderboard.csv"
 EPISODES_FILE = "episodes.csv"
 SCORES_PLOT = "scores.png"
+HEADLINE_PLOT = "headline.png"
 COURSE_CHANGE_PLOT = "course_change_sample.png"
 TRACK_PLOT = "track_follow_sample.png"
 
@@ -62,9 +73,51 @@ class Leaderboard:
                 return table
         raise KeyError(f"no suite {suite_name!r}; suites: {', '.join(t.suite.name for t in self.tables)}")
 
+    def headline(self) -> dict[str, list[Estimate]]:
+        """Per CourseChange entrant, the IQM and the mean of the normalised score over every episode
+        of the nominal CourseChange suites, all seas together (rliable's aggregate over tasks), with
+        95 % stratified-bootstrap intervals; empty without those suites."""
+        tables = [t for t in self.tables if t.suite.env_id == COURSE_CHANGE and t.suite.condition == NOMINAL]
+        if not tables or not tables[0].suite.episodes:
+            return {}
+        reference = REFERENCES[COURSE_CHANGE]
+        names = [s.entrant for s in tables[0].standings]
+        if reference not in names:
+            return {}
+        matrices = {}
+        for name in names:
+            parts = []
+            for table in tables:
+                episodes = {
+                    n: [r for r in self.results if r.suite == table.suite.name and r.entrant == n]
+                    for n in (name, reference)
+                }
+                parts.append(score_matrix(table.suite, episodes[name]) / score_matrix(table.suite, episodes[reference]))
+            normalised = np.hstack(parts)
+            matrices[name] = [normalised, normalised]
+        return grouped_estimates(matrices, ["iqm", "mean"])
+
+    def headline_markdown(self) -> str:
+        """The headline as a markdown table (empty without the nominal CourseChange suites)."""
+        headline = self.headline()
+        if not headline:
+            return ""
+        lines = [
+            "### Headline: CourseChange, nominal ship, all seas together",
+            "",
+            f"Normalised score: each episode's integrated heading error over {REFERENCES[COURSE_CHANGE]}'s "
+            "(1 = the reference, lower is better); 95 % stratified-bootstrap intervals (rliable) over training "
+            "seeds and episodes.",
+            "",
+            "| controller | IQM [95 % CI] | mean [95 % CI] |",
+            "|---|---:|---:|",
+        ]
+        lines += [f"| {name} | {iqm.text(3)} | {mean.text(3)} |" for name, (iqm, mean) in headline.items()]
+        return "\n".join(lines)
+
     def markdown(self) -> str:
-        """Every table in markdown."""
-        return "\n\n".join(markdown(table) for table in self.tables)
+        """The headline and every table in markdown."""
+        return "\n\n".join(filter(None, [self.headline_markdown(), *(markdown(table) for table in self.tables)]))
 
 
 def run_leaderboard(
@@ -73,9 +126,12 @@ def run_leaderboard(
     shipped: bool = True,
     backend: str = "local",
     progress: bool = True,
+    ray_address: str | None = None,
 ) -> Leaderboard:
     """Sail ``spec``'s suites with the classic baselines, the shipped policies (if ``shipped``) and
-    the policy files ``policies``; ``PolicyFileError`` before anything sails if one does not fit."""
+    the policies at ``policies`` (each a file, a run's folder or a folder of seeds' runs), every
+    learned entrant with each of its training seeds; ``PolicyFileError`` before anything sails if
+    one does not fit. ``backend`` ``"ray"`` runs the jobs on Ray (at ``ray_address``)."""
     suites = spec.suites()
     env_kwargs = {suite.env_id: suite.env_kwargs for suite in suites}
     env_spaces = {}
@@ -85,7 +141,7 @@ def run_leaderboard(
         env.close()
     entrants = classic_entrants(list(env_kwargs)) + policy_entrants(policies, env_spaces, shipped)
     start = time.perf_counter()
-    results = evaluate(jobs_for(suites, entrants), backend, progress)
+    results = evaluate(jobs_for(suites, entrants), backend, progress, ray_address)
     wall_time = time.perf_counter() - start
     tables = tuple(rank(suite, results) for suite in suites)
     return Leaderboard(tuple(entrants), tuple(suites), tuple(results), tables, wall_time)
@@ -107,6 +163,10 @@ def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list
     if not plots:
         return written
     written.append(plot_scores(board.tables, out / SCORES_PLOT))
+    headline = board.headline()
+    if headline:
+        xlabel = f"normalised score (1 = {REFERENCES[COURSE_CHANGE]}), lower is better"
+        written.append(plot_aggregate(headline, ["IQM", "Mean"], xlabel, out / HEADLINE_PLOT))
     task, label = SAMPLE_COURSE_CHANGE
     suite = _nominal_suite(board, task) or _nominal_suite(board, "CourseChange calm")
     if suite is not None:

@@ -29,8 +29,8 @@ from ship_env.baselines.presys import (
 from ship_env.envs.task import ShipTask
 from ship_env.leaderboard.suites import COURSE_CHANGE, TRACK_FOLLOW
 from ship_env.model import ShipModel
-from ship_env.rl.policy_file import PolicyFileError, read_policy_file
-from ship_env.rl.shipped import shipped_policies
+from ship_env.rl.policy_file import PolicyFile, PolicyFileError, read_policy_file, seed_models
+from ship_env.rl.shipped import shipped_entrants
 
 #: The classic baselines per environment: name -> builder from the task (:mod:`ship_env.baselines.presys`).
 CLASSIC_BUILDERS: dict[str, dict[str, Callable[[Any], Controller]]] = {
@@ -75,18 +75,25 @@ class Entrant:
         name: its name in the tables (unique).
         env_id: the environment it steers.
         kind: ``"classic"`` or ``"learned"``.
-        policy_path: the policy file of a learned entrant.
+        policies: a learned entrant's policy files, one per training seed.
+        training_seeds: their training seeds (from their metadata; without it, their positions).
     """
 
     name: str
     env_id: str
     kind: str = "classic"
-    policy_path: Path | None = None
+    policies: tuple[Path, ...] = ()
+    training_seeds: tuple[int, ...] = ()
 
-    def build(self, task: DesignedTask) -> Controller:
-        """A fresh controller for one episode of ``task``."""
-        if self.policy_path is not None:
-            return SB3Controller(_policy(self.policy_path))
+    @property
+    def runs(self) -> int:
+        """The runs it sails each episode with: one per training seed, one for a classic autopilot."""
+        return max(1, len(self.policies))
+
+    def build(self, task: DesignedTask, run: int = 0) -> Controller:
+        """A fresh controller for one episode of ``task`` (a learned entrant's ``run``-th seed)."""
+        if self.policies:
+            return SB3Controller(_policy(self.policies[run]))
         return CLASSIC_BUILDERS[self.env_id][self.name](task)
 
 
@@ -95,35 +102,59 @@ def classic_entrants(env_ids: Sequence[str]) -> list[Entrant]:
     return [Entrant(name, env_id) for env_id in env_ids for name in CLASSIC_BUILDERS.get(env_id, {})]
 
 
+def _training_seeds(policy_files: Sequence[PolicyFile]) -> tuple[int, ...]:
+    """The files' training seeds from their metadata; their positions where one has none or two share one."""
+    seeds = [None if policy_file.metadata is None else policy_file.metadata.seed for policy_file in policy_files]
+    if None in seeds or len(set(seeds)) < len(seeds):
+        return tuple(range(len(policy_files)))
+    return tuple(seeds)
+
+
 def policy_entrants(
     paths: Sequence[Path], env_spaces: Mapping[str, tuple[spaces.Space, spaces.Space]], shipped: bool = True
 ) -> list[Entrant]:
-    """Learned entrants: the shipped policies (if ``shipped``) and the policy files ``paths``.
+    """Learned entrants: the shipped policies (if ``shipped``) and the policies at ``paths``.
 
-    A policy sails the environment its metadata names, or without metadata every environment of
-    ``env_spaces`` (env id -> observation and action space) whose spaces it matches. A shipped
-    policy for an environment the leaderboard does not sail is left out; ``PolicyFileError`` names
-    a given file that fits none of them (another environment, other spaces).
+    Each path (and each shipped entrant's folder) is one entrant: a policy file, a training run's
+    folder, or a folder of one run per training seed (``seed<S>/``, as ``ship-env train --seeds``
+    writes them). A policy sails the environment its metadata names, or without metadata every
+    environment of ``env_spaces`` (env id -> observation and action space) whose spaces it
+    matches. A shipped entrant for an environment the leaderboard does not sail is left out;
+    ``PolicyFileError`` names a given file that fits none of them (another environment, other
+    spaces) or whose seeds were trained on different environments.
     """
-    shipped_files = [read_policy_file(path) for path in (shipped_policies() if shipped else [])]
-    labelled = [(policy_file, "shipped") for policy_file in shipped_files if policy_file.env_id in env_spaces]
-    labelled += [(read_policy_file(path), str(path)) for path in paths]
+    labelled = []
+    for folder in shipped_entrants() if shipped else []:
+        files = [read_policy_file(path) for path in seed_models(folder)]
+        if files[0].env_id in env_spaces:
+            labelled.append((files, "shipped"))
+    labelled += [([read_policy_file(path) for path in seed_models(path)], str(path)) for path in paths]
     entrants = []
-    for policy_file, label in labelled:
-        if policy_file.env_id is not None:
-            if policy_file.env_id not in env_spaces:
+    for files, label in labelled:
+        first = files[0]
+        if len({policy_file.env_id for policy_file in files}) > 1:
+            raise PolicyFileError(
+                f"policy files {label}: the seeds were trained on different environments "
+                f"({', '.join(sorted(str(policy_file.env_id) for policy_file in files))})"
+            )
+        if first.env_id is not None:
+            if first.env_id not in env_spaces:
                 raise PolicyFileError(
-                    f"policy file {policy_file.path}: it was trained on {policy_file.env_id}; the leaderboard "
+                    f"policy file {first.path}: it was trained on {first.env_id}; the leaderboard "
                     f"sails {', '.join(env_spaces)}"
                 )
-            policy_file.check(policy_file.env_id, *env_spaces[policy_file.env_id])
-            fitting = [policy_file.env_id]
+            fitting = [first.env_id]
         else:
-            reasons = {env_id: policy_file.mismatch(env_id, *pair) for env_id, pair in env_spaces.items()}
+            reasons = {env_id: first.mismatch(env_id, *pair) for env_id, pair in env_spaces.items()}
             fitting = [env_id for env_id, reason in reasons.items() if reason is None]
             if not fitting:
-                raise PolicyFileError(f"policy file {policy_file.path}: " + "; ".join(map(str, reasons.values())))
+                raise PolicyFileError(f"policy file {first.path}: " + "; ".join(map(str, reasons.values())))
+        for policy_file in files:
+            for env_id in fitting:
+                policy_file.check(env_id, *env_spaces[env_id])
+        policies = tuple(policy_file.path for policy_file in files)
         entrants += [
-            Entrant(f"{policy_file.algo} ({label})", env_id, "learned", policy_file.path) for env_id in fitting
+            Entrant(f"{first.algo} ({label})", env_id, "learned", policies, _training_seeds(files))
+            for env_id in fitting
         ]
     return entrants

@@ -1,6 +1,7 @@
 """Running the leaderboard's jobs in this process or on Ray.
 
-A :class:`Job` is one entrant sailing one suite (:func:`~ship_env.leaderboard.sailing.sail_suite`).
+A :class:`Job` is one entrant sailing one suite (:func:`~ship_env.leaderboard.sailing.sail_suite`),
+a learned entrant with one of its training seeds.
 The backends run the jobs and return their episodes in job order, whatever order they finish in,
 so both give the same table to the last digit:
 
@@ -34,15 +35,22 @@ BACKENDS = ("local", "ray")
 
 @dataclass(frozen=True)
 class Job:
-    """One entrant sailing one suite."""
+    """One entrant sailing one suite (a learned entrant with its ``run``-th training seed)."""
 
     entrant: Entrant
     suite: Suite
+    run: int = 0
 
 
 def jobs_for(suites: Sequence[Suite], entrants: Sequence[Entrant]) -> list[Job]:
-    """Every entrant on every suite of its environment, suite by suite."""
-    return [Job(entrant, suite) for suite in suites for entrant in entrants if entrant.env_id == suite.env_id]
+    """Every entrant (each of its training seeds) on every suite of its environment, suite by suite."""
+    return [
+        Job(entrant, suite, run)
+        for suite in suites
+        for entrant in entrants
+        if entrant.env_id == suite.env_id
+        for run in range(entrant.runs)
+    ]
 
 
 def run_job(job: Job, on_episode: Callable[[], None] | None = None) -> list[EpisodeResult]:
@@ -55,7 +63,7 @@ def run_job(job: Job, on_episode: Callable[[], None] | None = None) -> list[Epis
         from ship_env.rl.agents import DEFAULT_TORCH_THREADS
 
         torch.set_num_threads(DEFAULT_TORCH_THREADS)
-    return sail_suite(job.entrant, job.suite, on_episode)
+    return sail_suite(job.entrant, job.suite, job.run, on_episode)
 
 
 def run_locally(jobs: Sequence[Job], advance: Callable[[int], object]) -> list[list[EpisodeResult]]:

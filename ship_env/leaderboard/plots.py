@@ -1,7 +1,9 @@
-"""The leaderboard's drawings, written as PNGs: the scores, and every controller on one scenario.
+"""The leaderboard's drawings, written as PNGs: the scores with their intervals, the headline, and
+every controller on one scenario.
 
 Drawn with matplotlib's object interface on the Agg canvas (no display, the user's pyplot backend
-left alone), as :mod:`ship_env.manoeuvres.plotting` does.
+left alone), as :mod:`ship_env.manoeuvres.plotting` does, except the headline, drawn by rliable's
+own ``plot_interval_estimates`` (a pyplot figure, closed once saved). Score axes start at 0.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure as Drawing
 
 from ship_env.envs.task import ShipTask
+from ship_env.leaderboard.statistics import REFERENCES, Estimate
 from ship_env.leaderboard.tables import Table
 from ship_env.model import state as S
 
@@ -23,10 +26,12 @@ KIND_COLOURS = {"classic": "tab:blue", "learned": "tab:orange", "human": "0.6"}
 
 
 def plot_scores(tables: Sequence[Table], path: Path) -> Path:
-    """Bars of each suite's ranking metric, one panel per suite (conditions in rows); returns ``path``."""
+    """Each suite's normalised scores (IQM, 1 = the reference autopilot, lower is better) as points
+    with their 95 % intervals, one panel per suite (conditions in rows), on an axis from 0; an
+    entrant without an interval is drawn hollow. Returns ``path``."""
     tasks = list(dict.fromkeys(table.suite.task for table in tables))
     conditions = list(dict.fromkeys(table.suite.condition.name for table in tables))
-    drawing = Drawing(figsize=(4.8 * len(tasks), 2.8 * len(conditions)), layout="constrained")
+    drawing = Drawing(figsize=(5.2 * len(tasks), 2.8 * len(conditions)), layout="constrained")
     FigureCanvasAgg(drawing)
     panels = drawing.subplots(len(conditions), len(tasks), squeeze=False)
     for row in panels:
@@ -35,22 +40,53 @@ def plot_scores(tables: Sequence[Table], path: Path) -> Path:
     for table in tables:
         axes = panels[conditions.index(table.suite.condition.name)][tasks.index(table.suite.task)]
         axes.set_axis_on()
-        metric = table.suite.metrics[0]
-        standings = table.standings[::-1]  # the best on top
-        values = [standing.values[metric.key] for standing in standings]
-        axes.barh(
-            [standing.entrant for standing in standings],
-            values,
-            color=[KIND_COLOURS[standing.kind] for standing in standings],
-        )
-        finite = [value for value in values if math.isfinite(value)]
-        if finite and max(finite) < 1.5 * min(finite):  # a few per cent apart: start near the smallest bar
-            axes.set_xlim(0.9 * min(finite), 1.02 * max(finite))
+        standings = [s for s in table.standings[::-1] if math.isfinite(s.normalised.value)]  # the best on top
+        for y, standing in enumerate(standings):
+            estimate, colour = standing.normalised, KIND_COLOURS[standing.kind]
+            if estimate.has_interval:
+                whiskers = [[estimate.value - estimate.low], [estimate.high - estimate.value]]
+                axes.errorbar(estimate.value, y, xerr=whiskers, fmt="o", color=colour, capsize=3)
+            else:
+                axes.plot(estimate.value, y, "o", markerfacecolor="none", color=colour)
+        axes.set_yticks(range(len(standings)), [standing.entrant for standing in standings])
+        highs = [s.normalised.high if s.normalised.has_interval else s.normalised.value for s in standings]
+        axes.set_xlim(0.0, 1.1 * max([1.0, *highs]))
+        axes.axvline(1.0, color="0.5", linestyle="--", linewidth=1.0)
         axes.set_title(table.suite.name, fontsize="medium")
-        axes.set_xlabel(metric.heading, fontsize="small")
+        axes.set_xlabel(f"normalised IQM [95 % CI] (1 = {REFERENCES[table.suite.env_id]})", fontsize="small")
         axes.tick_params(labelsize="small")
         axes.grid(True, axis="x", alpha=0.3)
     drawing.savefig(path, dpi=90)
+    return path
+
+
+def plot_aggregate(
+    estimates: Mapping[str, Sequence[Estimate]], metric_names: Sequence[str], xlabel: str, path: Path
+) -> Path:
+    """rliable's interval-estimates figure (a bar per entrant spanning its 95 % interval, a tick at
+    the point estimate), one panel per metric, each axis from 0; returns ``path``."""
+    import matplotlib.pyplot as pyplot
+    from rliable import plot_utils
+
+    names = list(estimates)
+    points = {name: np.array([e.value for e in estimates[name]]) for name in names}
+    intervals = {
+        name: np.array(
+            [
+                [e.low if e.has_interval else e.value for e in estimates[name]],
+                [e.high if e.has_interval else e.value for e in estimates[name]],
+            ]
+        )
+        for name in names
+    }
+    figure, panels = plot_utils.plot_interval_estimates(
+        points, intervals, metric_names, algorithms=names, xlabel=xlabel, subfigure_width=4.5, row_height=0.5
+    )
+    for k, axes in enumerate(np.atleast_1d(panels)):
+        axes.set_xlim(0.0, 1.05 * max(float(intervals[name][1, k]) for name in names))
+        axes.axvline(1.0, color="0.5", linestyle="--", linewidth=1.0)
+    figure.savefig(path, dpi=90, bbox_inches="tight")
+    pyplot.close(figure)
     return path
 
 

@@ -30,6 +30,8 @@ class EpisodeResult:
         suite: the suite's name.
         entrant: the entrant's name.
         kind: the entrant's kind (``"classic"``, ``"learned"``).
+        training_seed: the training seed of the learned entrant's policy that sailed (``None``
+            for a classic autopilot, or a policy without metadata).
         episode: the episode's label.
         seed: the episode's seed.
         metrics: the environment's final metrics (floats).
@@ -40,6 +42,7 @@ class EpisodeResult:
     suite: str
     entrant: str
     kind: str
+    training_seed: int | None
     episode: str
     seed: int
     metrics: dict[str, float]
@@ -75,8 +78,9 @@ def suite_envs(suite: Suite) -> tuple[gym.Env, ShipModel]:
 
 
 def sail_recorded(entrant: Entrant, suite: Suite, episode: Episode) -> tuple[np.ndarray, ShipTask]:
-    """Sail one episode of ``suite`` with ``entrant``, recording it: the true states at each step
-    (steps + 1, ``STATE_SIZE``; layout :mod:`ship_env.model.state`) and the sailed task (its tracks)."""
+    """Sail one episode of ``suite`` with ``entrant`` (a learned one's first training seed),
+    recording it: the true states at each step (steps + 1, ``STATE_SIZE``; layout
+    :mod:`ship_env.model.state`) and the sailed task (its tracks)."""
     env, design_model = suite_envs(suite)
     states: list[np.ndarray] = []
     try:
@@ -86,16 +90,29 @@ def sail_recorded(entrant: Entrant, suite: Suite, episode: Episode) -> tuple[np.
     return np.asarray(states), env.unwrapped.task
 
 
-def sail_suite(entrant: Entrant, suite: Suite, on_episode: Callable[[], None] | None = None) -> list[EpisodeResult]:
-    """Sail every episode of ``suite`` with ``entrant``; ``on_episode`` is called after each."""
+def sail_suite(
+    entrant: Entrant, suite: Suite, run: int = 0, on_episode: Callable[[], None] | None = None
+) -> list[EpisodeResult]:
+    """Sail every episode of ``suite`` with ``entrant`` (a learned one's ``run``-th training seed);
+    ``on_episode`` is called after each."""
     env, design_model = suite_envs(suite)
+    training_seed = entrant.training_seeds[run] if entrant.training_seeds else None
     results = []
     try:
         for episode in suite.episodes:
-            controller = entrant.build(DesignedTask(env.unwrapped.task, design_model))
+            controller = entrant.build(DesignedTask(env.unwrapped.task, design_model), run)
             metrics, finished = sail(env, controller, episode)
             results.append(
-                EpisodeResult(suite.name, entrant.name, entrant.kind, episode.label, episode.seed, metrics, finished)
+                EpisodeResult(
+                    suite.name,
+                    entrant.name,
+                    entrant.kind,
+                    training_seed,
+                    episode.label,
+                    episode.seed,
+                    metrics,
+                    finished,
+                )
             )
             if on_episode is not None:
                 on_episode()

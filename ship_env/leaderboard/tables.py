@@ -1,23 +1,33 @@
-"""The leaderboard's tables: the episodes aggregated per entrant, ranked per suite, as markdown and CSV.
+"""The leaderboard's tables: each suite's scores with their statistics, ranked, as markdown and CSV.
 
-Each suite's table ranks its entrants by the suite's first metric, lower first (ties by name).
-On the nominal TrackFollow suite the thesis's navigators (Table 6.4: 117 m with parallel
-indexing, 95 m with the ground-speed vector, 33 m with the track predictor) are ranked beside
-them as human rows. Under each table with learned entrants, each is compared with
-the best classic baseline (the lowest first metric): it *beats* it when its first metric is lower
-and its rudder travel at most :data:`TRAVEL_ALLOWANCE` times the baseline's.
+An entrant's scores on a suite are a (training seeds x episodes) matrix of the suite's ranking
+metric (a classic autopilot, deterministic, has one row). Each row of a suite's table gives the
+statistics of :mod:`ship_env.leaderboard.statistics`: the IQM of the ranking metric and of the
+normalised score (1 = the environment's reference autopilot) with 95 % stratified-bootstrap
+intervals, and for a learned entrant its probability of improvement over the best classic
+autopilot (the lowest IQM). The other metrics are plain aggregates over all its episodes. Rows are
+ranked by the IQM, lower first (ties by name).
+
+A learned entrant *beats* the best classic autopilot only when the probability of improvement's
+interval lies above parity (0.5) and its rudder travel is at most :data:`TRAVEL_ALLOWANCE` times the
+autopilot's. On the nominal TrackFollow suite the thesis's navigators (Table 6.4: 117 m with
+parallel indexing, 95 m with the ground-speed vector, 33 m with the track predictor) are ranked
+beside them as human rows.
 """
 
 from __future__ import annotations
 
 import csv
+import dataclasses
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
+
+import numpy as np
 
 from ship_env.envs.metrics import THESIS_NAVIGATOR_RMS
 from ship_env.leaderboard.sailing import EpisodeResult
+from ship_env.leaderboard.statistics import PARITY, REFERENCES, Estimate, improvements, interval_estimates
 from ship_env.leaderboard.suites import COMPLETION, NOMINAL, TRACK_FOLLOW, Metric, Suite
 
 #: A learned policy beats a baseline only with at most this multiple of its rudder travel.
@@ -29,30 +39,53 @@ HUMAN_ROWS = {
     "navigators, track predictor (thesis)": THESIS_NAVIGATOR_RMS["track_predictor"],
 }
 HUMAN = "human"
+NO_ESTIMATE = Estimate(math.nan)
 
 
-@dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True)
 class Standing:
     """One row of a suite's table.
 
     Attributes:
-        rank: 1 for the lowest first metric.
+        rank: 1 for the lowest IQM of the ranking metric.
         entrant: the controller's name.
         kind: ``"classic"``, ``"learned"`` or ``"human"``.
-        values: metric key -> the episodes' aggregate (NaN where there is none).
-        episodes: the episodes sailed (0 for a human row).
-        completed: the episodes completed (:data:`~ship_env.leaderboard.suites.COMPLETION`).
+        score: the IQM of the ranking metric with its interval.
+        normalised: the IQM of the normalised score (1 = the reference autopilot) with its interval.
+        improvement: the probability of improvement over the best classic autopilot with its
+            interval (learned entrants; ``None`` otherwise).
+        values: metric key -> the aggregate over all the episodes (NaN where there is none).
+        seeds: the training seeds sailed (1 for a classic autopilot, 0 for a human row).
+        episodes: the episodes sailed per seed.
+        completed: the episodes completed, all seeds together (:data:`~ship_env.leaderboard.suites.COMPLETION`).
     """
 
     rank: int
     entrant: str
     kind: str
+    score: Estimate
+    normalised: Estimate
+    improvement: Estimate | None
     values: dict[str, float]
+    seeds: int
     episodes: int
     completed: int
 
+    @property
+    def sample(self) -> str:
+        """What the intervals are over: ``"5 seeds x 10 episodes"``, ``"10 episodes (deterministic)"``..."""
+        if self.kind == HUMAN:
+            return ""
+        if not self.score.has_interval:
+            return f"{self.seeds} x {self.episodes}: no interval"
+        if self.kind == "classic":
+            return f"{self.episodes} episodes (deterministic)"
+        if self.seeds == 1:
+            return f"1 seed x {self.episodes} episodes (episodes only)"
+        return f"{self.seeds} seeds x {self.episodes} episodes"
 
-@dataclass(frozen=True)
+
+@dataclasses.dataclass(frozen=True)
 class Table:
     """A suite's ranked standings."""
 
@@ -67,25 +100,28 @@ class Table:
         raise KeyError(f"{entrant!r} did not sail {self.suite.name}")
 
 
-@dataclass(frozen=True)
+@dataclasses.dataclass(frozen=True)
 class Comparison:
-    """A learned entrant against the best classic baseline of a suite.
+    """A learned entrant against the best classic autopilot of a suite.
 
     Attributes:
         learned, classic: the two entrants' names.
-        score_ratio: learned / classic first metric.
-        travel_ratio: learned / classic rudder travel.
+        improvement: the learned entrant's probability of improvement over the classic one.
+        score_ratio: learned / classic IQM of the ranking metric.
+        travel_ratio: learned / classic rudder travel (means over the episodes).
     """
 
     learned: str
     classic: str
+    improvement: Estimate
     score_ratio: float
     travel_ratio: float
 
     @property
     def beats(self) -> bool:
-        """Lower first metric with at most :data:`TRAVEL_ALLOWANCE` times the rudder travel."""
-        return self.score_ratio < 1.0 and self.travel_ratio <= TRAVEL_ALLOWANCE
+        """The probability of improvement's interval above parity, with at most
+        :data:`TRAVEL_ALLOWANCE` times the rudder travel."""
+        return self.improvement.above(PARITY) and self.travel_ratio <= TRAVEL_ALLOWANCE
 
 
 def _aggregate(metric: Metric, values: list[float]) -> float:
@@ -102,18 +138,71 @@ def _completed(result: EpisodeResult) -> bool:
     return result.finished if settling_time is None else math.isfinite(settling_time)
 
 
+def score_matrix(suite: Suite, results: Sequence[EpisodeResult]) -> np.ndarray:
+    """One entrant's ranking metric on ``suite`` as (training seeds x episodes), seeds in
+    ascending order, episodes in the suite's order; ``ValueError`` if an episode is missing."""
+    key = suite.metrics[0].key
+    column = {(episode.label, episode.seed): k for k, episode in enumerate(suite.episodes)}
+    seeds = sorted({result.training_seed for result in results}, key=lambda seed: -1 if seed is None else seed)
+    matrix = np.full((len(seeds), len(suite.episodes)), np.nan)
+    for result in results:
+        matrix[seeds.index(result.training_seed), column[result.episode, result.seed]] = result.metrics[key]
+    if np.isnan(matrix).any():
+        raise ValueError(f"{results[0].entrant} on {suite.name}: not every seed sailed every episode")
+    return matrix
+
+
+def grouped_estimates(layers: dict[str, list[np.ndarray]], aggregates: Sequence[str]) -> dict[str, list[Estimate]]:
+    """Each entrant's layers (matrices of the same shape) aggregated (``aggregates``: one per layer,
+    ``"iqm"`` or ``"mean"``) with intervals: one bootstrap for all the entrants whose matrices have
+    the same shape (as many seeds and episodes), so one or two per table."""
+    by_shape: dict[tuple[int, ...], list[str]] = {}
+    for name, matrices in layers.items():
+        by_shape.setdefault(matrices[0].shape, []).append(name)
+    found = {}
+    for names in by_shape.values():
+        stacked = np.stack([matrix for name in names for matrix in layers[name]], axis=2)
+        estimates = interval_estimates(stacked, list(aggregates) * len(names))
+        width = len(aggregates)
+        for k, name in enumerate(names):
+            found[name] = estimates[k * width : (k + 1) * width]
+    return found
+
+
 def rank(suite: Suite, results: Sequence[EpisodeResult]) -> Table:
     """The table of ``suite`` from its episodes in ``results`` (others are ignored)."""
     by_entrant: dict[str, list[EpisodeResult]] = {}
     for result in results:
         if result.suite == suite.name:
             by_entrant.setdefault(result.entrant, []).append(result)
+    kinds = {name: episodes[0].kind for name, episodes in by_entrant.items()}
+    matrices = {name: score_matrix(suite, episodes) for name, episodes in by_entrant.items()}
+    reference = matrices.get(REFERENCES.get(suite.env_id, ""))
+    iqms = grouped_estimates(
+        {
+            name: [matrix, matrix / reference if reference is not None else np.full_like(matrix, np.nan)]
+            for name, matrix in matrices.items()
+        },
+        ["iqm", "iqm"],
+    )
+    classic = [name for name in matrices if kinds[name] == "classic"]
+    best = min(classic, key=lambda name: (iqms[name][0].value, name)) if classic else None
+    learned = [name for name in matrices if kinds[name] == "learned"]
+    chances = (
+        {}
+        if best is None
+        else grouped_estimates({n: [improvements(matrices[n], matrices[best])] for n in learned}, ["mean"])
+    )
     rows = [
-        (
+        Standing(
+            0,
             name,
-            episodes[0].kind,
+            kinds[name],
+            *iqms[name],
+            chances[name][0] if name in chances else None,
             {metric.key: _aggregate(metric, [e.metrics[metric.key] for e in episodes]) for metric in suite.metrics},
-            len(episodes),
+            matrices[name].shape[0],
+            len(suite.episodes),
             sum(_completed(e) for e in episodes),
         )
         for name, episodes in by_entrant.items()
@@ -121,24 +210,27 @@ def rank(suite: Suite, results: Sequence[EpisodeResult]) -> Table:
     if suite.env_id == TRACK_FOLLOW and suite.condition == NOMINAL:
         for name, rms in HUMAN_ROWS.items():
             values = {metric.key: math.nan for metric in suite.metrics} | {suite.metrics[0].key: rms}
-            rows.append((name, HUMAN, values, 0, 0))
-    score = suite.metrics[0].key
-    rows.sort(key=lambda row: (math.isnan(row[2][score]), row[2][score], row[0]))
-    return Table(suite, tuple(Standing(k + 1, *row) for k, row in enumerate(rows)))
+            rows.append(Standing(0, name, HUMAN, Estimate(rms), NO_ESTIMATE, None, values, 0, 0, 0))
+    rows.sort(key=lambda row: (math.isnan(row.score.value), row.score.value, row.entrant))
+    return Table(suite, tuple(dataclasses.replace(row, rank=k + 1) for k, row in enumerate(rows)))
+
+
+def best_classic(table: Table) -> Standing | None:
+    """The classic autopilot with the lowest IQM (``None`` if none sailed)."""
+    return next((standing for standing in table.standings if standing.kind == "classic"), None)
 
 
 def comparisons(table: Table) -> list[Comparison]:
-    """Each learned entrant of ``table`` against its best classic baseline (none without either)."""
-    classic = [standing for standing in table.standings if standing.kind == "classic"]
-    if not classic:
+    """Each learned entrant of ``table`` against the best classic autopilot (none without either)."""
+    best = best_classic(table)
+    if best is None:
         return []
-    score = table.suite.metrics[0].key
-    best = min(classic, key=lambda standing: standing.values[score])
     return [
         Comparison(
             standing.entrant,
             best.entrant,
-            standing.values[score] / best.values[score],
+            standing.improvement if standing.improvement is not None else NO_ESTIMATE,
+            standing.score.value / best.score.value,
             standing.values["rudder_travel"] / best.values["rudder_travel"],
         )
         for standing in table.standings
@@ -153,49 +245,75 @@ def _cell(value: float, digits: int) -> str:
 def markdown(table: Table) -> str:
     """The table in markdown, with a heading naming the suite and, below, the comparisons."""
     suite = table.suite
+    ranking = suite.metrics[0]
+    reference = REFERENCES.get(suite.env_id, "")
     completion = COMPLETION[suite.env_id]
+    others = suite.metrics[1:]
     lines = [
         f"### {suite.name}",
         "",
-        f"Episodes per controller: {len(suite.episodes)}; ranked by {suite.metrics[0].heading}, lower is better.",
+        f"{len(suite.episodes)} episode(s) per training seed; ranked by the IQM of {ranking.heading}, lower is better; "
+        f"95 % stratified-bootstrap intervals (rliable) over seeds and episodes; normalised: 1 = {reference}; "
+        "P(improvement): over the best classic autopilot. Other columns: means over all episodes.",
         "",
-        "| rank | controller | kind | " + " | ".join(metric.heading for metric in suite.metrics) + f" | {completion} |",
-        "|---:|---|---|" + "---:|" * (len(suite.metrics) + 1),
+        f"| rank | controller | kind | IQM {ranking.heading} [95 % CI] | normalised IQM [95 % CI] | "
+        "P(improvement) [95 % CI] | " + " | ".join(metric.heading for metric in others) + f" | {completion} | sample |",
+        "|---:|---|---|---:|---:|---:|" + "---:|" * len(others) + "---:|---|",
     ]
-    for standing in table.standings:
-        cells = [_cell(standing.values[metric.key], metric.digits) for metric in suite.metrics]
-        done = f"{standing.completed}/{standing.episodes}" if standing.episodes else ""
-        lines.append(f"| {standing.rank} | {standing.entrant} | {standing.kind} | {' | '.join(cells)} | {done} |")
-    for comparison in comparisons(table):
-        verdict = "beats it" if comparison.beats else "does not beat it"
+    for s in table.standings:
+        improvement = "" if s.improvement is None else s.improvement.text(2)
+        score = _cell(s.score.value, ranking.digits) if s.kind == HUMAN else s.score.text(ranking.digits)
+        cells = [score, s.normalised.text(3), improvement]
+        cells += [_cell(s.values[metric.key], metric.digits) for metric in others]
+        done = f"{s.completed}/{s.seeds * s.episodes}" if s.episodes else ""
+        lines.append(f"| {s.rank} | {s.entrant} | {s.kind} | {' | '.join(cells)} | {done} | {s.sample} |")
+    for c in comparisons(table):
+        if c.beats:
+            verdict = "beats it (the interval excludes parity)"
+        elif not c.improvement.has_interval:
+            verdict = "no verdict (no interval: a single score)"
+        elif not c.improvement.above(PARITY):
+            verdict = "does not beat it (the interval does not exclude parity, 0.5)"
+        else:
+            verdict = f"does not beat it (more than x{TRAVEL_ALLOWANCE:g} the rudder travel)"
         lines.append(
-            f"\n{comparison.learned} against the best classic baseline, {comparison.classic}: "
-            f"{suite.metrics[0].key.replace('_', ' ')} x{comparison.score_ratio:.4f}, "
-            f"rudder travel x{comparison.travel_ratio:.2f} (allowed x{TRAVEL_ALLOWANCE:g}): {verdict}."
+            f"\n{c.learned} against the best classic autopilot, {c.classic}: P(improvement) {c.improvement.text(2)}, "
+            f"IQM x{c.score_ratio:.3f}, rudder travel x{c.travel_ratio:.2f}: {verdict}."
         )
     return "\n".join(lines)
 
 
+def _estimate_cells(estimate: Estimate | None) -> list[str]:
+    if estimate is None:
+        return ["", "", ""]
+    return [repr(estimate.value), *("" if bound is None else repr(bound) for bound in (estimate.low, estimate.high))]
+
+
 def write_csv(tables: Sequence[Table], path: Path) -> None:
-    """Every table's rows in one CSV: suite, task, condition, rank, controller, kind, counts, metrics."""
+    """Every table's rows in one CSV: suite, task, condition, rank, controller, kind, counts, the
+    estimates with their interval bounds (empty: no interval), the metrics' aggregates."""
     keys = list(dict.fromkeys(metric.key for table in tables for metric in table.suite.metrics))
+    estimates = [f"{name}{part}" for name in ("iqm", "normalised_iqm", "improvement") for part in ("", "_low", "_high")]
     with Path(path).open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow(["suite", "task", "condition", "rank", "controller", "kind", "episodes", "completed", *keys])
+        head = ["suite", "task", "condition", "rank", "controller", "kind", "seeds", "episodes", "completed"]
+        writer.writerow([*head, *estimates, *keys])
         for table in tables:
             suite = table.suite
             for s in table.standings:
+                row = [suite.name, suite.task, suite.condition.name, s.rank, s.entrant, s.kind, s.seeds, s.episodes]
+                cells = [*_estimate_cells(s.score), *_estimate_cells(s.normalised), *_estimate_cells(s.improvement)]
                 values = [repr(s.values[key]) if key in s.values else "" for key in keys]
-                row = [suite.name, suite.task, suite.condition.name, s.rank, s.entrant, s.kind, s.episodes, s.completed]
-                writer.writerow([*row, *values])
+                writer.writerow([*row, s.completed, *cells, *values])
 
 
 def write_episodes_csv(results: Sequence[EpisodeResult], path: Path) -> None:
-    """Every episode: suite, controller, kind, episode, seed, finished, its metrics."""
+    """Every episode: suite, controller, kind, training seed, episode, seed, finished, its metrics."""
     keys = list(dict.fromkeys(key for result in results for key in result.metrics))
     with Path(path).open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow(["suite", "controller", "kind", "episode", "seed", "finished", *keys])
+        writer.writerow(["suite", "controller", "kind", "training_seed", "episode", "seed", "finished", *keys])
         for r in results:
             values = [repr(r.metrics[key]) if key in r.metrics else "" for key in keys]
-            writer.writerow([r.suite, r.entrant, r.kind, r.episode, r.seed, r.finished, *values])
+            training_seed = "" if r.training_seed is None else r.training_seed
+            writer.writerow([r.suite, r.entrant, r.kind, training_seed, r.episode, r.seed, r.finished, *values])

@@ -102,6 +102,21 @@ def model_path(path: str | Path) -> Path:
     return path / MODEL_FILE if path.is_dir() else path
 
 
+def seed_models(path: str | Path) -> list[Path]:
+    """The ``model.zip`` files a path names, one per training seed: the file itself or a run's
+    folder (one), or a folder of runs (``seed<S>/model.zip`` each, as ``ship-env train --seeds``
+    writes them; seed2 before seed10)."""
+    path = Path(path)
+    if path.is_dir() and not (path / MODEL_FILE).exists():
+        runs = sorted(
+            (folder for folder in path.glob("seed*") if (folder / MODEL_FILE).is_file()),
+            key=lambda folder: (len(folder.name), folder.name),
+        )
+        if runs:
+            return [folder / MODEL_FILE for folder in runs]
+    return [model_path(path)]
+
+
 def read_policy_file(path: str | Path) -> PolicyFile:
     """Read a policy file (or a training run's folder) and the metadata beside it.
 

@@ -137,3 +137,43 @@ def test_bad_factors_in_conditions_raise():
         Conditions(yaw_time_constant_factor=0.0)
     with pytest.raises(ValueError, match="yaw_gain_factor: must not be negative, got -1.0"):
         Conditions(yaw_gain_factor=-1.0)
+
+
+@pytest.mark.parametrize("env_id", ["ship_env/CourseChange-v0", "ship_env/TrackFollow-v0"])
+def test_observation_history_remembers_the_previous_steps(env_id):
+    plain = gym.make(env_id)
+    remembering = gym.make(env_id, observation_history=2)
+    task = remembering.unwrapped.task
+    remembered = list(task.history_observations)
+    size = plain.observation_space.shape[0]
+    assert remembering.observation_space.shape == (size + 2 * len(remembered),)
+    first, _ = remembering.reset(seed=4)
+    np.testing.assert_array_equal(first[:size], plain.reset(seed=4)[0])
+    np.testing.assert_array_equal(first[size:], np.tile(first[remembered], 2))  # a steady ship's past
+    seen = [first]
+    for action in (1.0, -0.5, 0.25):
+        observation, *_ = remembering.step(np.array([action], dtype=np.float32))
+        np.testing.assert_array_equal(observation[:size], plain.step(np.array([action], dtype=np.float32))[0])
+        seen.append(observation)
+    np.testing.assert_array_equal(seen[3][size : size + 3], seen[2][remembered])
+    np.testing.assert_array_equal(seen[3][size + 3 :], seen[1][remembered])
+    assert remembering.observation_space.contains(seen[3])
+
+
+def test_track_preview_reads_the_arc_ahead_and_on_it():
+    env = gym.make("ship_env/TrackFollow-v0", track_preview=True, disturbance="calm", sensor_noise_scale=0.0)
+    observation, info = env.reset(seed=0, options={"track": "T1"})
+    task = env.unwrapped.task
+    legs = task.tracks["T1"].legs
+    first_arc = np.hypot(*legs[0, 8:10])  # the first leg's straight ends at the first arc's start
+    speed = task.model.service_speed
+    assert observation[10] == pytest.approx(min(first_arc / speed / 60.0, 5.0), rel=1e-6)
+    # The arcs are the ship's turns at the rudder limit: about K* delta_max / L of curvature.
+    assert observation[11] == pytest.approx(np.sign(legs[0, 13]) * 0.94, abs=0.03)
+    assert observation[9] == 0.0 and observation[8] == pytest.approx(observation[1], abs=1e-6)
+    while observation[10] > 0.0 or observation[9] == 0.0:  # hold the rudder hard over from the arc's start
+        action = [0.0] if observation[10] > 0.0 else [np.sign(observation[11])]
+        observation, _, terminated, _, info = env.step(np.array(action, dtype=np.float32))
+    assert observation[9] == observation[11] and info["leg"] == 0
+    with pytest.raises(TypeError, match="track_preview: expected true or false, got 'yes'"):
+        gym.make("ship_env/TrackFollow-v0", track_preview="yes")

@@ -103,12 +103,12 @@ class ShipBatch:
     update_serial: ClassVar[Callable[..., None]]
     update_parallel: ClassVar[Callable[..., None]]
 
-    def __init__(self, task: ShipTask, num_ships: int, episode_record: np.dtype) -> None:
+    def __init__(self, task: ShipTask, num_ships: int, task_fields: Sequence[tuple]) -> None:
         self.task = task
         self.simulator = Simulator(task.model, num_ships=num_ships, dt=task.dt)
         self.num_ships = self.simulator.num_ships
         self.scenarios: list[Any] = [None] * self.num_ships
-        self.episodes = np.zeros(self.num_ships, dtype=episode_record)
+        self.episodes = np.zeros(self.num_ships, dtype=episode_dtype(task.observation_space.shape[0], task_fields))
         self.metrics = np.zeros(self.num_ships, dtype=self.metrics_dtype)
         self._update = batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
 
@@ -135,6 +135,11 @@ class ShipBatch:
     def update(self, restarted_only: bool = False) -> None:
         """Measure, observe and reward every ship, or only the restarted ones (one compiled call)."""
         simulator = self.simulator
+        if self.task.observation_history:
+            remembered = list(self.task.history_observations)
+            previous = self.episodes["observation"][:, remembered]
+            updated = self.episodes["restarted"] if restarted_only else np.ones(self.num_ships, dtype=np.bool_)
+            restarted = self.episodes["restarted"].copy()
         self._update(
             restarted_only,
             simulator.state,
@@ -145,6 +150,19 @@ class ShipBatch:
             self.metrics,
             *self.task.kernel_arguments,
         )
+        if self.task.observation_history:
+            self._remember(previous, updated & ~restarted, restarted)
+
+    def _remember(self, previous: np.ndarray, stepped: np.ndarray, restarted: np.ndarray) -> None:
+        """Shift the ``stepped`` ships' remembered observations by one step (``previous`` the newest);
+        fill a ``restarted`` ship's history with its first observation (a ship sailing steadily)."""
+        remembered = list(self.task.history_observations)
+        observations = self.episodes["observation"]
+        history = observations[:, len(observations[0]) - len(remembered) * self.task.observation_history :]
+        history = history.reshape(self.num_ships, self.task.observation_history, len(remembered))
+        history[stepped, 1:] = history[stepped, :-1]
+        history[stepped, 0] = previous[stepped]
+        history[restarted] = observations[restarted][:, None, remembered]
 
     @property
     def observations(self) -> np.ndarray:

@@ -49,6 +49,9 @@ class CourseChangeEnv(ShipEnv):
 
     K* U0 / L * delta_max is the linear steady rate of turn at full rudder (6.4.4.2), about
     1.35 deg/s for the default ship and limit. The turn direction tells a 180-deg change's way.
+    With ``observation_history=n`` the heading error, rate of turn and rudder (0, 1, 2) of the n
+    previous steps follow, newest first (``Box(5 + 3 n,)``): a policy without memory can then see
+    how the ship answers its rudder.
 
     ## Rewards
 

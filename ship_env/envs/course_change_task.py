@@ -23,10 +23,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from gymnasium import spaces
 from numba import prange
 
-from ship_env.envs.batch import ShipBatch, episode_dtype
+from ship_env.envs.batch import ShipBatch
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import METRICS_DTYPE, start_metrics, update_metrics
 from ship_env.envs.sensors import (
@@ -72,13 +71,10 @@ OBSERVATION_SIZE = 5
 OBSERVATION_LOW = np.array([-1.0, -RATE_BOUND, -1.0, 0.0, -1.0], dtype=np.float32)
 OBSERVATION_HIGH = np.array([1.0, RATE_BOUND, 1.0, SPEED_BOUND, 1.0], dtype=np.float32)
 
-#: Per-ship episode data: the common record plus the course change's fields.
-EPISODE_DTYPE = episode_dtype(
-    OBSERVATION_SIZE,
-    [
-        ("new_heading", np.float64),  # rad, unwrapped: initial heading + course change
-        ("turn_direction", np.float64),  # +1 starboard, -1 port
-    ],
+#: Per-ship episode data besides the common record (:func:`~ship_env.envs.batch.episode_dtype`).
+TASK_FIELDS = (
+    ("new_heading", np.float64),  # rad, unwrapped: initial heading + course change
+    ("turn_direction", np.float64),  # +1 starboard, -1 port
 )
 
 #: The task's constants as the compiled update reads them.
@@ -140,6 +136,8 @@ class CourseChangeTask(ShipTask):
             ``sensor_noise_scale``, ``fix_interval``, ``action_type``, ``rudder_levels``.
     """
 
+    history_observations = (OBS_HEADING_ERROR, OBS_RATE_OF_TURN, OBS_RUDDER)
+
     def __init__(
         self,
         *,
@@ -181,7 +179,7 @@ class CourseChangeTask(ShipTask):
         record["dt"] = self.dt
         #: What the compiled update reads besides the simulator's and the batch's arrays.
         self.kernel_arguments = (self.parameters, self.sensors)
-        self.observation_space = spaces.Box(OBSERVATION_LOW, OBSERVATION_HIGH, dtype=np.float32)
+        self.observation_space = self.observation_box(OBSERVATION_LOW, OBSERVATION_HIGH)
 
     # -- scenarios -------------------------------------------------------------------------------
     def draw_task_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None = None) -> Scenario:
@@ -304,7 +302,7 @@ class CourseChangeBatch(ShipBatch):
     update_parallel = staticmethod(update_ships_parallel)
 
     def __init__(self, task: CourseChangeTask, num_ships: int) -> None:
-        super().__init__(task, num_ships, EPISODE_DTYPE)
+        super().__init__(task, num_ships, TASK_FIELDS)
 
     def start_episode(self, episode: np.void, scenario: Scenario) -> None:
         episode["new_heading"] = scenario.new_heading

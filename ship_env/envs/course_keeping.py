@@ -44,6 +44,9 @@ class CourseKeepingEnv(ShipEnv):
     | 2   | rudder        | actual rudder / delta_max                         | -1  | 1   |
     | 3   | speed         | log speed / service speed U0, clipped             | 0   | 2   |
 
+    With ``observation_history=n`` the heading error, rate of turn and rudder (0, 1, 2) of the n
+    previous steps follow, newest first.
+
     ## Rewards
 
     Each step: ``-((e / delta_max)^2 + lambda (delta / delta_max)^2)`` with e = wrap(course - psi)

@@ -16,10 +16,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from gymnasium import spaces
 from numba import prange
 
-from ship_env.envs.batch import ShipBatch, episode_dtype
+from ship_env.envs.batch import ShipBatch
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import (
     COURSE_KEEPING_METRICS_DTYPE,
@@ -70,8 +69,8 @@ HEADING_BOUND = math.pi / HEADING_SCALE  # 18: the whole circle
 OBSERVATION_LOW = np.array([-HEADING_BOUND, -RATE_BOUND, -1.0, 0.0], dtype=np.float32)
 OBSERVATION_HIGH = np.array([HEADING_BOUND, RATE_BOUND, 1.0, SPEED_BOUND], dtype=np.float32)
 
-#: Per-ship episode data: the common record plus the ordered course.
-EPISODE_DTYPE = episode_dtype(OBSERVATION_SIZE, [("course", np.float64)])  # rad
+#: Per-ship episode data besides the common record: the ordered course, rad.
+TASK_FIELDS = (("course", np.float64),)
 
 #: The task's constants as the compiled update reads them.
 TASK_DTYPE = np.dtype(
@@ -124,6 +123,8 @@ class CourseKeepingTask(ShipTask):
             ``sensor_noise_scale``, ``fix_interval``, ``action_type``, ``rudder_levels``.
     """
 
+    history_observations = (OBS_HEADING_ERROR, OBS_RATE_OF_TURN, OBS_RUDDER)
+
     def __init__(
         self,
         *,
@@ -149,7 +150,7 @@ class CourseKeepingTask(ShipTask):
         record["rudder_weight"] = self.rudder_weight
         #: What the compiled update reads besides the simulator's and the batch's arrays.
         self.kernel_arguments = (self.parameters, self.sensors)
-        self.observation_space = spaces.Box(OBSERVATION_LOW, OBSERVATION_HIGH, dtype=np.float32)
+        self.observation_space = self.observation_box(OBSERVATION_LOW, OBSERVATION_HIGH)
 
     def draw_task_scenario(
         self, rng: np.random.Generator, options: Mapping[str, Any] | None = None
@@ -254,7 +255,7 @@ class CourseKeepingBatch(ShipBatch):
     update_parallel = staticmethod(update_ships_parallel)
 
     def __init__(self, task: CourseKeepingTask, num_ships: int) -> None:
-        super().__init__(task, num_ships, EPISODE_DTYPE)
+        super().__init__(task, num_ships, TASK_FIELDS)
 
     def start_episode(self, episode: np.void, scenario: CourseKeepingScenario) -> None:
         episode["course"] = scenario.course

@@ -25,6 +25,14 @@ from ship_env.model import ShipModel, load_ship
 
 #: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
 ACTION_TYPES = ("continuous", "discrete")
+#: The keywords that change what a policy observes (the tasks' observation options): a policy trained
+#: with them steers only an environment made with the same (a leaderboard sails it so).
+OBSERVATION_KEYWORDS = ("observation_history", "track_preview")
+
+
+def observation_keywords(env_kwargs: Mapping[str, Any]) -> dict[str, Any]:
+    """The :data:`OBSERVATION_KEYWORDS` among an environment's keyword arguments."""
+    return {key: value for key, value in env_kwargs.items() if key in OBSERVATION_KEYWORDS}
 
 
 class ShipTask:
@@ -48,7 +56,13 @@ class ShipTask:
         ship_variation: ``None`` (default) sails the preset's ship every episode; ``True`` or a
             mapping of ranges draws each episode's ship (K*, tau*, service speed, weather
             strength; :mod:`ship_env.envs.variation`), recorded as the scenario's ``ship``.
+        observation_history: how many past steps of the heading error, rate of turn and rudder
+            observations (``history_observations``) follow the observation, newest first (0,
+            default: none). A policy without memory can then tell how the ship answers its rudder.
     """
+
+    #: The observation's elements ``observation_history`` remembers (each task sets its own).
+    history_observations: tuple[int, ...] = ()
 
     def __init__(
         self,
@@ -64,6 +78,7 @@ class ShipTask:
         action_type: str = "continuous",
         rudder_levels: int = 7,
         ship_variation: bool | Mapping[str, Sequence[float]] | None = None,
+        observation_history: int = 0,
     ) -> None:
         self.rudder_limit = math.radians(check_number("rudder_limit_deg", rudder_limit_deg, 1e-3, 90.0))
         self.dt = check_number("dt", dt, 1e-6)
@@ -72,6 +87,7 @@ class ShipTask:
         noise_scale = check_number("sensor_noise_scale", sensor_noise_scale, 0.0)
         self.sensors = sensors_record(noise_scale, check_number("fix_interval", fix_interval, 0.0))
         self.variation = None if ship_variation in (None, False) else ShipVariation(ship_variation)
+        self.observation_history = check_whole_number("observation_history", observation_history, 0)
 
         preset = load_ship(ship)
         if effects is None:
@@ -87,6 +103,14 @@ class ShipTask:
         else:
             self.action_space = spaces.Discrete(levels)
             self._levels = np.linspace(-1.0, 1.0, levels) * self.rudder_limit
+
+    def observation_box(self, low: np.ndarray, high: np.ndarray) -> spaces.Box:
+        """The observation space: the task's bounds, then ``observation_history`` copies of those of
+        the remembered elements."""
+        remembered = list(self.history_observations) * self.observation_history
+        return spaces.Box(
+            np.concatenate((low, low[remembered])), np.concatenate((high, high[remembered])), dtype=np.float32
+        )
 
     # -- episodes --------------------------------------------------------------------------------
     def draw_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None = None) -> Any:

@@ -50,6 +50,21 @@ class TrackFollowEnv(ShipEnv):
     | 6   | waypoint distance | fix to the leg's end waypoint along the leg, nm, clipped     | -1  | 3   |
     | 7   | cross-track rate  | the fixes' cross-track error's rate, filtered (30 s) / U0    | -1  | 1   |
 
+    With ``track_preview=True`` four more, the rounded reference track at and ahead of the fix's
+    nearest point on it (what a track pilot's display shows; the wheel-over point lies a reaction
+    time, about 30 s for the container ship at 10 deg, before the arc's start):
+
+    | Num | Observation        | Definition                                                  | Min | Max |
+    |-----|--------------------|-------------------------------------------------------------|-----|-----|
+    | 8   | track heading error| wrap(the track's course there - compass heading) / pi       | -1  | 1   |
+    | 9   | track turn         | the track's curvature there * L / (K* delta_max), clipped   | -2  | 2   |
+    | 10  | time to next arc   | along the track to the next arc's start / U0, min (0 on one)| 0   | 5   |
+    | 11  | next turn          | the next arc's curvature * L / (K* delta_max), clipped      | -2  | 2   |
+
+    The arcs are the ship's steady turns at delta_max, so a turn reads about +-0.94 (+ starboard).
+    With ``observation_history=n`` the heading error, rate of turn and rudder (1, 2, 3) of the n
+    previous steps follow, newest first, with their bounds.
+
     The cross-track error is positive with the ship to starboard of the track (steer to port);
     L = 225.87 m for the container ship. The leg advances when the ship crosses the bisector of
     the corner at the leg's end (the line through the waypoint and the turn's centre), so the

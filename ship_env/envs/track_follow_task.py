@@ -22,10 +22,9 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from gymnasium import spaces
 from numba import prange
 
-from ship_env.envs.batch import ShipBatch, episode_dtype, pick
+from ship_env.envs.batch import ShipBatch, pick
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import (
     SCORE_INTERVAL,
@@ -57,7 +56,9 @@ from ship_env.envs.tracks import (
     TRACK_IDS,
     TURN_CHANGE,
     ReferenceTrack,
+    nearest_on_track,
     passed_waypoint,
+    path_ahead,
     reference_track,
     signed_cross_track,
 )
@@ -92,6 +93,16 @@ OBS_NEXT_CHANGE = 5  # the course change at the leg's end waypoint / pi, 0 on th
 OBS_WAYPOINT_DISTANCE = 6  # distance of the fix to the leg's end waypoint along the leg, nm
 OBS_CROSS_TRACK_RATE = 7  # the fixes' cross-track error's rate, filtered, / U0
 OBSERVATION_SIZE = 8
+# With ``track_preview``: the rounded reference track at and ahead of the fix's nearest point on it.
+OBS_PATH_HEADING_ERROR = 8  # wrap(the track's course there - compass heading) / pi
+OBS_PATH_TURN = 9  # the track's curvature there * L / (K* delta_max): about +-1 on an arc, 0 on a straight
+OBS_ARC_TIME = 10  # the distance along the track to the next arc's start / U0, min, clipped (0 on an arc)
+OBS_NEXT_TURN = 11  # the next arc's curvature * L / (K* delta_max) (the present arc's on one)
+#: min: the arc-time observation's bound (the next arc, or none, further ahead than this).
+ARC_TIME_BOUND = 5.0
+#: The preview's bounds: its turns are within twice the rudder limit's steady rate.
+PREVIEW_LOW = np.array([-1.0, -2.0, 0.0, -2.0], dtype=np.float32)
+PREVIEW_HIGH = np.array([1.0, 2.0, ARC_TIME_BOUND, 2.0], dtype=np.float32)
 CROSS_TRACK_BOUND = 10.0  # ship lengths
 DISTANCE_BOUNDS = (-1.0, 3.0)  # nm: legs are at most 2.5 nm
 #: s: time constant of the first-order filter on the rate of the fixes' cross-track error (the
@@ -105,17 +116,14 @@ OBSERVATION_HIGH = np.array(
     [CROSS_TRACK_BOUND, 1.0, RATE_BOUND, 1.0, SPEED_BOUND, 1.0, DISTANCE_BOUNDS[1], 1.0], dtype=np.float32
 )
 
-#: Per-ship episode data: the common record plus the track's fields.
-EPISODE_DTYPE = episode_dtype(
-    OBSERVATION_SIZE,
-    [
-        ("track", np.int64),  # index into TRACK_IDS
-        ("leg", np.int64),  # the leg being sailed: it advances across the bisector of its end corner
-        ("cross_track_error", np.float64),  # m, true position, positive to starboard of the track
-        ("fix_cross_track_error", np.float64),  # m, of the latest position fix
-        ("fix_cross_track_rate", np.float64),  # m/s, its rate, filtered over CROSS_TRACK_RATE_TIME
-        ("fix_time", np.float64),  # s, of the latest position fix
-    ],
+#: Per-ship episode data besides the common record (:func:`~ship_env.envs.batch.episode_dtype`).
+TASK_FIELDS = (
+    ("track", np.int64),  # index into TRACK_IDS
+    ("leg", np.int64),  # the leg being sailed: it advances across the bisector of its end corner
+    ("cross_track_error", np.float64),  # m, true position, positive to starboard of the track
+    ("fix_cross_track_error", np.float64),  # m, of the latest position fix
+    ("fix_cross_track_rate", np.float64),  # m/s, its rate, filtered over CROSS_TRACK_RATE_TIME
+    ("fix_time", np.float64),  # s, of the latest position fix
 )
 
 #: The task's constants as the compiled update reads them.
@@ -127,6 +135,7 @@ TASK_DTYPE = np.dtype(
         ("cross_track_weight", np.float64),
         ("rudder_travel_weight", np.float64),
         ("score_interval", np.float64),  # s
+        ("track_preview", np.bool_),  # whether the observation holds the preview
     ]
 )
 
@@ -165,10 +174,16 @@ class TrackFollowTask(ShipTask):
         cross_track_weight: reward per step for (cross-track error / L)^2.
         rudder_travel_weight: reward per step for |actual rudder move| / delta_max.
         fix_interval: s between position fixes (default 2, the thesis's sampling).
+        track_preview: add to the observation the rounded reference track at and ahead of the
+            fix's nearest point on it (``OBS_PATH_HEADING_ERROR`` .. ``OBS_NEXT_TURN``): its course
+            and curvature there, the time to the next arc (the wheel-over lies a reaction time
+            before it) and that arc's curvature.
         **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`):
             ``ship``, ``ship_parameters``, ``effects``, ``dt``, ``sensor_noise_scale``,
             ``action_type``, ``rudder_levels``.
     """
+
+    history_observations = (OBS_HEADING_ERROR, OBS_RATE_OF_TURN, OBS_RUDDER)
 
     def __init__(
         self,
@@ -179,12 +194,16 @@ class TrackFollowTask(ShipTask):
         cross_track_weight: float = 1.0,
         rudder_travel_weight: float = 0.1,
         fix_interval: float = SCORE_INTERVAL,
+        track_preview: bool = False,
         **ship_options: Any,
     ) -> None:
         self.track = check_choice("track", track, (*TRACK_IDS, RANDOM_TRACK))
         self.disturbance = check_choice("disturbance", disturbance, TRACK_DISTURBANCES)
         self.cross_track_weight = check_number("cross_track_weight", cross_track_weight, 0.0)
         self.rudder_travel_weight = check_number("rudder_travel_weight", rudder_travel_weight, 0.0)
+        if not isinstance(track_preview, bool):
+            raise TypeError(f"track_preview: expected true or false, got {track_preview!r}")
+        self.track_preview = track_preview
         super().__init__(rudder_limit_deg=rudder_limit_deg, fix_interval=fix_interval, **ship_options)
         #: The reference tracks, rounded by this ship's steady turns at delta_max.
         self.tracks: dict[str, ReferenceTrack] = {
@@ -200,9 +219,13 @@ class TrackFollowTask(ShipTask):
         record["cross_track_weight"] = self.cross_track_weight
         record["rudder_travel_weight"] = self.rudder_travel_weight
         record["score_interval"] = SCORE_INTERVAL
+        record["track_preview"] = track_preview
         #: What the compiled update reads besides the simulator's and the batch's arrays.
         self.kernel_arguments = (self.parameters, self.sensors, self.track_legs)
-        self.observation_space = spaces.Box(OBSERVATION_LOW, OBSERVATION_HIGH, dtype=np.float32)
+        low, high = OBSERVATION_LOW, OBSERVATION_HIGH
+        if track_preview:
+            low, high = np.concatenate((low, PREVIEW_LOW)), np.concatenate((high, PREVIEW_HIGH))
+        self.observation_space = self.observation_box(low, high)
 
     def draw_task_scenario(self, rng: np.random.Generator, options: Mapping[str, Any] | None = None) -> TrackScenario:
         """Draw an episode from ``rng``: the track uniformly over the six if ``"random"``.
@@ -303,6 +326,14 @@ def update_ship(
     to_go = to_go_north + (row[LEG_END_EAST] - fix_east) * row[LEG_DIRECTION_EAST]
     observation[OBS_WAYPOINT_DISTANCE] = min(max(to_go / NAUTICAL_MILE, DISTANCE_BOUNDS[0]), DISTANCE_BOUNDS[1])
     observation[OBS_CROSS_TRACK_RATE] = min(max(episode["fix_cross_track_rate"] / service_speed, -1.0), 1.0)
+    if p["track_preview"]:
+        _, nearest_leg, on_arc = nearest_on_track(fix_north, fix_east, legs)
+        course, curvature, arc_distance, next_curvature = path_ahead(fix_north, fix_east, legs, nearest_leg, on_arc)
+        turn_scale = 1.0 / p["full_rudder_rate_per_speed"]  # L / (K* delta_max)
+        observation[OBS_PATH_HEADING_ERROR] = wrap(course - measured[MEASURED_HEADING]) / math.pi
+        observation[OBS_PATH_TURN] = min(max(curvature * turn_scale, -2.0), 2.0)
+        observation[OBS_ARC_TIME] = min(arc_distance / service_speed / 60.0, ARC_TIME_BOUND)
+        observation[OBS_NEXT_TURN] = min(max(next_curvature * turn_scale, -2.0), 2.0)
 
 
 @kernel
@@ -334,7 +365,7 @@ class TrackFollowBatch(ShipBatch):
     update_parallel = staticmethod(update_ships_parallel)
 
     def __init__(self, task: TrackFollowTask, num_ships: int) -> None:
-        super().__init__(task, num_ships, EPISODE_DTYPE)
+        super().__init__(task, num_ships, TASK_FIELDS)
 
     def start_episode(self, episode: np.void, scenario: TrackScenario) -> None:
         episode["track"] = TRACK_IDS.index(scenario.track)

@@ -276,15 +276,18 @@ def reference_track(
 
 
 @kernel
-def signed_cross_track(north, east, legs):
-    """The signed distance from (north, east) to the nearest point of a reference track, m.
+def nearest_on_track(north, east, legs):
+    """The nearest point of a reference track to (north, east): (signed distance m, leg k, on its arc).
 
-    Positive to starboard of the track's direction of travel. The nearest point is searched on
-    every straight part (clamped to its ends) and every arc (within its sector; outside it the
-    nearest point is a straight part's end, which the straights cover).
+    The distance is positive to starboard of the track's direction of travel. The nearest point is
+    searched on every straight part (clamped to its ends) and every arc (within its sector; outside
+    it the nearest point is a straight part's end, which the straights cover). ``k`` is the leg
+    whose straight part, or whose end turn's arc (``on_arc``), holds the point.
     """
     best = math.inf
     signed = 0.0
+    nearest_leg = 0
+    on_arc = False
     for k in range(legs.shape[0]):
         leg = legs[k]
         d_north, d_east = leg[LEG_DIRECTION_NORTH], leg[LEG_DIRECTION_EAST]
@@ -298,6 +301,8 @@ def signed_cross_track(north, east, legs):
         if distance < best:
             best = distance
             signed = distance if -off_north * d_east + off_east * d_north >= 0.0 else -distance
+            nearest_leg = k
+            on_arc = False
         change = leg[TURN_CHANGE]
         if change == 0.0:
             continue
@@ -319,7 +324,37 @@ def signed_cross_track(north, east, legs):
             if abs(from_centre - radius) < best:
                 best = abs(from_centre - radius)
                 signed = turn * (radius - from_centre)
-    return signed
+                nearest_leg = k
+                on_arc = True
+    return signed, nearest_leg, on_arc
+
+
+@kernel
+def signed_cross_track(north, east, legs):
+    """The signed distance from (north, east) to the nearest point of a reference track, m, positive
+    to starboard (:func:`nearest_on_track`)."""
+    return nearest_on_track(north, east, legs)[0]
+
+
+@kernel
+def path_ahead(north, east, legs, leg, on_arc):
+    """The reference track at and ahead of its nearest point to (north, east) (``leg`` and ``on_arc``
+    of :func:`nearest_on_track`): (its course there rad, its curvature there 1/m, the distance along
+    the track to the next arc's start m (0 on an arc, infinite with no turn ahead), the next arc's
+    curvature 1/m (the present arc's on one; 0 with no turn ahead)). Curvatures are positive to
+    starboard: the rate of turn that sails the arc at speed u is u times it."""
+    row = legs[leg]
+    change = row[TURN_CHANGE]
+    next_curvature = 0.0 if change == 0.0 else math.copysign(1.0 / row[TURN_RADIUS], change)
+    if on_arc:
+        turn = 1.0 if change > 0.0 else -1.0
+        radial = math.atan2(east - row[TURN_CENTRE_EAST], north - row[TURN_CENTRE_NORTH])
+        return radial + turn * 0.5 * math.pi, next_curvature, 0.0, next_curvature
+    to_go = (row[STRAIGHT_END_NORTH] - north) * row[LEG_DIRECTION_NORTH] + (row[STRAIGHT_END_EAST] - east) * row[
+        LEG_DIRECTION_EAST
+    ]
+    distance = math.inf if change == 0.0 else max(to_go, 0.0)
+    return row[LEG_COURSE], 0.0, distance, next_curvature
 
 
 @kernel

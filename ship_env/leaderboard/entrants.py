@@ -17,6 +17,7 @@ from functools import cache, partial
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 from gymnasium import spaces
 
 from ship_env.baselines.controller import Controller, SB3Controller
@@ -26,7 +27,7 @@ from ship_env.baselines.presys import (
     pd_controller,
     track_follow_controller,
 )
-from ship_env.envs.task import ShipTask
+from ship_env.envs.task import ShipTask, observation_keywords
 from ship_env.leaderboard.suites import COURSE_CHANGE, TRACK_FOLLOW
 from ship_env.model import ShipModel
 from ship_env.rl.policy_file import PolicyFile, PolicyFileError, read_policy_file, seed_models
@@ -77,6 +78,8 @@ class Entrant:
         kind: ``"classic"`` or ``"learned"``.
         policies: a learned entrant's policy files, one per training seed.
         training_seeds: their training seeds (from their metadata; without it, their positions).
+        observation_kwargs: the observation options they were trained with (``track_preview``,
+            ...), given to the environments they sail, as (keyword, value) pairs.
     """
 
     name: str
@@ -84,6 +87,7 @@ class Entrant:
     kind: str = "classic"
     policies: tuple[Path, ...] = ()
     training_seeds: tuple[int, ...] = ()
+    observation_kwargs: tuple[tuple[str, Any], ...] = ()
 
     @property
     def runs(self) -> int:
@@ -117,7 +121,8 @@ def policy_entrants(
 
     Each path (and each shipped entrant's folder) is one entrant: a policy file, a training run's
     folder, or a folder of one run per training seed (``seed<S>/``, as ``ship-env train --seeds``
-    writes them). A policy sails the environment its metadata names, or without metadata every
+    writes them). A policy sails the environment its metadata names (with the observation options
+    it was trained with: its spaces are then that environment's with them), or without metadata every
     environment of ``env_spaces`` (env id -> observation and action space) whose spaces it
     matches. A shipped entrant for an environment the leaderboard does not sail is left out;
     ``PolicyFileError`` names a given file that fits none of them (another environment, other
@@ -149,12 +154,19 @@ def policy_entrants(
             fitting = [env_id for env_id, reason in reasons.items() if reason is None]
             if not fitting:
                 raise PolicyFileError(f"policy file {first.path}: " + "; ".join(map(str, reasons.values())))
-        for policy_file in files:
-            for env_id in fitting:
-                policy_file.check(env_id, *env_spaces[env_id])
+        observation_kwargs = observation_keywords(first.metadata.env_kwargs) if first.metadata else {}
+        for env_id in fitting:
+            pair = env_spaces[env_id]
+            if observation_kwargs:
+                env = gym.make(env_id, **observation_kwargs)
+                pair = (env.observation_space, env.action_space)
+                env.close()
+            for policy_file in files:
+                policy_file.check(env_id, *pair)
         policies = tuple(policy_file.path for policy_file in files)
+        observed = tuple(sorted(observation_kwargs.items()))
         entrants += [
-            Entrant(f"{first.algo} ({label})", env_id, "learned", policies, _training_seeds(files))
+            Entrant(f"{first.algo} ({label})", env_id, "learned", policies, _training_seeds(files), observed)
             for env_id in fitting
         ]
     return entrants

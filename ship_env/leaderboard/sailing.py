@@ -65,23 +65,25 @@ def sail(
     return {name: float(value) for name, value in info["metrics"].items()}, bool(terminated)
 
 
-def suite_envs(suite: Suite) -> tuple[gym.Env, ShipModel]:
-    """The environment the suite sails (with its condition's ship) and the nominal ship's model."""
-    nominal = gym.make(suite.env_id, **suite.env_kwargs)
+def suite_envs(suite: Suite, entrant: Entrant) -> tuple[gym.Env, ShipModel]:
+    """The environment the suite sails (with its condition's ship, observed as ``entrant`` was
+    trained to) and the nominal ship's model."""
+    env_kwargs = {**suite.env_kwargs, **dict(entrant.observation_kwargs)}
+    nominal = gym.make(suite.env_id, **env_kwargs)
     model = nominal.unwrapped.task.model
     if not suite.condition.scales:
         return nominal, model
     nominal.close()
     ship_parameters = dict(suite.env_kwargs.get("ship_parameters", {}))
     ship_parameters.update({key: scale * model.parameter(key) for key, scale in suite.condition.scales.items()})
-    return gym.make(suite.env_id, **{**suite.env_kwargs, "ship_parameters": ship_parameters}), model
+    return gym.make(suite.env_id, **{**env_kwargs, "ship_parameters": ship_parameters}), model
 
 
 def sail_recorded(entrant: Entrant, suite: Suite, episode: Episode) -> tuple[np.ndarray, ShipTask]:
     """Sail one episode of ``suite`` with ``entrant`` (a learned one's first training seed),
     recording it: the true states at each step (steps + 1, ``STATE_SIZE``; layout
     :mod:`ship_env.model.state`) and the sailed task (its tracks)."""
-    env, design_model = suite_envs(suite)
+    env, design_model = suite_envs(suite, entrant)
     states: list[np.ndarray] = []
     try:
         sail(env, entrant.build(DesignedTask(env.unwrapped.task, design_model)), episode, states)
@@ -95,7 +97,7 @@ def sail_suite(
 ) -> list[EpisodeResult]:
     """Sail every episode of ``suite`` with ``entrant`` (a learned one's ``run``-th training seed);
     ``on_episode`` is called after each."""
-    env, design_model = suite_envs(suite)
+    env, design_model = suite_envs(suite, entrant)
     training_seed = entrant.training_seeds[run] if entrant.training_seeds else None
     results = []
     try:

@@ -17,9 +17,10 @@ from gymnasium.utils.env_checker import check_env
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.course_change import CourseChangeEnv
-from ship_env.envs.course_change_task import DISTURBANCES, OBS_RATE_OF_TURN, RANDOM_DISTURBANCE
+from ship_env.envs.course_change_task import OBS_RATE_OF_TURN
 from ship_env.envs.course_change_vector import CourseChangeVectorEnv
 from ship_env.envs.metrics import course_change_metrics
+from ship_env.envs.weather import DISTURBANCES, RANDOM_DISTURBANCE
 from ship_env.model import Conditions, ShipModel
 from ship_env.model import state as S
 from ship_env.model.simulator import PARALLEL_SHIPS, batch_loop

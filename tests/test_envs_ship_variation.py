@@ -177,3 +177,11 @@ def test_track_preview_reads_the_arc_ahead_and_on_it():
     assert observation[9] == observation[11] and info["leg"] == 0
     with pytest.raises(TypeError, match="track_preview: expected true or false, got 'yes'"):
         gym.make("ship_env/TrackFollow-v0", track_preview="yes")
+
+
+def test_the_yaw_factor_scales_k_and_tau_together():
+    task = CourseChangeTask(ship_variation={"yaw": [0.5, 2.0]})
+    rng = np.random.default_rng(5)
+    ships = [task.draw_scenario(rng).ship for _ in range(50)]
+    assert all(ship.yaw_gain == ship.yaw_time_constant for ship in ships)
+    assert min(ship.yaw_gain for ship in ships) < 0.6 and max(ship.yaw_gain for ship in ships) > 1.7

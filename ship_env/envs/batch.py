@@ -2,13 +2,18 @@
 
 :class:`ShipBatch` is what the single environment (a batch of one) and the native vector
 environment (a batch of N) share, so both give the same numbers for the same seeds. A task's
-batch subclass names its episode record (:func:`episode_dtype`), its metrics record, and the two
-compiled loops that update every ship after a step, serially and on all cores: numba cannot cache
-a loop that takes the per-ship update as an argument, so each task writes its own four-line loops
-around its per-ship kernel, handing it the arrays as
-:func:`~ship_env.model.integrators.borrowed` views. Batches of at least ``PARALLEL_SHIPS`` ships
-update on all cores where that is faster, like the simulator's step
+batch subclass names its episode record's fields (:func:`episode_dtype`), its metrics record, and
+the two compiled loops that update every ship after a step, serially and on all cores, made by
+:func:`define_update_loops` around the task's per-ship kernel. Batches of at least
+``PARALLEL_SHIPS`` ships update on all cores where that is faster, like the simulator's step
 (:func:`~ship_env.model.simulator.batch_loop`); smaller ones in one thread.
+
+Why the loops are generated: numba caches a compiled function by its source file and bytecode, and
+a loop that gets the per-ship update from a closure or an argument is never found in the cache
+(the closure's contents differ in every process): every process would compile the three tasks'
+loops afresh (7 s, against 0.1 s from the cache, on 2 busy cores: ``benchmarks/bench_env_loops.py``).
+So one template's source is compiled into each task module as if written there, and caches like
+the module's own.
 
 Each update measures (:func:`ship_env.envs.sensors.measure`), observes, rewards, decides
 termination and keeps the running metrics of every ship, or only of those just restarted.
@@ -21,12 +26,68 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
-from ship_env.envs.sensors import MEASUREMENT_NAMES, MEASUREMENT_SIZE
+from ship_env.envs.sensors import MEASUREMENT_NAMES, MEASUREMENT_SIZE, measure, observe_motion
 from ship_env.envs.task import ShipTask
 from ship_env.model import Conditions, Simulator
+from ship_env.model import state as S
 from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel
 from ship_env.model.simulator import batch_loop
+
+#: The loops over a batch's ships, compiled into a task module by :func:`define_update_loops`: its
+#: ``update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics, *task_arrays)`` for
+#: every ship, or with ``restarted_only`` for those just restarted; the arrays borrowed (no reference counts).
+UPDATE_LOOPS_SOURCE = """
+from numba import prange
+from ship_env.model.integrators import borrowed
+from ship_env.model.kernel import kernel, parallel_kernel
+
+
+@kernel
+def update_ships(restarted_only, *arrays):
+    arrays = borrowed(arrays)
+    episodes = arrays[4]
+    for i in range(episodes.shape[0]):
+        if episodes[i]["restarted"] or not restarted_only:
+            update_ship(i, *arrays)
+
+
+@parallel_kernel
+def update_ships_parallel(restarted_only, *arrays):
+    arrays = borrowed(arrays)
+    episodes = arrays[4]
+    for i in prange(episodes.shape[0]):
+        if episodes[i]["restarted"] or not restarted_only:
+            update_ship(i, *arrays)
+"""
+
+
+def define_update_loops(module_globals: dict[str, Any]) -> tuple[Callable[..., None], Callable[..., None]]:
+    """Define ``update_ships`` and ``update_ships_parallel`` (:data:`UPDATE_LOOPS_SOURCE`) in a task
+    module around its ``update_ship`` and return them: compiled as the module's own source, they are
+    cached beside its other kernels (numba keys the cache by the file and the bytecode, so a change
+    to the template is compiled afresh). Call it as ``define_update_loops(globals())``."""
+    exec(compile(UPDATE_LOOPS_SOURCE, module_globals["__file__"], "exec"), module_globals)
+    return module_globals["update_ships"], module_globals["update_ships_parallel"]
+
+
+@kernel
+def measure_and_observe(i, state, conditions, noise_keys, step_index, episode, sensors, restarted, first, task):
+    """Read ship ``i``'s instruments into its ``episode`` record (:func:`~ship_env.envs.sensors.measure`)
+    and observe its motion at ``observation[first:first + 3]`` (:func:`~ship_env.envs.sensors.observe_motion`);
+    ``task`` is the task's parameter record (its ``rudder_limit`` and ``full_rudder_rate_per_speed``)."""
+    service_speed = conditions[i, S.SERVICE_SPEED]
+    measured = episode["measurement"]
+    measure(state, service_speed, episode["wave_yaw"], noise_keys[i], step_index[i], sensors, restarted, measured)
+    observe_motion(
+        episode["observation"],
+        first,
+        measured,
+        state[S.RUDDER],
+        service_speed,
+        task["full_rudder_rate_per_speed"],
+        task["rudder_limit"],
+    )
 
 
 def episode_dtype(observation_size: int, task_fields: Sequence[tuple]) -> np.dtype:
@@ -91,24 +152,26 @@ def snapshot(array: np.ndarray, ships: int | slice) -> np.ndarray:
 class ShipBatch:
     """N ships of one task in one :class:`~ship_env.model.Simulator`.
 
-    Subclasses set ``metrics_dtype``, ``update_serial`` and ``update_parallel`` (compiled loops
-    called as ``loop(restarted_only, state, conditions, noise_keys, step_index, episodes, metrics,
-    *task.kernel_arguments)``), and implement :meth:`start_episode` and :meth:`task_info`.
+    Subclasses set ``task_fields`` (their episode record's own fields), ``metrics_dtype``,
+    ``update_serial`` and ``update_parallel`` (compiled loops called as ``loop(restarted_only,
+    state, conditions, noise_keys, step_index, episodes, metrics, *task.kernel_arguments)``), and
+    implement :meth:`start_episode` and :meth:`task_info`.
 
     After ``restart`` or a simulator step, ``update`` fills each ship's ``episodes`` record
     (``observation``, ``measurement``, ``reward``, ``terminated``) and its running ``metrics``.
     """
 
+    task_fields: ClassVar[Sequence[tuple]]
     metrics_dtype: ClassVar[np.dtype]
     update_serial: ClassVar[Callable[..., None]]
     update_parallel: ClassVar[Callable[..., None]]
 
-    def __init__(self, task: ShipTask, num_ships: int, task_fields: Sequence[tuple]) -> None:
+    def __init__(self, task: ShipTask, num_ships: int) -> None:
         self.task = task
         self.simulator = Simulator(task.model, num_ships=num_ships, dt=task.dt)
         self.num_ships = self.simulator.num_ships
         self.scenarios: list[Any] = [None] * self.num_ships
-        self.episodes = np.zeros(self.num_ships, dtype=episode_dtype(task.observation_space.shape[0], task_fields))
+        self.episodes = np.zeros(self.num_ships, dtype=episode_dtype(task.observation_space.shape[0], self.task_fields))
         self.metrics = np.zeros(self.num_ships, dtype=self.metrics_dtype)
         self._update = batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
 
@@ -138,8 +201,8 @@ class ShipBatch:
         if self.task.observation_history:
             remembered = list(self.task.history_observations)
             previous = self.episodes["observation"][:, remembered]
-            updated = self.episodes["restarted"] if restarted_only else np.ones(self.num_ships, dtype=np.bool_)
             restarted = self.episodes["restarted"].copy()
+            stepped = np.zeros_like(restarted) if restarted_only else ~restarted
         self._update(
             restarted_only,
             simulator.state,
@@ -151,7 +214,7 @@ class ShipBatch:
             *self.task.kernel_arguments,
         )
         if self.task.observation_history:
-            self._remember(previous, updated & ~restarted, restarted)
+            self._remember(previous, stepped, restarted)
 
     def _remember(self, previous: np.ndarray, stepped: np.ndarray, restarted: np.ndarray) -> None:
         """Shift the ``stepped`` ships' remembered observations by one step (``previous`` the newest);

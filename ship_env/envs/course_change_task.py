@@ -23,36 +23,16 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import prange
 
-from ship_env.envs.batch import ShipBatch
-from ship_env.envs.checks import check_choice, check_number
+from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe
+from ship_env.envs.checks import check_number
 from ship_env.envs.metrics import METRICS_DTYPE, start_metrics, update_metrics
-from ship_env.envs.sensors import (
-    MEASURED_HEADING,
-    RATE_BOUND,
-    SPEED_BOUND,
-    measure,
-    observe_motion,
-    wrap,
-)
-from ship_env.envs.task import ShipTask
+from ship_env.envs.sensors import MEASURED_HEADING, RATE_BOUND, SPEED_BOUND, wrap
+from ship_env.envs.task import TaskScenario
 from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG
-from ship_env.envs.variation import ShipFactors
-from ship_env.envs.weather import (
-    CUSTOM_DISTURBANCE,
-    DISTURBANCES,
-    RANDOM_DISTURBANCE,
-    WAVE_EFFECTS,
-    WEATHER_DRAWS,
-    WeatherRanges,
-    check_conditions,
-    has_waves,
-)
-from ship_env.model import Conditions
+from ship_env.envs.weather import WEATHER_DRAWS, WeatherTask
 from ship_env.model import state as S
-from ship_env.model.integrators import borrowed
-from ship_env.model.kernel import kernel, parallel_kernel
+from ship_env.model.kernel import kernel
 
 #: Uniform numbers drawn per scenario: level, magnitude, sign, initial heading, then the weather's.
 _SCENARIO_DRAWS = 4 + WEATHER_DRAWS
@@ -77,39 +57,18 @@ TASK_FIELDS = (
     ("turn_direction", np.float64),  # +1 starboard, -1 port
 )
 
-#: The task's constants as the compiled update reads them.
-TASK_DTYPE = np.dtype(
-    [
-        ("rudder_limit", np.float64),
-        ("full_rudder_rate_per_speed", np.float64),  # K* delta_max / L: steady rate at full rudder per m/s
-        ("heading_error_weight", np.float64),
-        ("rudder_travel_weight", np.float64),
-        ("settle_band", np.float64),
-        ("dt", np.float64),
-    ]
-)
-
 
 @dataclass(frozen=True)
-class Scenario:
+class Scenario(TaskScenario):
     """One episode's course change and the sea it is sailed in.
 
-    Attributes:
-        disturbance: the level it was drawn at (``"calm"``, ...), or ``"custom"``.
+    Attributes (besides :class:`~ship_env.envs.task.TaskScenario`'s):
         course_change: the ordered change, rad, positive to starboard.
         initial_heading: the steady course sailed at the start, rad.
-        conditions: wind, current, waves and speed for the simulator.
-        seed: the simulator's seed for the episode (its gusts, wave yaw, sea and sensor noise).
-        ship: the ship's K*, tau*, speed and weather factors when ``ship_variation`` drew them
-            (:class:`~ship_env.envs.variation.ShipFactors`), else ``None`` (the preset's ship).
     """
 
-    disturbance: str
     course_change: float
     initial_heading: float
-    conditions: Conditions
-    seed: int
-    ship: ShipFactors | None = None
 
     @property
     def new_heading(self) -> float:
@@ -117,23 +76,21 @@ class Scenario:
         return self.initial_heading + self.course_change
 
 
-class CourseChangeTask(ShipTask):
+class CourseChangeTask(WeatherTask):
     """The options of the course-change task; the environments' keyword arguments.
 
     Args:
-        disturbance: ``"calm"``, ``"wind_current"``, ``"wind_current_waves"`` or ``"random"``
-            (one of the three per episode).
+        disturbance: ``"calm"`` (default), ``"wind_current"``, ``"wind_current_waves"`` or
+            ``"random"`` (one of the three per episode).
         course_changes_deg: the course-change magnitudes drawn from, deg, each in (0, 180].
         rudder_limit_deg: delta_max, deg (default 20).
         heading_error_weight: reward per step for |heading error| / pi.
         rudder_travel_weight: reward per step for |actual rudder move| / delta_max.
         settle_band_deg: the settling band of the metrics, deg.
-        wind_speed_range, current_speed_range: m/s, drawn uniformly.
-        wave_height_range, wave_period_range: significant height (m) and peak period (s).
-        **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`):
-            ``ship``, ``ship_parameters``, ``effects`` (``None``: the preset's defaults, plus
-            ``wave_filter`` and ``wave_spectrum`` when ``disturbance`` can bring waves), ``dt``,
-            ``sensor_noise_scale``, ``fix_interval``, ``action_type``, ``rudder_levels``.
+        **options: the weather's ranges (:class:`~ship_env.envs.weather.WeatherTask`:
+            ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``,
+            ``wave_period_range``) and the keywords every task shares
+            (:class:`~ship_env.envs.task.ShipTask`).
     """
 
     history_observations = (OBS_HEADING_ERROR, OBS_RATE_OF_TURN, OBS_RUDDER)
@@ -147,13 +104,8 @@ class CourseChangeTask(ShipTask):
         heading_error_weight: float = 1.0,
         rudder_travel_weight: float = 0.2,
         settle_band_deg: float = 2.0,
-        wind_speed_range: tuple[float, float] = (5.0, 10.0),
-        current_speed_range: tuple[float, float] = (0.5, 1.5),
-        wave_height_range: tuple[float, float] = (1.0, 4.0),
-        wave_period_range: tuple[float, float] = (6.0, 10.0),
-        **ship_options: Any,
+        **options: Any,
     ) -> None:
-        self.disturbance = check_choice("disturbance", disturbance, (*DISTURBANCES, RANDOM_DISTURBANCE))
         if isinstance(course_changes_deg, (str, bytes)) or not isinstance(course_changes_deg, Sequence):
             raise TypeError(f"course_changes_deg: expected a list of angles in deg, got {course_changes_deg!r}")
         if not course_changes_deg:
@@ -165,18 +117,14 @@ class CourseChangeTask(ShipTask):
         self.heading_error_weight = check_number("heading_error_weight", heading_error_weight, 0.0)
         self.rudder_travel_weight = check_number("rudder_travel_weight", rudder_travel_weight, 0.0)
         self.settle_band = math.radians(check_number("settle_band_deg", settle_band_deg, 0.0, 180.0))
-        self.weather = WeatherRanges(wind_speed_range, current_speed_range, wave_height_range, wave_period_range)
-        waves = WAVE_EFFECTS if has_waves(disturbance) else ()
-        super().__init__(rudder_limit_deg=rudder_limit_deg, extra_effects=waves, **ship_options)
-
-        self.parameters = np.zeros(1, dtype=TASK_DTYPE)
-        record = self.parameters[0]
-        record["rudder_limit"] = self.rudder_limit
-        record["full_rudder_rate_per_speed"] = self.full_rudder_rate_per_speed
-        record["heading_error_weight"] = self.heading_error_weight
-        record["rudder_travel_weight"] = self.rudder_travel_weight
-        record["settle_band"] = self.settle_band
-        record["dt"] = self.dt
+        super().__init__(disturbance=disturbance, rudder_limit_deg=rudder_limit_deg, **options)
+        #: The task's constants as the compiled update reads them.
+        self.parameters = self.parameter_record(
+            heading_error_weight=self.heading_error_weight,
+            rudder_travel_weight=self.rudder_travel_weight,
+            settle_band=self.settle_band,
+            dt=self.dt,
+        )
         #: What the compiled update reads besides the simulator's and the batch's arrays.
         self.kernel_arguments = (self.parameters, self.sensors)
         self.observation_space = self.observation_box(OBSERVATION_LOW, OBSERVATION_HIGH)
@@ -194,12 +142,7 @@ class CourseChangeTask(ShipTask):
         draws = rng.random(_SCENARIO_DRAWS).tolist()
         seed = int(rng.integers(2**31))
         options = self.check_options(options, RESET_OPTIONS)
-
-        disturbance = options.get("disturbance", self.disturbance)
-        if disturbance == RANDOM_DISTURBANCE:
-            disturbance = DISTURBANCES[int(draws[0] * len(DISTURBANCES))]
-        else:
-            check_choice("options['disturbance']", disturbance, DISTURBANCES)
+        disturbance, conditions = self.draw_weather(draws[0], draws[4:], options)
 
         if "course_change_deg" in options:
             degrees = check_number("options['course_change_deg']", options["course_change_deg"], -180.0, 180.0)
@@ -214,29 +157,20 @@ class CourseChangeTask(ShipTask):
             heading = math.radians(check_number("options['initial_heading_deg']", options["initial_heading_deg"]))
         else:
             heading = 2.0 * math.pi * draws[3]
-
-        if "conditions" in options:
-            conditions = check_conditions("options['conditions']", options["conditions"])
-            disturbance = CUSTOM_DISTURBANCE
-        else:
-            conditions = self.weather.conditions(disturbance, draws[4:])
-        return Scenario(disturbance, change, heading, conditions, seed)
+        return Scenario(disturbance, conditions, seed, change, heading)
 
 
 @kernel
-def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors):
+def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors):
     """Measure, observe and reward ship ``i`` after a step (or after a restart, reward 0).
 
     Reads the simulator's arrays (``states``, ``conditions``, ``noise_keys``, ``step_index``),
     writes ``episodes[i]`` and ``metrics[i]``. Reward:
     -(w_e |wrap(psi_new - psi)| / pi + w_d |delta - delta_prev| / delta_max) on the true heading psi
-    and the actual rudder delta; the observation comes from the measurements. With
-    ``restarted_only`` a ship that was not restarted is left as it is.
+    and the actual rudder delta; the observation comes from the measurements.
     """
     episode = episodes[i]
     restarted = episode["restarted"]
-    if restarted_only and not restarted:
-        return
     p = task[0]
     state = states[i]
     heading_error = episode["new_heading"] - state[S.HEADING]
@@ -256,38 +190,13 @@ def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, e
         )
     episode["rudder"] = rudder
 
-    service_speed = conditions[i, S.SERVICE_SPEED]
-    measured = episode["measurement"]
-    measure(state, service_speed, episode["wave_yaw"], noise_keys[i], step_index[i], sensors, restarted, measured)
-
+    measure_and_observe(i, state, conditions, noise_keys, step_index, episode, sensors, restarted, OBS_RATE_OF_TURN, p)
     observation = episode["observation"]
-    observation[OBS_HEADING_ERROR] = wrap(episode["new_heading"] - measured[MEASURED_HEADING]) / math.pi
-    observe_motion(
-        observation,
-        OBS_RATE_OF_TURN,
-        measured,
-        rudder,
-        service_speed,
-        p["full_rudder_rate_per_speed"],
-        p["rudder_limit"],
-    )
+    observation[OBS_HEADING_ERROR] = wrap(episode["new_heading"] - episode["measurement"][MEASURED_HEADING]) / math.pi
     observation[OBS_TURN_DIRECTION] = episode["turn_direction"]
 
 
-@kernel
-def update_ships(restarted_only, *arrays):
-    """``update_ship`` for every ship of a batch (``arrays``: those of ``update_ship``, borrowed)."""
-    arrays = borrowed(arrays)
-    for i in range(arrays[0].shape[0]):
-        update_ship(i, restarted_only, *arrays)
-
-
-@parallel_kernel
-def update_ships_parallel(restarted_only, *arrays):
-    """``update_ships`` on all cores."""
-    arrays = borrowed(arrays)
-    for i in prange(arrays[0].shape[0]):
-        update_ship(i, restarted_only, *arrays)
+update_ships, update_ships_parallel = define_update_loops(globals())
 
 
 class CourseChangeBatch(ShipBatch):
@@ -297,12 +206,10 @@ class CourseChangeBatch(ShipBatch):
     and the ordered ``new_heading``; ``metrics`` the running course-change metrics.
     """
 
+    task_fields = TASK_FIELDS
     metrics_dtype = METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
-
-    def __init__(self, task: CourseChangeTask, num_ships: int) -> None:
-        super().__init__(task, num_ships, TASK_FIELDS)
 
     def start_episode(self, episode: np.void, scenario: Scenario) -> None:
         episode["new_heading"] = scenario.new_heading

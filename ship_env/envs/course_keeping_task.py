@@ -16,40 +16,20 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import prange
 
-from ship_env.envs.batch import ShipBatch
-from ship_env.envs.checks import check_choice, check_number
+from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe
+from ship_env.envs.checks import check_number
 from ship_env.envs.metrics import (
     COURSE_KEEPING_METRICS_DTYPE,
     RUDDER_WEIGHT,
     start_course_keeping_metrics,
     update_course_keeping_metrics,
 )
-from ship_env.envs.sensors import (
-    MEASURED_HEADING,
-    RATE_BOUND,
-    SPEED_BOUND,
-    measure,
-    observe_motion,
-    wrap,
-)
-from ship_env.envs.task import ShipTask
-from ship_env.envs.variation import ShipFactors
-from ship_env.envs.weather import (
-    CUSTOM_DISTURBANCE,
-    DISTURBANCES,
-    RANDOM_DISTURBANCE,
-    WAVE_EFFECTS,
-    WEATHER_DRAWS,
-    WeatherRanges,
-    check_conditions,
-    has_waves,
-)
-from ship_env.model import Conditions
+from ship_env.envs.sensors import MEASURED_HEADING, RATE_BOUND, SPEED_BOUND, wrap
+from ship_env.envs.task import TaskScenario
+from ship_env.envs.weather import WEATHER_DRAWS, WeatherTask
 from ship_env.model import state as S
-from ship_env.model.integrators import borrowed
-from ship_env.model.kernel import kernel, parallel_kernel
+from ship_env.model.kernel import kernel
 
 #: Uniform numbers drawn per scenario: level, course, then the weather's.
 _SCENARIO_DRAWS = 2 + WEATHER_DRAWS
@@ -72,34 +52,16 @@ OBSERVATION_HIGH = np.array([HEADING_BOUND, RATE_BOUND, 1.0, SPEED_BOUND], dtype
 #: Per-ship episode data besides the common record: the ordered course, rad.
 TASK_FIELDS = (("course", np.float64),)
 
-#: The task's constants as the compiled update reads them.
-TASK_DTYPE = np.dtype(
-    [
-        ("rudder_limit", np.float64),
-        ("full_rudder_rate_per_speed", np.float64),
-        ("rudder_weight", np.float64),  # lambda
-    ]
-)
-
 
 @dataclass(frozen=True)
-class CourseKeepingScenario:
+class CourseKeepingScenario(TaskScenario):
     """One episode's course and the sea it is held in.
 
-    Attributes:
-        disturbance: the level it was drawn at (``"calm"``, ...), or ``"custom"``.
+    Attributes (besides :class:`~ship_env.envs.task.TaskScenario`'s):
         course: the ordered course, rad; the ship starts on it.
-        conditions: wind, current, waves and speed for the simulator.
-        seed: the simulator's seed for the episode (its gusts, wave yaw, sea and sensor noise).
-        ship: the ship's K*, tau*, speed and weather factors when ``ship_variation`` drew them
-            (:class:`~ship_env.envs.variation.ShipFactors`), else ``None`` (the preset's ship).
     """
 
-    disturbance: str
     course: float
-    conditions: Conditions
-    seed: int
-    ship: ShipFactors | None = None
 
     @property
     def initial_heading(self) -> float:
@@ -107,7 +69,7 @@ class CourseKeepingScenario:
         return self.course
 
 
-class CourseKeepingTask(ShipTask):
+class CourseKeepingTask(WeatherTask):
     """The options of the course-keeping task; the environments' keyword arguments.
 
     Args:
@@ -115,12 +77,10 @@ class CourseKeepingTask(ShipTask):
             ``"random"`` (one of the three per episode).
         rudder_limit_deg: delta_max, deg (default 10).
         rudder_weight: lambda of J = mean(e^2) + lambda mean(delta^2) (default 0.1).
-        wind_speed_range, current_speed_range: m/s, drawn uniformly.
-        wave_height_range, wave_period_range: significant height (m) and peak period (s).
-        **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`):
-            ``ship``, ``ship_parameters``, ``effects`` (``None``: the preset's defaults, plus
-            ``wave_filter`` and ``wave_spectrum`` when ``disturbance`` can bring waves), ``dt``,
-            ``sensor_noise_scale``, ``fix_interval``, ``action_type``, ``rudder_levels``.
+        **options: the weather's ranges (:class:`~ship_env.envs.weather.WeatherTask`:
+            ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``,
+            ``wave_period_range``) and the keywords every task shares
+            (:class:`~ship_env.envs.task.ShipTask`).
     """
 
     history_observations = (OBS_HEADING_ERROR, OBS_RATE_OF_TURN, OBS_RUDDER)
@@ -131,23 +91,12 @@ class CourseKeepingTask(ShipTask):
         disturbance: str = "wind_current_waves",
         rudder_limit_deg: float = 10.0,
         rudder_weight: float = RUDDER_WEIGHT,
-        wind_speed_range: tuple[float, float] = (5.0, 10.0),
-        current_speed_range: tuple[float, float] = (0.5, 1.5),
-        wave_height_range: tuple[float, float] = (1.0, 4.0),
-        wave_period_range: tuple[float, float] = (6.0, 10.0),
-        **ship_options: Any,
+        **options: Any,
     ) -> None:
-        self.disturbance = check_choice("disturbance", disturbance, (*DISTURBANCES, RANDOM_DISTURBANCE))
         self.rudder_weight = check_number("rudder_weight", rudder_weight, 0.0)
-        self.weather = WeatherRanges(wind_speed_range, current_speed_range, wave_height_range, wave_period_range)
-        waves = WAVE_EFFECTS if has_waves(disturbance) else ()
-        super().__init__(rudder_limit_deg=rudder_limit_deg, extra_effects=waves, **ship_options)
-
-        self.parameters = np.zeros(1, dtype=TASK_DTYPE)
-        record = self.parameters[0]
-        record["rudder_limit"] = self.rudder_limit
-        record["full_rudder_rate_per_speed"] = self.full_rudder_rate_per_speed
-        record["rudder_weight"] = self.rudder_weight
+        super().__init__(disturbance=disturbance, rudder_limit_deg=rudder_limit_deg, **options)
+        #: The task's constants as the compiled update reads them (lambda).
+        self.parameters = self.parameter_record(rudder_weight=self.rudder_weight)
         #: What the compiled update reads besides the simulator's and the batch's arrays.
         self.kernel_arguments = (self.parameters, self.sensors)
         self.observation_space = self.observation_box(OBSERVATION_LOW, OBSERVATION_HIGH)
@@ -164,25 +113,16 @@ class CourseKeepingTask(ShipTask):
         draws = rng.random(_SCENARIO_DRAWS).tolist()
         seed = int(rng.integers(2**31))
         options = self.check_options(options, RESET_OPTIONS)
-        disturbance = options.get("disturbance", self.disturbance)
-        if disturbance == RANDOM_DISTURBANCE:
-            disturbance = DISTURBANCES[int(draws[0] * len(DISTURBANCES))]
-        else:
-            check_choice("options['disturbance']", disturbance, DISTURBANCES)
+        disturbance, conditions = self.draw_weather(draws[0], draws[2:], options)
         if "course_deg" in options:
             course = math.radians(check_number("options['course_deg']", options["course_deg"]))
         else:
             course = 2.0 * math.pi * draws[1]
-        if "conditions" in options:
-            conditions = check_conditions("options['conditions']", options["conditions"])
-            disturbance = CUSTOM_DISTURBANCE
-        else:
-            conditions = self.weather.conditions(disturbance, draws[2:])
-        return CourseKeepingScenario(disturbance, course, conditions, seed)
+        return CourseKeepingScenario(disturbance, conditions, seed, course)
 
 
 @kernel
-def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors):
+def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors):
     """Measure, observe and reward ship ``i`` after a step (or after a restart, reward 0).
 
     Reward: -((e / delta_max)^2 + lambda (delta / delta_max)^2) with e = wrap(course - psi) the
@@ -191,8 +131,6 @@ def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, e
     """
     episode = episodes[i]
     restarted = episode["restarted"]
-    if restarted_only and not restarted:
-        return
     p = task[0]
     state = states[i]
     heading_error = wrap(episode["course"] - state[S.HEADING])
@@ -210,37 +148,13 @@ def update_ship(i, restarted_only, states, conditions, noise_keys, step_index, e
         )
     episode["rudder"] = rudder
 
-    service_speed = conditions[i, S.SERVICE_SPEED]
-    measured = episode["measurement"]
-    measure(state, service_speed, episode["wave_yaw"], noise_keys[i], step_index[i], sensors, restarted, measured)
-
-    observation = episode["observation"]
-    observation[OBS_HEADING_ERROR] = wrap(episode["course"] - measured[MEASURED_HEADING]) / HEADING_SCALE
-    observe_motion(
-        observation,
-        OBS_RATE_OF_TURN,
-        measured,
-        rudder,
-        service_speed,
-        p["full_rudder_rate_per_speed"],
-        p["rudder_limit"],
+    measure_and_observe(i, state, conditions, noise_keys, step_index, episode, sensors, restarted, OBS_RATE_OF_TURN, p)
+    episode["observation"][OBS_HEADING_ERROR] = (
+        wrap(episode["course"] - episode["measurement"][MEASURED_HEADING]) / HEADING_SCALE
     )
 
 
-@kernel
-def update_ships(restarted_only, *arrays):
-    """``update_ship`` for every ship of a batch (``arrays``: those of ``update_ship``, borrowed)."""
-    arrays = borrowed(arrays)
-    for i in range(arrays[0].shape[0]):
-        update_ship(i, restarted_only, *arrays)
-
-
-@parallel_kernel
-def update_ships_parallel(restarted_only, *arrays):
-    """``update_ships`` on all cores."""
-    arrays = borrowed(arrays)
-    for i in prange(arrays[0].shape[0]):
-        update_ship(i, restarted_only, *arrays)
+update_ships, update_ships_parallel = define_update_loops(globals())
 
 
 class CourseKeepingBatch(ShipBatch):
@@ -250,12 +164,10 @@ class CourseKeepingBatch(ShipBatch):
     ``reward`` and the ordered ``course``; ``metrics`` the running criterion.
     """
 
+    task_fields = TASK_FIELDS
     metrics_dtype = COURSE_KEEPING_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
-
-    def __init__(self, task: CourseKeepingTask, num_ships: int) -> None:
-        super().__init__(task, num_ships, TASK_FIELDS)
 
     def start_episode(self, episode: np.void, scenario: CourseKeepingScenario) -> None:
         episode["course"] = scenario.course

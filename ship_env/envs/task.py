@@ -12,6 +12,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -20,8 +21,8 @@ from gymnasium import spaces
 
 from ship_env.envs.checks import check_choice, check_number, check_whole_number
 from ship_env.envs.sensors import sensors_record
-from ship_env.envs.variation import ShipVariation, sailed_conditions
-from ship_env.model import ShipModel, load_ship
+from ship_env.envs.variation import ShipFactors, ShipVariation, sailed_conditions
+from ship_env.model import Conditions, ShipModel, load_ship
 
 #: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
 ACTION_TYPES = ("continuous", "discrete")
@@ -33,6 +34,25 @@ OBSERVATION_KEYWORDS = ("observation_history", "track_preview")
 def observation_keywords(env_kwargs: Mapping[str, Any]) -> dict[str, Any]:
     """The :data:`OBSERVATION_KEYWORDS` among an environment's keyword arguments."""
     return {key: value for key, value in env_kwargs.items() if key in OBSERVATION_KEYWORDS}
+
+
+@dataclass(frozen=True)
+class TaskScenario:
+    """What every task's episode has; a task's scenario adds its own fields (positional after these).
+
+    Attributes:
+        disturbance: the level it was drawn at (``"calm"``, ``"thesis"``, ...), or ``"custom"``
+            (conditions given at reset).
+        conditions: wind, current, waves and speed for the simulator.
+        seed: the simulator's seed for the episode (its gusts, wave yaw, sea and sensor noise).
+        ship: the ship's K*, tau*, speed and weather factors when ``ship_variation`` drew them
+            (:class:`~ship_env.envs.variation.ShipFactors`), else ``None`` (the preset's ship).
+    """
+
+    disturbance: str
+    conditions: Conditions
+    seed: int
+    ship: ShipFactors | None = field(default=None, kw_only=True)
 
 
 class ShipTask:
@@ -63,6 +83,11 @@ class ShipTask:
 
     #: The observation's elements ``observation_history`` remembers (each task sets its own).
     history_observations: tuple[int, ...] = ()
+    #: The task's observation space, its constants record and what its compiled update reads
+    #: besides the simulator's and the batch's arrays (each task sets them).
+    observation_space: spaces.Box
+    parameters: np.ndarray
+    kernel_arguments: tuple[np.ndarray, ...]
 
     def __init__(
         self,
@@ -103,6 +128,21 @@ class ShipTask:
         else:
             self.action_space = spaces.Discrete(levels)
             self._levels = np.linspace(-1.0, 1.0, levels) * self.rudder_limit
+
+    def parameter_record(self, **values: float | bool) -> np.ndarray:
+        """The task's constants as its compiled update reads them: one record with ``rudder_limit``
+        (rad) and ``full_rudder_rate_per_speed`` (K* delta_max / L), then ``values`` (float64, or
+        bool for a flag)."""
+        values = {
+            "rudder_limit": self.rudder_limit,
+            "full_rudder_rate_per_speed": self.full_rudder_rate_per_speed,
+            **values,
+        }
+        dtype = np.dtype([(name, np.bool_ if isinstance(v, bool) else np.float64) for name, v in values.items()])
+        record = np.zeros(1, dtype=dtype)
+        for name, value in values.items():
+            record[0][name] = value
+        return record
 
     def observation_box(self, low: np.ndarray, high: np.ndarray) -> spaces.Box:
         """The observation space: the task's bounds, then ``observation_history`` copies of those of

@@ -22,9 +22,8 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numba import prange
 
-from ship_env.envs.batch import ShipBatch, pick
+from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe, pick
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import (
     SCORE_INTERVAL,
@@ -40,11 +39,9 @@ from ship_env.envs.sensors import (
     MEASURED_NORTH,
     RATE_BOUND,
     SPEED_BOUND,
-    measure,
-    observe_motion,
     wrap,
 )
-from ship_env.envs.task import ShipTask
+from ship_env.envs.task import ShipTask, TaskScenario
 from ship_env.envs.tracks import (
     LEG_COURSE,
     LEG_DIRECTION_EAST,
@@ -59,15 +56,14 @@ from ship_env.envs.tracks import (
     nearest_on_track,
     passed_waypoint,
     path_ahead,
+    point_ahead,
     reference_track,
     signed_cross_track,
 )
-from ship_env.envs.variation import ShipFactors
 from ship_env.envs.weather import CALM, CUSTOM_DISTURBANCE, check_conditions
 from ship_env.model import Conditions
 from ship_env.model import state as S
-from ship_env.model.integrators import borrowed
-from ship_env.model.kernel import kernel, parallel_kernel
+from ship_env.model.kernel import kernel
 
 #: Table 6.2, read as stated in the module docstring.
 THESIS_CONDITIONS = Conditions(
@@ -98,11 +94,14 @@ OBS_PATH_HEADING_ERROR = 8  # wrap(the track's course there - compass heading) /
 OBS_PATH_TURN = 9  # the track's curvature there * L / (K* delta_max): about +-1 on an arc, 0 on a straight
 OBS_ARC_TIME = 10  # the distance along the track to the next arc's start / U0, min, clipped (0 on an arc)
 OBS_NEXT_TURN = 11  # the next arc's curvature * L / (K* delta_max) (the present arc's on one)
+OBS_LINE_OF_SIGHT = 12  # wrap(bearing of the track point LOOKAHEAD ahead - compass heading) / pi
+#: Ship lengths along the track from the fix's nearest point to the line-of-sight point.
+LOOKAHEAD = 2.0
 #: min: the arc-time observation's bound (the next arc, or none, further ahead than this).
 ARC_TIME_BOUND = 5.0
 #: The preview's bounds: its turns are within twice the rudder limit's steady rate.
-PREVIEW_LOW = np.array([-1.0, -2.0, 0.0, -2.0], dtype=np.float32)
-PREVIEW_HIGH = np.array([1.0, 2.0, ARC_TIME_BOUND, 2.0], dtype=np.float32)
+PREVIEW_LOW = np.array([-1.0, -2.0, 0.0, -2.0, -1.0], dtype=np.float32)
+PREVIEW_HIGH = np.array([1.0, 2.0, ARC_TIME_BOUND, 2.0, 1.0], dtype=np.float32)
 CROSS_TRACK_BOUND = 10.0  # ship lengths
 DISTANCE_BOUNDS = (-1.0, 3.0)  # nm: legs are at most 2.5 nm
 #: s: time constant of the first-order filter on the rate of the fixes' cross-track error (the
@@ -124,42 +123,22 @@ TASK_FIELDS = (
     ("fix_cross_track_error", np.float64),  # m, of the latest position fix
     ("fix_cross_track_rate", np.float64),  # m/s, its rate, filtered over CROSS_TRACK_RATE_TIME
     ("fix_time", np.float64),  # s, of the latest position fix
-)
-
-#: The task's constants as the compiled update reads them.
-TASK_DTYPE = np.dtype(
-    [
-        ("rudder_limit", np.float64),
-        ("full_rudder_rate_per_speed", np.float64),
-        ("length", np.float64),  # m, L
-        ("cross_track_weight", np.float64),
-        ("rudder_travel_weight", np.float64),
-        ("score_interval", np.float64),  # s
-        ("track_preview", np.bool_),  # whether the observation holds the preview
-    ]
+    ("north", np.float64),  # m, the true position at the previous update (for the course over ground)
+    ("east", np.float64),
 )
 
 
 @dataclass(frozen=True)
-class TrackScenario:
+class TrackScenario(TaskScenario):
     """One episode's track and the sea it is sailed in.
 
-    Attributes:
+    Attributes (besides :class:`~ship_env.envs.task.TaskScenario`'s):
         track: ``"T1"`` .. ``"T6"``.
-        disturbance: ``"thesis"``, ``"calm"`` or ``"custom"`` (conditions given at reset).
-        conditions: wind, current, waves and speed for the simulator.
-        seed: the simulator's seed for the episode (its gusts and sensor noise).
         initial_heading: the first leg's course, rad: the ship starts on it at the first waypoint.
-        ship: the ship's K*, tau*, speed and weather factors when ``ship_variation`` drew them
-            (:class:`~ship_env.envs.variation.ShipFactors`), else ``None`` (the preset's ship).
     """
 
     track: str
-    disturbance: str
-    conditions: Conditions
-    seed: int
     initial_heading: float
-    ship: ShipFactors | None = None
 
 
 class TrackFollowTask(ShipTask):
@@ -177,7 +156,11 @@ class TrackFollowTask(ShipTask):
         track_preview: add to the observation the rounded reference track at and ahead of the
             fix's nearest point on it (``OBS_PATH_HEADING_ERROR`` .. ``OBS_NEXT_TURN``): its course
             and curvature there, the time to the next arc (the wheel-over lies a reaction time
-            before it) and that arc's curvature.
+            before it) and that arc's curvature, and the bearing of the track point ``LOOKAHEAD``
+            ship lengths ahead (line-of-sight steering: its bearing turns before the track does).
+        line_of_sight_weight: reward shaping: per step for |wrap(bearing of that point - course over
+            ground)| / pi, of the true position (0, default: none). Steering the ground track at a
+            point on the track ahead puts the rudder over before the turn and holds the drift.
         **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`):
             ``ship``, ``ship_parameters``, ``effects``, ``dt``, ``sensor_noise_scale``,
             ``action_type``, ``rudder_levels``.
@@ -195,12 +178,14 @@ class TrackFollowTask(ShipTask):
         rudder_travel_weight: float = 0.1,
         fix_interval: float = SCORE_INTERVAL,
         track_preview: bool = False,
+        line_of_sight_weight: float = 0.0,
         **ship_options: Any,
     ) -> None:
         self.track = check_choice("track", track, (*TRACK_IDS, RANDOM_TRACK))
         self.disturbance = check_choice("disturbance", disturbance, TRACK_DISTURBANCES)
         self.cross_track_weight = check_number("cross_track_weight", cross_track_weight, 0.0)
         self.rudder_travel_weight = check_number("rudder_travel_weight", rudder_travel_weight, 0.0)
+        self.line_of_sight_weight = check_number("line_of_sight_weight", line_of_sight_weight, 0.0)
         if not isinstance(track_preview, bool):
             raise TypeError(f"track_preview: expected true or false, got {track_preview!r}")
         self.track_preview = track_preview
@@ -211,15 +196,15 @@ class TrackFollowTask(ShipTask):
         }
         self.track_legs = np.stack([self.tracks[track_id].legs for track_id in TRACK_IDS])
 
-        self.parameters = np.zeros(1, dtype=TASK_DTYPE)
-        record = self.parameters[0]
-        record["rudder_limit"] = self.rudder_limit
-        record["full_rudder_rate_per_speed"] = self.full_rudder_rate_per_speed
-        record["length"] = self.model.length
-        record["cross_track_weight"] = self.cross_track_weight
-        record["rudder_travel_weight"] = self.rudder_travel_weight
-        record["score_interval"] = SCORE_INTERVAL
-        record["track_preview"] = track_preview
+        #: The task's constants as the compiled update reads them.
+        self.parameters = self.parameter_record(
+            length=self.model.length,
+            cross_track_weight=self.cross_track_weight,
+            rudder_travel_weight=self.rudder_travel_weight,
+            line_of_sight_weight=self.line_of_sight_weight,
+            score_interval=SCORE_INTERVAL,
+            track_preview=track_preview,
+        )
         #: What the compiled update reads besides the simulator's and the batch's arrays.
         self.kernel_arguments = (self.parameters, self.sensors, self.track_legs)
         low, high = OBSERVATION_LOW, OBSERVATION_HIGH
@@ -246,25 +231,23 @@ class TrackFollowTask(ShipTask):
         else:
             disturbance = self.disturbance
             conditions = THESIS_CONDITIONS if disturbance == "thesis" else CALM
-        return TrackScenario(track, disturbance, conditions, seed, float(self.tracks[track].courses[0]))
+        return TrackScenario(disturbance, conditions, seed, track, float(self.tracks[track].courses[0]))
 
 
 @kernel
-def update_ship(
-    i, restarted_only, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks
-):
+def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics, task, sensors, tracks):
     """Follow, measure, observe and reward ship ``i`` after a step (or after a restart, reward 0).
 
     The leg advances when the true position crosses the bisector of the leg's end corner; the
     episode terminates when it crosses the perpendicular at the last waypoint. Reward:
-    -(w_x (e / L)^2 + w_d |delta - delta_prev| / delta_max) with e the true cross-track error
-    (e / L clipped to +-``CROSS_TRACK_BOUND``, as in the observation).
+    -(w_x (e / L)^2 + w_d |delta - delta_prev| / delta_max + w_s |wrap(beta - chi)| / pi) with e the
+    true cross-track error (e / L clipped to +-``CROSS_TRACK_BOUND``, as in the observation), beta
+    the bearing of the track point ``LOOKAHEAD`` ship lengths ahead and chi the course over ground
+    over the step, both of the true position (the last term only with ``line_of_sight_weight``).
     The observation comes from the measurements (the latest fix, compass, gyro, log).
     """
     episode = episodes[i]
     restarted = episode["restarted"]
-    if restarted_only and not restarted:
-        return
     p = task[0]
     state = states[i]
     legs = tracks[episode["track"]]
@@ -275,7 +258,7 @@ def update_ship(
         leg += 1
     episode["leg"] = leg
     episode["terminated"] = leg == last and passed_waypoint(north, east, legs, leg)
-    cross_track = signed_cross_track(north, east, legs)
+    cross_track, nearest_leg, on_arc = nearest_on_track(north, east, legs)
     episode["cross_track_error"] = cross_track
     rudder = state[S.RUDDER]
     if restarted:
@@ -285,16 +268,22 @@ def update_ship(
     else:
         rudder_move = abs(rudder - episode["rudder"])
         relative = min(max(cross_track / p["length"], -CROSS_TRACK_BOUND), CROSS_TRACK_BOUND)
-        episode["reward"] = -(
+        reward = -(
             p["cross_track_weight"] * relative * relative + p["rudder_travel_weight"] * rudder_move / p["rudder_limit"]
         )
+        if p["line_of_sight_weight"] > 0.0:
+            ahead_north, ahead_east = point_ahead(north, east, legs, nearest_leg, on_arc, LOOKAHEAD * p["length"])
+            bearing = math.atan2(ahead_east - east, ahead_north - north)
+            ground_course = math.atan2(east - episode["east"], north - episode["north"])
+            reward -= p["line_of_sight_weight"] * abs(wrap(bearing - ground_course)) / math.pi
+        episode["reward"] = reward
         update_track_metrics(metrics[i], state[S.TIME], cross_track, rudder_move, p["score_interval"])
     episode["rudder"] = rudder
+    episode["north"], episode["east"] = north, east
 
+    measure_and_observe(i, state, conditions, noise_keys, step_index, episode, sensors, restarted, OBS_RATE_OF_TURN, p)
     service_speed = conditions[i, S.SERVICE_SPEED]
     measured = episode["measurement"]
-    measure(state, service_speed, episode["wave_yaw"], noise_keys[i], step_index[i], sensors, restarted, measured)
-
     row = legs[leg]
     fix_north, fix_east = measured[MEASURED_NORTH], measured[MEASURED_EAST]
     if measured[MEASURED_FIX_TIME] == state[S.TIME]:  # a new fix
@@ -312,15 +301,6 @@ def update_ship(
     relative = episode["fix_cross_track_error"] / p["length"]
     observation[OBS_CROSS_TRACK] = min(max(relative, -CROSS_TRACK_BOUND), CROSS_TRACK_BOUND)
     observation[OBS_HEADING_ERROR] = wrap(row[LEG_COURSE] - measured[MEASURED_HEADING]) / math.pi
-    observe_motion(
-        observation,
-        OBS_RATE_OF_TURN,
-        measured,
-        rudder,
-        service_speed,
-        p["full_rudder_rate_per_speed"],
-        p["rudder_limit"],
-    )
     observation[OBS_NEXT_CHANGE] = row[TURN_CHANGE] / math.pi
     to_go_north = (row[LEG_END_NORTH] - fix_north) * row[LEG_DIRECTION_NORTH]
     to_go = to_go_north + (row[LEG_END_EAST] - fix_east) * row[LEG_DIRECTION_EAST]
@@ -334,22 +314,12 @@ def update_ship(
         observation[OBS_PATH_TURN] = min(max(curvature * turn_scale, -2.0), 2.0)
         observation[OBS_ARC_TIME] = min(arc_distance / service_speed / 60.0, ARC_TIME_BOUND)
         observation[OBS_NEXT_TURN] = min(max(next_curvature * turn_scale, -2.0), 2.0)
+        ahead_north, ahead_east = point_ahead(fix_north, fix_east, legs, nearest_leg, on_arc, LOOKAHEAD * p["length"])
+        bearing = math.atan2(ahead_east - fix_east, ahead_north - fix_north)
+        observation[OBS_LINE_OF_SIGHT] = wrap(bearing - measured[MEASURED_HEADING]) / math.pi
 
 
-@kernel
-def update_ships(restarted_only, *arrays):
-    """``update_ship`` for every ship of a batch (``arrays``: those of ``update_ship``, borrowed)."""
-    arrays = borrowed(arrays)
-    for i in range(arrays[0].shape[0]):
-        update_ship(i, restarted_only, *arrays)
-
-
-@parallel_kernel
-def update_ships_parallel(restarted_only, *arrays):
-    """``update_ships`` on all cores."""
-    arrays = borrowed(arrays)
-    for i in prange(arrays[0].shape[0]):
-        update_ship(i, restarted_only, *arrays)
+update_ships, update_ships_parallel = define_update_loops(globals())
 
 
 class TrackFollowBatch(ShipBatch):
@@ -360,12 +330,10 @@ class TrackFollowBatch(ShipBatch):
     ``metrics`` the running track metrics (the score).
     """
 
+    task_fields = TASK_FIELDS
     metrics_dtype = TRACK_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
-
-    def __init__(self, task: TrackFollowTask, num_ships: int) -> None:
-        super().__init__(task, num_ships, TASK_FIELDS)
 
     def start_episode(self, episode: np.void, scenario: TrackScenario) -> None:
         episode["track"] = TRACK_IDS.index(scenario.track)

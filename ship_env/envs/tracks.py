@@ -358,6 +358,56 @@ def path_ahead(north, east, legs, leg, on_arc):
 
 
 @kernel
+def point_ahead(north, east, legs, leg, on_arc, distance):
+    """The point of a reference track ``distance`` m along it past its nearest point to (north, east)
+    (``leg`` and ``on_arc`` of :func:`nearest_on_track`): (north, east) m, past the last waypoint
+    on the last leg's line. A line-of-sight point: its bearing turns before the track does."""
+    row = legs[leg]
+    last = legs.shape[0] - 1
+    if not on_arc:
+        d_north, d_east = row[LEG_DIRECTION_NORTH], row[LEG_DIRECTION_EAST]
+        to_go = max((row[STRAIGHT_END_NORTH] - north) * d_north + (row[STRAIGHT_END_EAST] - east) * d_east, 0.0)
+        if distance <= to_go or leg == last:
+            back = to_go - distance
+            return row[STRAIGHT_END_NORTH] - back * d_north, row[STRAIGHT_END_EAST] - back * d_east
+        distance -= to_go
+        swept = 0.0
+    else:
+        turn = 1.0 if row[TURN_CHANGE] > 0.0 else -1.0
+        start_north = row[STRAIGHT_END_NORTH] - row[TURN_CENTRE_NORTH]
+        start_east = row[STRAIGHT_END_EAST] - row[TURN_CENTRE_EAST]
+        w_north, w_east = north - row[TURN_CENTRE_NORTH], east - row[TURN_CENTRE_EAST]
+        swept = turn * math.atan2(
+            start_north * w_east - start_east * w_north, start_north * w_north + start_east * w_east
+        )
+        swept = min(max(swept, 0.0), abs(row[TURN_CHANGE]))
+    while True:
+        row = legs[leg]
+        radius, change = row[TURN_RADIUS], row[TURN_CHANGE]
+        turn = 1.0 if change > 0.0 else -1.0
+        arc_left = radius * (abs(change) - swept)
+        if distance <= arc_left:
+            start = math.atan2(
+                row[STRAIGHT_END_EAST] - row[TURN_CENTRE_EAST], row[STRAIGHT_END_NORTH] - row[TURN_CENTRE_NORTH]
+            )
+            radial = start + turn * (swept + distance / radius)
+            return row[TURN_CENTRE_NORTH] + radius * math.cos(radial), row[TURN_CENTRE_EAST] + radius * math.sin(radial)
+        distance -= arc_left
+        leg += 1
+        row = legs[leg]
+        straight = (row[STRAIGHT_END_NORTH] - row[STRAIGHT_START_NORTH]) * row[LEG_DIRECTION_NORTH] + (
+            row[STRAIGHT_END_EAST] - row[STRAIGHT_START_EAST]
+        ) * row[LEG_DIRECTION_EAST]
+        if distance <= straight or leg == last:
+            return (
+                row[STRAIGHT_START_NORTH] + distance * row[LEG_DIRECTION_NORTH],
+                row[STRAIGHT_START_EAST] + distance * row[LEG_DIRECTION_EAST],
+            )
+        distance -= straight
+        swept = 0.0
+
+
+@kernel
 def passed_waypoint(north, east, legs, leg):
     """Whether (north, east) is past the end of leg ``leg``: across the bisector of its corner with the
     next leg (the line through the waypoint and the turn's centre), or across the perpendicular at the

@@ -3,19 +3,21 @@
 The environments sail the ship of their preset (the *nominal* ship, the one the classic
 autopilots are designed for). With ``ship_variation`` each episode sails a ship drawn around it:
 
-- ``yaw_gain``: K* as a multiple of the preset's (2.54), drawn log-uniformly;
-- ``yaw_time_constant``: tau* as a multiple of the preset's (2.54), log-uniformly and independently
-  of K*;
+- ``yaw``: K* and tau* together as multiples of the preset's (2.54), drawn log-uniformly (a ship
+  that answers its rudder more strongly also takes longer to stop turning: the leaderboard's
+  robustness conditions scale both);
+- ``yaw_gain``, ``yaw_time_constant``: K* and tau* each once more, log-uniformly and independently;
 - ``speed``: the service speed U0 as a fraction of the preset's, uniformly;
 - ``disturbance``: the wind speed, current speed and significant wave height of the episode's
   weather as multiples of those drawn, uniformly.
 
-``ship_variation=True`` takes :data:`DEFAULT_SHIP_VARIATION`: K*, tau* x0.5 .. x2 (the
-leaderboard's robustness conditions are the ends: both halved, both doubled), speed 0.5 .. 1.0 U0,
-weather x0.5 .. x1.5. A mapping gives the ranges ``{"yaw_gain": [0.5, 2.0], ...}``; a key left out
-stays nominal. The draws come from the environment's generator after the task's own, so with
-``ship_variation`` off (the default) an id's episodes are what they always were, and with it on a
-seed gives the same task episode (course change, weather, track) on the ship drawn.
+``ship_variation=True`` takes :data:`DEFAULT_SHIP_VARIATION`: K*, tau* together x0.5 .. x2 (the
+leaderboard's robustness conditions are the ends: both halved, both doubled), each apart x0.8 ..
+x1.25 more, speed 0.5 .. 1.0 U0, weather x0.5 .. x1.5. A mapping gives the ranges ``{"yaw": [0.5,
+2.0], ...}``; a key left out stays nominal. The draws come from the environment's generator after
+the task's own, so with ``ship_variation`` off (the default) an id's episodes are what they always
+were, and with it on a seed gives the same task episode (course change, weather, track) on the ship
+drawn.
 
 The ships of one vector environment differ at once: K* and tau* reach the simulator as per-ship
 :class:`~ship_env.model.Conditions` (``yaw_gain_factor``, ``yaw_time_constant_factor``), not as the
@@ -36,15 +38,18 @@ from ship_env.model import Conditions
 
 #: The varied quantities and the ranges ``ship_variation=True`` draws them from.
 DEFAULT_SHIP_VARIATION: dict[str, tuple[float, float]] = {
-    "yaw_gain": (0.5, 2.0),
-    "yaw_time_constant": (0.5, 2.0),
+    "yaw": (0.5, 2.0),
+    "yaw_gain": (0.8, 1.25),
+    "yaw_time_constant": (0.8, 1.25),
     "speed": (0.5, 1.0),
     "disturbance": (0.5, 1.5),
 }
 #: Uniform numbers a varied episode draws, one per quantity.
 VARIATION_DRAWS = len(DEFAULT_SHIP_VARIATION)
 #: The smallest factor a range may hold: a ship with no rudder effect, no inertia or no speed has no model.
-_SMALLEST_FACTOR = {"yaw_gain": 1e-3, "yaw_time_constant": 1e-3, "speed": 1e-3, "disturbance": 0.0}
+_SMALLEST_FACTOR = {"yaw": 1e-3, "yaw_gain": 1e-3, "yaw_time_constant": 1e-3, "speed": 1e-3, "disturbance": 0.0}
+#: The factors drawn log-uniformly (the others uniformly).
+_LOG_UNIFORM = ("yaw", "yaw_gain", "yaw_time_constant")
 
 
 @dataclass(frozen=True)
@@ -73,7 +78,8 @@ class ShipVariation:
 
     Args:
         ranges: ``True`` (:data:`DEFAULT_SHIP_VARIATION`), or quantity -> (low, high) with
-            0 < low <= high (``disturbance`` may start at 0: still water and air).
+            0 < low <= high (``disturbance`` may start at 0: still water and air); a quantity
+            left out stays nominal (1, 1).
     """
 
     def __init__(self, ranges: bool | Mapping[str, Sequence[float]]) -> None:
@@ -90,15 +96,23 @@ class ShipVariation:
         }
 
     def draw(self, rng: np.random.Generator) -> ShipFactors:
-        """A ship from ``VARIATION_DRAWS`` uniforms of ``rng``: K*, tau* log-uniform, speed and weather uniform."""
+        """A ship from ``VARIATION_DRAWS`` uniforms of ``rng``: the yaw factors log-uniform, speed and
+        weather uniform; K* = yaw * yaw_gain, tau* = yaw * yaw_time_constant."""
         draws = rng.random(VARIATION_DRAWS).tolist()
         factors = {}
         for (name, (low, high)), draw in zip(self.ranges.items(), draws, strict=True):
-            if name in ("yaw_gain", "yaw_time_constant"):
+            if name in _LOG_UNIFORM:
                 factors[name] = math.exp(math.log(low) + (math.log(high) - math.log(low)) * draw)
             else:
                 factors[name] = low + (high - low) * draw
-        return ShipFactors(**factors)
+        yaw = factors.pop("yaw")
+        return ShipFactors(
+            **{
+                **factors,
+                "yaw_gain": yaw * factors["yaw_gain"],
+                "yaw_time_constant": yaw * factors["yaw_time_constant"],
+            }
+        )
 
 
 def sailed_conditions(conditions: Conditions, ship: ShipFactors, service_speed: float) -> Conditions:

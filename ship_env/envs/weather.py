@@ -1,6 +1,6 @@
 """The wind, current and waves an episode is sailed in, drawn at a disturbance level.
 
-Shared by the course-change and course-keeping tasks. Directions follow the simulator's
+Shared by the course-change and course-keeping tasks (:class:`WeatherTask`). Directions follow the simulator's
 conventions (:class:`~ship_env.model.Conditions`): the wind and the waves come *from* their
 direction, the current sets *towards* its direction; angles in radians clockwise from north.
 """
@@ -8,10 +8,12 @@ direction, the current sets *towards* its direction; angles in radians clockwise
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
-from ship_env.envs.checks import check_range
+from ship_env.envs.checks import check_choice, check_range
+from ship_env.envs.task import ShipTask
 from ship_env.model import Conditions
 
 #: Disturbance levels; ``"random"`` draws one of them per episode.
@@ -91,3 +93,47 @@ def check_conditions(name: str, conditions: object) -> Conditions:
     if conditions.service_speed is not None and conditions.service_speed <= 0.0:
         raise ValueError(f"{name}.service_speed: must be positive, got {conditions.service_speed!r}")
     return conditions
+
+
+class WeatherTask(ShipTask):
+    """A task sailed in weather drawn at a disturbance level: its options and its weather draw.
+
+    Args:
+        disturbance: ``"calm"``, ``"wind_current"``, ``"wind_current_waves"`` or ``"random"``
+            (one of the three per episode).
+        wind_speed_range, current_speed_range: m/s, drawn uniformly.
+        wave_height_range, wave_period_range: significant height (m) and peak period (s).
+        **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`);
+            ``effects=None`` takes the preset's defaults, plus ``wave_filter`` and
+            ``wave_spectrum`` when ``disturbance`` can bring waves.
+    """
+
+    def __init__(
+        self,
+        *,
+        disturbance: str,
+        wind_speed_range: tuple[float, float] = (5.0, 10.0),
+        current_speed_range: tuple[float, float] = (0.5, 1.5),
+        wave_height_range: tuple[float, float] = (1.0, 4.0),
+        wave_period_range: tuple[float, float] = (6.0, 10.0),
+        **ship_options: Any,
+    ) -> None:
+        self.disturbance = check_choice("disturbance", disturbance, (*DISTURBANCES, RANDOM_DISTURBANCE))
+        self.weather = WeatherRanges(wind_speed_range, current_speed_range, wave_height_range, wave_period_range)
+        super().__init__(extra_effects=WAVE_EFFECTS if has_waves(disturbance) else (), **ship_options)
+
+    def draw_weather(
+        self, level_draw: float, weather_draws: Sequence[float], options: Mapping[str, Any]
+    ) -> tuple[str, Conditions]:
+        """An episode's disturbance level and conditions: the level uniform over ``DISTURBANCES``
+        (if ``"random"``) from ``level_draw``, the weather from ``WEATHER_DRAWS`` uniforms
+        (:meth:`WeatherRanges.conditions`); ``options`` may pin the ``disturbance`` or give the
+        ``conditions`` (reported as ``"custom"``)."""
+        disturbance = options.get("disturbance", self.disturbance)
+        if disturbance == RANDOM_DISTURBANCE:
+            disturbance = DISTURBANCES[int(level_draw * len(DISTURBANCES))]
+        else:
+            check_choice("options['disturbance']", disturbance, DISTURBANCES)
+        if "conditions" in options:
+            return CUSTOM_DISTURBANCE, check_conditions("options['conditions']", options["conditions"])
+        return disturbance, self.weather.conditions(disturbance, weather_draws)

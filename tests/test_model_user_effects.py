@@ -166,3 +166,28 @@ def test_an_entry_point_registers_an_installed_effect(tmp_path, monkeypatch):
         ImportError, match=r"effect 'broken' from entry point 'broken' \(no_such_module_for_ship_env\): cannot import"
     ):
         EFFECTS.load_entry_points()
+
+
+def test_the_environments_sail_a_registered_effect(plugin):
+    """The Gymnasium environments take it like a built-in (``effects``, ``ship_parameters``)."""
+    import gymnasium as gym
+
+    def headings(loss: float, vector: bool) -> np.ndarray:
+        options = {"effects": [*REQUIRED_EFFECTS, NAME], "ship_parameters": {f"{NAME}.loss": loss}}
+        if vector:
+            envs = gym.make_vec(
+                "ship_env/CourseChange-v0", num_envs=3, vectorization_mode="vector_entry_point", **options
+            )
+            envs.reset(seed=4)
+            for _ in range(60):
+                observation, *_ = envs.step(np.ones((3, 1), dtype=np.float32))
+            return np.asarray(observation)
+        env = gym.make("ship_env/CourseChange-v0", **options)
+        env.reset(seed=4)
+        for _ in range(60):
+            observation, *_ = env.step(np.ones(1, dtype=np.float32))
+        return np.asarray(observation)[np.newaxis]
+
+    without, with_loss = headings(0.0, False), headings(0.8, False)
+    assert not np.array_equal(without, with_loss)  # the lost rudder force changes the course change
+    assert np.array_equal(headings(0.8, True)[0], with_loss[0])  # ship 0 of a batch seeded 4 is the single env

@@ -28,12 +28,14 @@ import hashlib
 import inspect
 import math
 import sys
+import warnings
 from collections.abc import Callable, Sequence
 from functools import cache
 from typing import Any
 
 import numpy as np
 from numba import types
+from numba.core.errors import NumbaIRAssumptionWarning
 from numba.extending import overload
 
 from ship_env.model import contributions
@@ -91,6 +93,8 @@ class _Writer:
         self.fields = set(fields)
         self.checked = checked
         self.lines: list[str] = []
+        #: Contributions computed with the apparent wind: (effect, index) -> the variable holding them.
+        self.early: dict[tuple[str, int], str] = {}
         self.namespace: dict[str, Any] = {"math": math, "relative_wind": relative_wind, "finite": _finite}
 
     def expression(self, argument: str, entry: RegisteredEffect) -> str:
@@ -124,68 +128,123 @@ class _Writer:
             return f"finite({name}({arguments}), {entry.effect.name!r}, {contribution.quantity!r})"
         return f"{name}({arguments})"
 
-    def quantity(self, quantity: str, select: Callable[[RegisteredEffect, int], bool] | None = None) -> None:
-        """Apply the contributions to ``quantity`` (those ``select`` picks), each behind its flag."""
-        for entry in self.entries:
-            for index, contribution in enumerate(entry.contributions):
-                if contribution.quantity != quantity or (select is not None and not select(entry, index)):
-                    continue
-                call = self.call(entry, index)
-                self.lines.append(f'    if p["{entry.effect.flag_name}"]:')
-                if quantity == "ground_velocity":
-                    self.lines.append(f"        added_north, added_east = {call}")
-                    self.lines.append("        north_rate += added_north")
-                    self.lines.append("        east_rate += added_east")
-                elif quantity in entry.arguments(contribution):
-                    self.lines.append(f"        {quantity} = {call}")
-                else:
-                    self.lines.append(f"        {quantity} = {quantity} + {call}")
+    def emit(self, line: str, depth: int = 1) -> None:
+        self.lines.append("    " * depth + line)
+
+    def start(self, quantity: str, depth: int) -> None:
+        """The quantity at its starting value."""
+        if quantity == "ground_velocity":
+            self.emit("north_rate = 0.0", depth)
+            self.emit("east_rate = 0.0", depth)
+        else:
+            self.emit(f"{quantity} = {QUANTITIES[quantity][0]}", depth)
+
+    def apply(self, entry: RegisteredEffect, index: int, depth: int) -> None:
+        """One contribution: added to its quantity, or replacing it where it reads it."""
+        quantity = entry.contributions[index].quantity
+        call = self.call(entry, index)
+        if quantity == "ground_velocity":
+            self.emit(f"added_north, added_east = {call}", depth)
+            self.emit("north_rate += added_north", depth)
+            self.emit("east_rate += added_east", depth)
+        elif quantity in entry.arguments(entry.contributions[index]):
+            self.emit(f"{quantity} = {call}", depth)
+        elif (entry.effect.name, index) in self.early:
+            self.emit(f"{quantity} = {quantity} + {self.early[entry.effect.name, index]}", depth)
+        else:
+            self.emit(f"{quantity} = {quantity} + {call}", depth)
+
+    def quantity(
+        self,
+        quantity: str,
+        depth: int = 1,
+        select: Callable[[RegisteredEffect, int], bool] | None = None,
+        flag_checked: str = "",
+        fresh: bool = True,
+    ) -> None:
+        """Apply the contributions to ``quantity`` (those ``select`` picks), each behind its effect's flag.
+
+        A required effect, or the effect whose flag ``flag_checked`` the code already checked, needs none.
+        A ``fresh`` quantity starts from its value in ``QUANTITIES``, or from a first contribution that
+        always adds (a required effect's) without adding it to 0.
+        """
+        chosen = [
+            (entry, index)
+            for entry in self.entries
+            for index, contribution in enumerate(entry.contributions)
+            if contribution.quantity == quantity and (select is None or select(entry, index))
+        ]
+        if fresh:
+            first = chosen[0] if chosen else None
+            if (
+                first is not None
+                and QUANTITIES[quantity][0] in ("0.0", "(0.0, 0.0)")
+                and (first[0].effect.required or first[0].effect.flag_name == flag_checked)
+                and (first[0].effect.name, first[1]) not in self.early
+                and quantity not in first[0].arguments(first[0].contributions[first[1]])
+            ):
+                target = "north_rate, east_rate" if quantity == "ground_velocity" else quantity
+                self.emit(f"{target} = {self.call(*first)}", depth)
+                chosen = chosen[1:]
+            else:
+                self.start(quantity, depth)
+        for entry, index in chosen:
+            if (entry.effect.name, index) in self.early:
+                # Computed with the wind (0 where its effect is off): added as it stands.
+                self.apply(entry, index, depth)
+            elif entry.effect.required or entry.effect.flag_name == flag_checked:
+                self.apply(entry, index, depth)
+            else:
+                self.emit(f'if p["{entry.effect.flag_name}"]:', depth)
+                self.apply(entry, index, depth + 1)
 
     def reads_wind(self, entry: RegisteredEffect, index: int) -> bool:
         contribution = entry.contributions[index]
         return contribution.quantity not in WIND and bool(set(entry.arguments(contribution)) & set(WIND))
 
     def wind(self) -> None:
-        """The apparent wind, where an effect that reads it is on, with the contributions to it."""
+        """The apparent wind, where an effect that reads it is on, with what reads it.
+
+        The contributions that read it and add to a later quantity are computed here, into a value
+        that stays 0 where their effect is off, and added in their quantity's turn.
+        """
         for name in WIND:
-            self.lines.append(f"    {name} = {QUANTITIES[name][0]}")
-        readers = sorted(
-            {e.effect.flag_name for e in self.entries for i in range(len(e.contributions)) if self.reads_wind(e, i)},
-            key=[e.effect.flag_name for e in self.entries].index,
-        )
+            self.emit(f"{name} = {QUANTITIES[name][0]}")
+        readers = [(e, i) for e in self.entries for i in range(len(e.contributions)) if self.reads_wind(e, i)]
+        flags = list(dict.fromkeys(entry.effect.flag_name for entry, _ in readers))
+        later = [
+            (e, i)
+            for e, i in readers
+            if e.contributions[i].quantity != "ground_velocity"
+            and e.contributions[i].quantity not in e.arguments(e.contributions[i])
+        ]
+        for entry, index in later:
+            self.early[entry.effect.name, index] = f"{entry.effect.name}_{index}_value"
+            self.emit(f"{entry.effect.name}_{index}_value = 0.0")
         if not readers:
             return
-        self.lines.append(f"    if {' or '.join(f'p[{flag!r}]' for flag in readers)}:")
-        self.lines.append(
-            "        relative_wind_speed, cos_wind, sin_wind = relative_wind("
+        self.emit(f"if {' or '.join(f'p[{flag!r}]' for flag in flags)}:")
+        self.emit(
+            "relative_wind_speed, cos_wind, sin_wind = relative_wind("
             f"cos_heading, sin_heading, north_rate, east_rate, conditions[{S.WIND_SPEED}], "
-            f"conditions[{S.WIND_DIRECTION}])"
+            f"conditions[{S.WIND_DIRECTION}])",
+            2,
         )
-        start = len(self.lines)
         for name in WIND:
-            self.quantity(name)
-        self.lines[start:] = ["    " + line for line in self.lines[start:]]
+            self.quantity(name, 2, fresh=False)
+        self.quantity("ground_velocity", 2, self.reads_wind, fresh=False)
+        for entry, index in later:
+            self.emit(f'if p["{entry.effect.flag_name}"]:', 2)
+            self.emit(f"{self.early[entry.effect.name, index]} = {self.call(entry, index)}", 3)
 
     def motion(self) -> None:
         """Sway and the velocity over the ground, the wind, and what reads it."""
-        self.lines.append("    sway_velocity = 0.0")
         self.quantity("sway_velocity")
-        self.lines.append("    north_rate = 0.0")
-        self.lines.append("    east_rate = 0.0")
-        self.quantity("ground_velocity", lambda e, i: not self.reads_wind(e, i))
+        self.quantity("ground_velocity", select=lambda e, i: not self.reads_wind(e, i))
         self.wind()
-        self.quantity("ground_velocity", self.reads_wind)
 
-    def derivative(self) -> str:
-        self.lines.append(_PREAMBLE.rstrip("\n"))
-        self.motion()
-        done = {"sway_velocity", "ground_velocity", *WIND}
-        for quantity, (start, _) in QUANTITIES.items():
-            if quantity in done:
-                continue
-            self.lines.append(f"    {quantity} = {start}")
-            self.quantity(quantity)
-        owners = {state: e.effect.flag_name for e in self.entries for state in e.states}
+    def state_rates(self) -> None:
+        """d/dt of every state: the kinematics, the yaw, and the states effects own (where their owner is on)."""
         rates = {
             S.TIME: "1.0",
             S.NORTH: "north_rate",
@@ -194,20 +253,35 @@ class _Writer:
             S.RATE_OF_TURN: "hull_yaw_acceleration + yaw_acceleration",
             S.RUDDER: "0.0",
         }
-        for index, name in enumerate(S.STATE_NAMES):
-            if index in rates:
-                self.lines.append(f"    out[{index}] = {rates[index]}")
-                continue
-            self.lines.append(f"    out[{index}] = 0.0")
-            if name in owners:
-                self.lines.append(f"    if p[{owners[name]!r}]:")
-                self.lines.append(f"        out[{index}] = {STATE_DERIVATIVES[name]}")
+        for index, rate in rates.items():
+            self.emit(f"out[{index}] = {rate}")
+        owned = [(name, entry) for entry in self.entries for name in entry.states]
+        for index in range(S.STATE_SIZE):
+            if index not in rates:
+                self.emit(f"out[{index}] = 0.0")
+        for owner in dict.fromkeys(entry.effect.name for _, entry in owned):
+            entry = next(e for _, e in owned if e.effect.name == owner)
+            depth = 1 if entry.effect.required else 2
+            if depth == 2:
+                self.emit(f'if p["{entry.effect.flag_name}"]:')
+            for name in entry.states:
+                quantity = STATE_DERIVATIVES[name]
+                self.quantity(quantity, depth, flag_checked=entry.effect.flag_name)
+                self.emit(f"out[{S.STATE_NAMES.index(name)}] = {quantity}", depth)
+
+    def derivative(self) -> str:
+        self.lines.append(_PREAMBLE.rstrip("\n"))
+        self.motion()
+        done = {"sway_velocity", "ground_velocity", *WIND, *STATE_DERIVATIVES.values()}
+        for quantity in QUANTITIES:
+            if quantity not in done:
+                self.quantity(quantity)
+        self.state_rates()
         body = "\n".join(self.lines)
         return f"def derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):\n{body}\n"
 
     def sway(self) -> str:
         self.lines.append(_PREAMBLE.rstrip("\n"))
-        self.lines.append("    sway_velocity = 0.0")
         self.quantity("sway_velocity")
         body = "\n".join(self.lines)
         return f"def sway_velocity(state, conditions, p):\n{body}\n    return sway_velocity\n"
@@ -281,8 +355,15 @@ def sway_velocity(state, conditions, p):
 _JIT_OPTIONS = {"fastmath": False, "error_model": "numpy"}
 
 
-@overload(derivatives, jit_options=_JIT_OPTIONS)
+@overload(derivatives, jit_options=_JIT_OPTIONS, inline="always")
 def _derivatives_overload(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):
+    # The composed derivative is inlined into its compiled callers: called, a batch of minimal ships
+    # steps 3-7 % slower than with the hand-written derivative; inlined, some 10 % faster (one thread,
+    # benchmarks/bench_simulator.py). numba's pedantic SSA check
+    # then warns that the inlined function's variables are "not in scope": a check of numba's own IR,
+    # not of the code (the results are bit for bit the hand-written derivative's). Those warnings
+    # alone, naming the inlined ``derivatives``' variables, are silenced while the caller compiles.
+    warnings.filterwarnings("ignore", r"variable 'derivatives_v\d+_", NumbaIRAssumptionWarning)
     return _implementation("derivatives", p)
 
 

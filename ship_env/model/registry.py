@@ -282,10 +282,12 @@ def _check_parameters(effect: Effect, where: str, builtin: bool) -> None:
 
 def _caller_module() -> str:
     """The module that called :func:`register_effect`, named for error messages."""
-    for frame in inspect.stack()[2:]:
-        module = frame.frame.f_globals.get("__name__", "")
+    frame = inspect.currentframe()
+    while frame is not None:
+        module = frame.f_globals.get("__name__", "")
         if not module.startswith("ship_env.model"):
             return f"module {module}"
+        frame = frame.f_back
     return "unknown module"
 
 

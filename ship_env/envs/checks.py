@@ -19,8 +19,7 @@ def check_number(name: str, value: object, minimum: float = -math.inf, maximum: 
 
 def check_whole_number(name: str, value: object, minimum: int) -> int:
     """``value`` as an int; ``ValueError`` unless it is a whole number of at least ``minimum``."""
-    whole = isinstance(value, (int, np.integer)) and not isinstance(value, bool)
-    if not whole or value < minimum:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
         raise ValueError(f"{name}: expected a whole number of at least {minimum}, got {value!r}")
     return int(value)
 

@@ -140,7 +140,7 @@ def course_change_metrics(
     metrics = np.zeros(1, dtype=METRICS_DTYPE)
     heading_error = course_change - (heading - heading[0])
     _accumulate(metrics[0], time, heading_error, rudder, math.copysign(1.0, course_change), settle_band)
-    return {name: float(metrics[0][name]) for name in METRICS_DTYPE.names}
+    return {name: float(metrics[0][name]) for name in METRICS_DTYPE.names or ()}
 
 
 #: The running metrics of a track-following run.
@@ -219,7 +219,7 @@ def track_metrics(
     time, north, east, rudder = _series("time, north, east, rudder", time, north, east, rudder)
     metrics = np.zeros(1, dtype=TRACK_METRICS_DTYPE)
     _accumulate_track(metrics[0], time, north, east, rudder, track.legs, float(sample_interval))
-    return {name: metrics[0][name].item() for name in TRACK_METRICS_DTYPE.names}
+    return {name: metrics[0][name].item() for name in TRACK_METRICS_DTYPE.names or ()}
 
 
 #: The running metrics of a course-keeping run.
@@ -289,4 +289,4 @@ def course_keeping_metrics(
     heading_error = (course - heading + math.pi) % (2.0 * math.pi) - math.pi
     metrics = np.zeros(1, dtype=COURSE_KEEPING_METRICS_DTYPE)
     _accumulate_course_keeping(metrics[0], heading_error, rudder, float(rudder_weight))
-    return {name: metrics[0][name].item() for name in COURSE_KEEPING_METRICS_DTYPE.names}
+    return {name: metrics[0][name].item() for name in COURSE_KEEPING_METRICS_DTYPE.names or ()}

@@ -111,8 +111,8 @@ class ShipRenderer:
             if guide.heading is None:
                 guide_east, guide_north = guide.east, guide.north
             else:
-                guide_east = [east, east + reach * math.sin(guide.heading)]
-                guide_north = [north, north + reach * math.cos(guide.heading)]
+                guide_east = np.array([east, east + reach * math.sin(guide.heading)])
+                guide_north = np.array([north, north + reach * math.cos(guide.heading)])
             axes.plot(guide_east, guide_north, color="tab:green", linestyle="--", linewidth=1.0, label=guide.label)
         axes.set_xlim(centre_east - 0.5 * span, centre_east + 0.5 * span)
         axes.set_ylim(centre_north - 0.5 * span, centre_north + 0.5 * span)

@@ -48,7 +48,8 @@ class SB3VecEnvAdapter(VecEnv):
         """Reset all sub-environments with the seeds of ``seed()`` and the first sub-environment's options."""
         seeds = None if all(seed is None for seed in self._seeds) else self._seeds
         options = self._options[0] or None
-        observations, _ = self.vector_env.reset(seed=seeds, options=options)
+        # Gymnasium's vector envs (and ship_env's) take one seed per sub-environment, beyond the base's int.
+        observations, _ = self.vector_env.reset(seed=seeds, options=options)  # type: ignore[arg-type]
         self._reset_seeds()
         self._reset_options()
         return observations

@@ -23,7 +23,7 @@ class ShipEnv(Env[np.ndarray, Any]):
     track, hull and rudder, the disturbances and the task's guides (:meth:`render_guides`).
     """
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 30}
+    metadata: dict[str, Any] = {"render_modes": ["human", "rgb_array"], "render_fps": 30}
     task_class: ClassVar[type[ShipTask]]
     batch_class: ClassVar[type[ShipBatch]]
     env_id: ClassVar[str]

@@ -51,7 +51,7 @@ class ShipVectorEnv(VectorEnv):
         **task_options: the task's keywords, as for the single environment.
     """
 
-    metadata: ClassVar[dict[str, Any]] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
+    metadata: dict[str, Any] = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
     task_class: ClassVar[type[ShipTask]]
     batch_class: ClassVar[type[ShipBatch]]
     default_max_episode_steps: ClassVar[int]
@@ -101,7 +101,9 @@ class ShipVectorEnv(VectorEnv):
             )
         mask = mask.copy()
         ships = np.flatnonzero(mask)
-        if isinstance(seed, (int, np.integer)) and not isinstance(seed, bool):
+        if isinstance(seed, bool):
+            raise ValueError(f"seed: expected None, an integer or {self.num_envs} seeds, got {seed!r}")
+        if isinstance(seed, (int, np.integer)):
             super().reset(seed=int(seed))
             seeds: list[int | None] = [int(seed) + i for i in range(self.num_envs)]
         elif seed is None:

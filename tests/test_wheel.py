@@ -129,3 +129,9 @@ def test_the_command_line_runs_from_the_wheel(installed: Path, tmp_path: Path):
     assert circle["manoeuvre"] == "turning circle"
     here = turning_circle(ShipModel.minimal("container_226m"), math.radians(35.0))
     assert circle["figures"]["advance"]["value"] == pytest.approx(here.advance, rel=1e-9)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("example", sorted((ROOT / "examples").glob("*.py")), ids=lambda path: path.name)
+def test_the_examples_run_from_the_wheel(installed: Path, example: Path, tmp_path: Path):
+    run(installed / "python", example, cwd=tmp_path)

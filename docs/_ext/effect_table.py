@@ -1,8 +1,10 @@
-"""The ``effect-table`` directive: a table of the model's effects built from their declarations.
+"""The model's effects in the documentation, generated at build time so it cannot drift from the code.
 
-Every registered effect (:data:`ship_env.model.effects.EFFECTS`) gives a row: its name, what it
-models, the thesis equations, its parameters (unit, meaning, range) and whether a model needs it.
-Generated at build time, so the table cannot drift from the code.
+- ``effect-table``: every registered effect (:data:`ship_env.model.effects.EFFECTS`) gives a row:
+  its name, what it models, the thesis equations, its parameters (unit, meaning, range) and
+  whether a model needs it.
+- ``effect-modules``: the API of each built-in effect's module
+  (:data:`ship_env.model.effects.LIBRARY`), in the order they register.
 """
 
 from __future__ import annotations
@@ -71,6 +73,16 @@ class EffectTable(SphinxDirective):
         return [nodes.table("", group, classes=["effect-table"])]
 
 
+class EffectModules(SphinxDirective):
+    """``.. effect-modules::`` (no arguments): ``automodule`` of each built-in effect's module."""
+
+    def run(self) -> list[nodes.Node]:
+        from ship_env.model.effects import LIBRARY
+
+        return self.parse_text_to_nodes("\n".join(f".. automodule:: {module.__name__}" for module in LIBRARY))
+
+
 def setup(app: Sphinx) -> dict[str, object]:
     app.add_directive("effect-table", EffectTable)
+    app.add_directive("effect-modules", EffectModules)
     return {"parallel_read_safe": True, "parallel_write_safe": True}

@@ -96,8 +96,14 @@ def test_beats_only_when_the_interval_excludes_parity():
     assert clear.improvement.low > PARITY and clear.beats
     text = markdown(table)
     assert "PPO (close) against the best classic autopilot, PD, fixed gains" in text
-    assert text.count("beats it (the interval excludes parity)") == 1
-    assert "does not beat it (the interval does not exclude parity, 0.5)" in text
+    assert text.count("beats it (the interval lies above parity, 0.5)") == 1
+    assert "does not beat it (the interval includes parity, 0.5)" in text
+
+
+def test_a_clearly_worse_entrant_is_said_to_be_worse():
+    (comparison,) = comparisons(table := _board(_learned("PPO (worse)", 1.3, 0.05)))
+    assert comparison.improvement.high < PARITY and not comparison.beats
+    assert "does not beat it (the interval lies below parity, 0.5: it is worse)" in markdown(table)
 
 
 def test_a_classic_autopilots_interval_comes_from_its_episodes():

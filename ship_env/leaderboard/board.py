@@ -105,7 +105,7 @@ class Leaderboard:
         lines = [
             "### Headline: CourseChange, nominal ship, all seas together",
             "",
-            f"Normalised score: each episode's integrated heading error over {REFERENCES[COURSE_CHANGE]}'s "
+            f"Normalised score: each episode's integrated heading error divided by that of {REFERENCES[COURSE_CHANGE]} "
             "(1 = the reference, lower is better); 95 % stratified-bootstrap intervals (rliable) over training "
             "seeds and episodes.",
             "",

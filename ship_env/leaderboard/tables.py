@@ -269,13 +269,15 @@ def markdown(table: Table) -> str:
         lines.append(f"| {s.rank} | {s.entrant} | {s.kind} | {' | '.join(cells)} | {done} | {s.sample} |")
     for c in comparisons(table):
         if c.beats:
-            verdict = "beats it (the interval excludes parity)"
+            verdict = "beats it (the interval lies above parity, 0.5)"
         elif not c.improvement.has_interval:
             verdict = "no verdict (no interval: a single score)"
-        elif not c.improvement.above(PARITY):
-            verdict = "does not beat it (the interval does not exclude parity, 0.5)"
-        else:
+        elif c.improvement.above(PARITY):
             verdict = f"does not beat it (more than x{TRAVEL_ALLOWANCE:g} the rudder travel)"
+        elif c.improvement.high is not None and c.improvement.high < PARITY:
+            verdict = "does not beat it (the interval lies below parity, 0.5: it is worse)"
+        else:
+            verdict = "does not beat it (the interval includes parity, 0.5)"
         lines.append(
             f"\n{c.learned} against the best classic autopilot, {c.classic}: P(improvement) {c.improvement.text(2)}, "
             f"IQM x{c.score_ratio:.3f}, rudder travel x{c.travel_ratio:.2f}: {verdict}."

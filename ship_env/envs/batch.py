@@ -255,7 +255,7 @@ class ShipBatch:
         return {
             "measurement": {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)},
             "state": pick(self.simulator.state, ships),
-            "metrics": {name: metrics[name][ships] for name in self.metrics_dtype.names},
+            "metrics": {name: metrics[name][ships] for name in self.metrics_dtype.names or ()},
             **self.task_info(episodes, ships),
         }
 

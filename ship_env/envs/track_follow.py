@@ -139,6 +139,7 @@ class TrackFollowEnv(ShipEnv):
     * v0: initial version.
     """
 
+    task: TrackFollowTask
     task_class = TrackFollowTask
     batch_class = TrackFollowBatch
     env_id = "ship_env/TrackFollow-v0"

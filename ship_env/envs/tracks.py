@@ -160,8 +160,8 @@ class ReferenceTrack:
 
 def build_track(
     name: str,
-    course_changes: Sequence[float],
-    leg_lengths: Sequence[float],
+    course_changes: Sequence[float] | np.ndarray,
+    leg_lengths: Sequence[float] | np.ndarray,
     starboard_radius: float,
     port_radius: float,
     first_course: float = 0.0,

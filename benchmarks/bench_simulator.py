@@ -16,7 +16,7 @@ The JIT is warmed up before timing (compile time excluded); each figure is the m
 repeats, each repeat long enough for a stable figure. Other load on the machine lowers the
 figures; the 1-minute load average at the start is printed.
 
-Run:  python benchmarks/bench_simulator.py [--quick] [--json FILE]
+Run:  python benchmarks/bench_simulator.py [--quick] [--sizes 1,1024,16384,100000] [--json FILE]
 """
 
 from __future__ import annotations
@@ -404,10 +404,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true", help="shorter runs and fewer repeats (about a minute)")
     parser.add_argument("--json", metavar="FILE", help="also write the results to FILE as JSON")
     parser.add_argument("--no-profile", action="store_true", help="skip the effect-by-effect profile")
+    parser.add_argument(
+        "--sizes",
+        type=lambda text: tuple(int(size) for size in text.split(",")),
+        default=BATCH_SIZES,
+        metavar="N[,N]",
+        help=f"batch sizes to time (default: {','.join(map(str, BATCH_SIZES))})",
+    )
     args = parser.parse_args(argv)
     arguments = sys.argv[1:] if argv is None else list(argv)
     command = " ".join(["python", "benchmarks/bench_simulator.py", *arguments])
-    results = run(quick=args.quick, with_profile=not args.no_profile)
+    results = run(quick=args.quick, sizes=args.sizes, with_profile=not args.no_profile)
     results["command"] = command
     print(format_report(results, command))
     if args.json:

@@ -66,6 +66,10 @@ FOLD_METHODS = ("linearised", "refit")
 DIFFERENCE_STEP = 1e-4
 
 
+#: A replay of a batch: (point, run, track replay?).
+Request = tuple[int, int, bool]
+
+
 class FitError(ValueError):
     """A fit that cannot be set up (unknown term, an effect not in the model, too few runs)."""
 
@@ -166,6 +170,9 @@ class Problem:
         self._has_position = [log.has_position for log in self.logs]
         self._nuisance = [NUISANCE[name] for name in options.nuisance]
         self._cache: tuple[np.ndarray, np.ndarray] | None = None
+        self._edges = np.concatenate([[0], np.cumsum([self.residual_length(run) for run in range(len(self.logs))])])
+        # Per term, whether it moves the free and the track replay (None until it moves one).
+        self._moves: list[tuple[bool, bool] | None] = [None] * len(self.terms)
         self.evaluations = 0
 
     # -- the unknowns ----------------------------------------------------------------------------
@@ -226,31 +233,28 @@ class Problem:
         self.evaluations += 1
         return replay(self.runs, records, tasks)
 
-    def _run_residual(self, run: int, free: np.ndarray, track: np.ndarray | None) -> np.ndarray:
+    def _free_part(self, run: int, free: np.ndarray) -> np.ndarray:
+        """The weighted heading and rate-of-turn residual of a free replay."""
         log = self.logs[run]
         scales = self.options.scales
-        count = log.samples
-        parts = [(free[:count, HEADING] - log.heading) / scales.heading]
+        parts = [(free[: log.samples, HEADING] - log.heading) / scales.heading]
         if log.rate_of_turn is not None:
-            parts.append((free[:count, RATE] - log.rate_of_turn) / scales.rate_of_turn)
-        if track is not None:
-            parts.append((track[:count, NORTH] - log.north) / scales.position)
-            parts.append((track[:count, EAST] - log.east) / scales.position)
+            parts.append((free[: log.samples, RATE] - log.rate_of_turn) / scales.rate_of_turn)
         return np.concatenate(parts)
 
-    def _requests(self, point: int, runs: Sequence[int], with_track: bool = True) -> list[tuple[int, int, bool]]:
-        requests = [(point, run, False) for run in runs]
-        if with_track:
+    def _track_part(self, run: int, track: np.ndarray) -> np.ndarray:
+        """The weighted north and east residual of a track replay."""
+        log = self.logs[run]
+        position = self.options.scales.position
+        return np.concatenate(
+            [(track[: log.samples, NORTH] - log.north) / position, (track[: log.samples, EAST] - log.east) / position]
+        )
+
+    def _requests(self, point: int, runs: Sequence[int], free: bool = True, track: bool = True) -> list[Request]:
+        requests = [(point, run, False) for run in runs] if free else []
+        if track:
             requests += [(point, run, True) for run in runs if self._has_position[run]]
         return requests
-
-    def _residual_blocks(
-        self, requests: Sequence[tuple[int, int, bool]], outputs: np.ndarray
-    ) -> dict[tuple[int, int], np.ndarray]:
-        """Residual of each (point, run) among the requests."""
-        free = {(p, run): outputs[i] for i, (p, run, track) in enumerate(requests) if not track}
-        track = {(p, run): outputs[i] for i, (p, run, track) in enumerate(requests) if track}
-        return {key: self._run_residual(key[1], value, track.get(key)) for key, value in free.items()}
 
     def residual(self, x: np.ndarray) -> np.ndarray:
         """The weighted residual vector of all runs at ``x``."""
@@ -258,18 +262,34 @@ class Problem:
             return self._cache[1]
         requests = self._requests(0, range(len(self.logs)))
         outputs, _ = self._outputs([x], requests)
-        blocks = self._residual_blocks(requests, outputs)
-        vector = np.concatenate([blocks[(0, run)] for run in range(len(self.logs))])
+        vector = np.empty(self._edges[-1])
+        for i, (_, run, track) in enumerate(requests):
+            vector[self._rows(run, track)] = (
+                self._track_part(run, outputs[i]) if track else self._free_part(run, outputs[i])
+            )
         self._cache = (x.copy(), vector)
         return vector
 
+    def _rows(self, run: int, track: bool) -> slice:
+        """The rows of a run's free (heading, rate) or track (north, east) residual."""
+        first, stop = self._edges[run], self._edges[run + 1]
+        split = stop - 2 * self.logs[run].samples if self._has_position[run] else stop
+        return slice(split, stop) if track else slice(first, split)
+
     def jacobian(self, x: np.ndarray) -> np.ndarray:
-        """Forward differences, all perturbations in one batch; a nuisance term moves only its run."""
+        """Forward differences, all perturbations in one batch; a nuisance term moves only its run's free replay.
+
+        A term that leaves the free replay (heading, rate of turn) or the track replay alone -- a
+        current moves only the track, a yaw gain only the heading, the track being replayed on the
+        measured heading -- leaves its part of the Jacobian exactly zero: after the first Jacobian
+        those replays are no longer run. (A term that moves nothing yet, such as a time constant whose
+        gain is at zero, is tried on both until it moves one.)
+        """
         base = self.residual(x)
         _, upper = self.bounds()
         steps = np.where(x + DIFFERENCE_STEP <= upper, DIFFERENCE_STEP, -DIFFERENCE_STEP)
         points = []
-        requests: list[tuple[int, int, bool]] = []
+        requests: list[Request] = []
         all_runs = range(len(self.logs))
         per_run = len(self._nuisance)
         for j in range(self.size):
@@ -277,20 +297,22 @@ class Problem:
             shifted[j] += steps[j]
             points.append(shifted)
             if j < len(self.terms):
-                requests += self._requests(j, all_runs)
+                requests += self._requests(j, all_runs, *(self._moves[j] or (True, True)))
             else:
-                requests += self._requests(j, [(j - len(self.terms)) // per_run], with_track=False)
+                requests += self._requests(j, [(j - len(self.terms)) // per_run], track=False)
         outputs, _ = self._outputs(points, requests)
-        blocks = self._residual_blocks(requests, outputs)
-        bounds = np.concatenate([[0], np.cumsum([self.residual_length(run) for run in all_runs])])
         matrix = np.zeros((len(base), self.size))
-        for (j, run), block in blocks.items():
-            rows = slice(bounds[run], bounds[run + 1])
-            changed = block
-            if j >= len(self.terms) and self._has_position[run]:
-                # Nuisance terms leave the track replay alone: keep its part of the base residual.
-                changed = np.concatenate([block, base[rows][len(block) :]])
-            matrix[rows, j] = (changed - base[rows]) / steps[j]
+        for i, (j, run, track) in enumerate(requests):
+            rows = self._rows(run, track)
+            part = self._track_part(run, outputs[i]) if track else self._free_part(run, outputs[i])
+            matrix[rows, j] = (part - base[rows]) / steps[j]
+        track_rows = np.zeros(len(base), dtype=bool)
+        for run in all_runs:
+            track_rows[self._rows(run, True)] = True
+        for j in range(len(self.terms)):
+            moves = (bool(np.any(matrix[~track_rows, j])), bool(np.any(matrix[track_rows, j])))
+            if self._moves[j] is None and any(moves):
+                self._moves[j] = moves
         return matrix
 
     def residual_length(self, run: int) -> int:

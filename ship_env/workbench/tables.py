@@ -161,22 +161,32 @@ def diagnosis_table(diagnosis: Diagnosis) -> Table:
 
 
 def ladder_table(ladder: Ladder) -> Table:
-    """The error ladder: each model's held-out errors and the score's change from the rung before."""
+    """The error ladder: each model's held-out errors, the score's change from the rung before, and
+    beside them the validation runs' errors and score where there are validation runs."""
     rows = []
     previous = None
+    validated = bool(ladder.rungs[0].validation.validation)
     for rung in ladder.rungs:
         held_out = rung.validation.pooled
         score = held_out.score(ladder.scales)
+        extra: tuple[str, ...] = ()
+        other = rung.validation.pooled_validation
+        if validated and other is not None:
+            extra = (number(math.degrees(other.heading)), number(other.track), number(other.score(ladder.scales)))
         rows.append(
             (
                 rung.label,
                 *error_cells(held_out, ladder.scales),
                 "" if previous is None else f"{100.0 * (score / previous - 1.0):+.0f}%",
+                *extra,
                 rung.title,
             )
         )
         previous = score
-    return Table(("model", *(f"held-out {h}" for h in ERROR_HEADER), "change", "effects / effect added"), tuple(rows))
+    header = ("model", *(f"held-out {h}" for h in ERROR_HEADER), "change")
+    if validated:
+        header += ("validation heading [deg]", "validation track [m]", "validation score")
+    return Table((*header, "effects / effect added"), tuple(rows))
 
 
 def log_table(logs: Sequence[Log]) -> Table:

@@ -135,3 +135,26 @@ def test_fitting_on_valid_segments_ignores_the_rest():
     assert fits[0].values() == fits[1].values()
     for key, value in fits[0].values().items():
         assert value == pytest.approx(truth.model.parameter(key), rel=1e-4)
+
+
+@pytest.mark.parametrize("speed", [0.0, 0.3])
+def test_crossflow_yaw_damping_adds_minus_c_r_abs_r_at_any_speed(speed):
+    """The cross-flow effect's closed form: its yaw acceleration is -c |r| r, whatever the speed."""
+    from ship_env.model import state as S
+    from ship_env.model.dynamics import derivatives
+
+    without = ShipModel(SHIP, REQUIRED_EFFECTS)
+    with_it = without.with_effects("crossflow_yaw")
+    state = np.zeros(S.STATE_SIZE)
+    state[S.RATE_OF_TURN] = -math.radians(2.0)
+    conditions = np.zeros(S.CONDITION_SIZE)
+    conditions[S.SERVICE_SPEED] = speed
+    slopes = []
+    for model in (without, with_it):
+        out = np.zeros(S.STATE_SIZE)
+        derivatives(state, 0.1, conditions, np.zeros(S.NOISE_SIZE), 0.0, model.record[0], out)
+        slopes.append(out[S.RATE_OF_TURN])
+    rate = state[S.RATE_OF_TURN]
+    expected = -with_it.parameter("crossflow_yaw.coefficient") * abs(rate) * rate
+    assert slopes[1] - slopes[0] == pytest.approx(expected, rel=1e-12)
+    assert with_it.envelope.minimum_speed == 0.0 and without.envelope.minimum_speed == pytest.approx(0.1)

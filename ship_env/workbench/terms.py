@@ -33,6 +33,7 @@ CURRENT_TERMS = ("current.north", "current.east")
 DEFAULT_TERMS: dict[str, tuple[str, ...]] = {
     "yaw": ("yaw.gain", "yaw.time_constant"),
     "norrbin": ("norrbin.cubic", "norrbin.odd_quadratic"),
+    "crossflow_yaw": ("crossflow_yaw.coefficient",),
     "asymmetry": ("asymmetry.side_force", "asymmetry.quadratic"),
     "speed_loss": ("speed_loss.gain", "speed_loss.time_constant"),
     "sway": ("sway.linear",),
@@ -68,6 +69,7 @@ _RULES: dict[str, TermRule] = {
     "yaw.gain": TermRule(0.01, 50.0),
     "yaw.time_constant": TermRule(0.01, 100.0),
     "yaw.linear": TermRule(-5.0, 5.0),
+    "crossflow_yaw.coefficient": TermRule(0.0, 1000.0, 0.0, 0.1),
     "asymmetry.side_force": TermRule(-1.0, 1.0, 0.0, 0.001),
     "asymmetry.constant": TermRule(-2.0, 2.0, 0.0, 0.01),
     "asymmetry.quadratic": TermRule(-5.0, 5.0, 0.0, 0.1),

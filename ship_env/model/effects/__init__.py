@@ -14,6 +14,7 @@ from __future__ import annotations
 
 from ship_env.model.effects import (
     asymmetry,
+    crossflow_yaw,
     current,
     gusts,
     kinematics,
@@ -45,6 +46,7 @@ LIBRARY = (
     current,
     wind_moment,
     wind_drift,
+    crossflow_yaw,
     gusts,
     wave_filter,
     wave_spectrum,

@@ -21,6 +21,7 @@ import json
 import os
 import subprocess
 import sys
+import textwrap
 import time
 
 ENV_IDS = ("ship_env/CourseChange-v0", "ship_env/CourseKeeping-v0", "ship_env/TrackFollow-v0")
@@ -28,29 +29,15 @@ WAYS = ("generated", "closure")
 
 
 def closure_loops(update_ship):
-    """One serial and one parallel loop around ``update_ship``, shared through a closure."""
-    from numba import prange
+    """The template's two loops (:data:`~ship_env.envs.batch.UPDATE_LOOPS_SOURCE`) around ``update_ship``,
+    bound through a closure instead of the task module's globals."""
+    from ship_env.envs.batch import UPDATE_LOOPS_SOURCE
 
-    from ship_env.model.integrators import borrowed
-    from ship_env.model.kernel import kernel, parallel_kernel
-
-    @kernel
-    def serial(restarted_only, *arrays):
-        arrays = borrowed(arrays)
-        episodes = arrays[4]
-        for i in range(episodes.shape[0]):
-            if episodes[i]["restarted"] or not restarted_only:
-                update_ship(i, *arrays)
-
-    @parallel_kernel
-    def parallel(restarted_only, *arrays):
-        arrays = borrowed(arrays)
-        episodes = arrays[4]
-        for i in prange(episodes.shape[0]):
-            if episodes[i]["restarted"] or not restarted_only:
-                update_ship(i, *arrays)
-
-    return serial, parallel
+    source = "def make(update_ship):\n" + textwrap.indent(UPDATE_LOOPS_SOURCE, "    ")
+    source += "\n    return update_ships, update_ships_parallel\n"
+    namespace: dict = {}
+    exec(compile(source, __file__, "exec"), namespace)
+    return namespace["make"](update_ship)
 
 
 def child(way: str) -> dict[str, float]:

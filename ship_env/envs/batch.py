@@ -11,9 +11,9 @@ the two compiled loops that update every ship after a step, serially and on all 
 Why the loops are generated: numba caches a compiled function by its source file and bytecode, and
 a loop that gets the per-ship update from a closure or an argument is never found in the cache
 (the closure's contents differ in every process): every process would compile the three tasks'
-loops afresh (7 s, against 0.1 s from the cache, on 2 busy cores: ``benchmarks/bench_env_loops.py``).
-So one template's source is compiled into each task module as if written there, and caches like
-the module's own.
+loops afresh (7 to 16 s, against 0.1 to 0.25 s from the cache, on 2 busy cores:
+``benchmarks/bench_env_loops.py``). So one template's source is compiled into each task module as
+if written there, and caches like the module's own.
 
 Each update measures (:func:`ship_env.envs.sensors.measure`), observes, rewards, decides
 termination and keeps the running metrics of every ship, or only of those just restarted.

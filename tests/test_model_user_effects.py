@@ -60,6 +60,17 @@ def test_a_registered_effect_sails_single_and_batched_bit_for_bit(plugin):
     assert without[0, S.RATE_OF_TURN] == pytest.approx(expected / (1.0 - 0.8 * delta), rel=1e-6)
 
 
+def test_a_ship_that_leaves_the_model_names_the_effects_from_outside(plugin):
+    sim = Simulator(ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME], {f"{NAME}.loss": 0.8}))
+    sim.reset(seed=1)
+    sim.state[0, S.RATE_OF_TURN] = math.nan  # as a contribution's NaN would leave it
+    with pytest.raises(
+        FloatingPointError,
+        match=r"rate_of_turn = .*nan.*outside ship_env in the model: rudder_lift_loss \(module test_model_user_",
+    ):
+        sim.step(0.0)
+
+
 def test_its_parameters_come_from_the_ship_yaml_or_its_defaults(plugin, tmp_path):
     assert ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME]).parameter(f"{NAME}.loss") == 0.0  # the declared default
     document = yaml.safe_load((config_dir() / "ships" / f"{SHIP}.yaml").read_text())

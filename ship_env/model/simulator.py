@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 from ship_env.model import noise
 from ship_env.model import state as S
 from ship_env.model.dynamics import sway_velocity
-from ship_env.model.effects import wave_spectrum
+from ship_env.model.effects import EFFECTS, wave_spectrum
 from ship_env.model.integrators import METHODS, new_workspace, step_ship, step_ships, step_ships_parallel
 from ship_env.model.ship import ShipModel
 
@@ -363,9 +363,13 @@ class Simulator:
         ]
         if not bad:
             bad = [f"speed_loss u* = {state[S.SPEED_LOSS]:.3f} > 1 (forward speed negative)"]
+        outside = [
+            f"{name} ({EFFECTS.entry(name).origin})" for name in self.model.effects if not EFFECTS.entry(name).builtin
+        ]
         raise FloatingPointError(
             f"ship {ship} left the model's validity at t = {state[S.TIME]:.1f} s: {', '.join(bad)}; "
             f"check the model's coefficients (e.g. speed_loss.gain for a turn this tight) and the step dt = {self.dt}"
+            + (f"; effects from outside ship_env in the model: {', '.join(outside)}" if outside else "")
         )
 
     # -- reading ---------------------------------------------------------------------------------

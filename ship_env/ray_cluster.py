@@ -9,6 +9,7 @@ Ray's own connection time-out.
 
 from __future__ import annotations
 
+import argparse
 import socket
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -41,6 +42,22 @@ def check_address(address: str) -> None:
         socket.create_connection((host, int(port)), timeout=CONNECT_TIMEOUT_S).close()
     except OSError as error:
         raise RayUnavailable(f"Ray address {address!r}: no Ray cluster answers there ({error})") from None
+
+
+def add_ray_address_argument(parser: argparse.ArgumentParser) -> None:
+    """``--ray-address`` of the commands with ``--backend ray``."""
+    parser.add_argument(
+        "--ray-address",
+        default=None,
+        metavar="ADDRESS",
+        help="the Ray cluster to run on (host:port, ray://host:port or auto; default: a local Ray)",
+    )
+
+
+def check_backend(backend: str, address: str | None) -> None:
+    """``RayUnavailable`` if an address is given for a backend other than Ray."""
+    if address is not None and backend != "ray":
+        raise RayUnavailable(f"{address!r} needs --backend ray")
 
 
 @contextmanager

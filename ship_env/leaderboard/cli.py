@@ -13,6 +13,7 @@ from pathlib import Path
 from ship_env.envs.tracks import TRACK_IDS
 from ship_env.leaderboard.evaluation import BACKENDS
 from ship_env.leaderboard.suites import CONDITIONS, COURSE_CHANGE_DISTURBANCES, SUITE_SPECS, SuiteSpec
+from ship_env.ray_cluster import add_ray_address_argument
 
 _CONDITIONS_BY_SLUG = {condition.slug: condition for condition in CONDITIONS}
 
@@ -55,11 +56,13 @@ def chosen_spec(args: argparse.Namespace) -> SuiteSpec:
 def run_leaderboard_command(args: argparse.Namespace) -> int:
     """Evaluate, print the tables and the wall time, write tables and plots into ``--out``."""
     from ship_env.leaderboard.board import run_leaderboard, write_leaderboard
-    from ship_env.ray_cluster import RayUnavailable
+    from ship_env.ray_cluster import RayUnavailable, check_backend
     from ship_env.rl.policy_file import PolicyFileError
 
-    if args.ray_address is not None and args.backend != "ray":
-        args.command_parser.error(f"argument --ray-address: {args.ray_address!r} needs --backend ray")
+    try:
+        check_backend(args.backend, args.ray_address)
+    except RayUnavailable as error:
+        args.command_parser.error(f"argument --ray-address: {error}")
     try:
         board = run_leaderboard(
             chosen_spec(args),
@@ -140,12 +143,7 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
         default="local",
         help="local: in this process; ray: one Ray task per controller, training seed and suite (default: %(default)s)",
     )
-    parser.add_argument(
-        "--ray-address",
-        default=None,
-        metavar="ADDRESS",
-        help="the Ray cluster to run on (host:port, ray://host:port or auto; default: a local Ray)",
-    )
+    add_ray_address_argument(parser)
     parser.add_argument(
         "--course-changes",
         type=_course_change,

@@ -11,6 +11,7 @@ import shlex
 import time
 from pathlib import Path
 
+from ship_env.ray_cluster import add_ray_address_argument
 from ship_env.rl.agents import ALGORITHMS, DEFAULT_TORCH_THREADS
 from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE, PolicyMetadata
 from ship_env.rl.seeds import BACKENDS, SeedRun
@@ -63,13 +64,15 @@ def seed_runs(args: argparse.Namespace) -> list[SeedRun]:
 
 def run_train(args: argparse.Namespace) -> int:
     """Train each seed, save ``model.zip`` and ``metadata.json`` into its folder, print a summary."""
-    from ship_env.ray_cluster import RayUnavailable
+    from ship_env.ray_cluster import RayUnavailable, check_backend
     from ship_env.rl.agents import load_agent_config
     from ship_env.rl.seeds import train_seeds, trained_already
     from ship_env.rl.training import TENSORBOARD_FOLDER, tensorboard_installed
 
-    if args.ray_address is not None and args.backend != "ray":
-        args.command_parser.error(f"argument --ray-address: {args.ray_address!r} needs --backend ray")
+    try:
+        check_backend(args.backend, args.ray_address)
+    except RayUnavailable as error:
+        args.command_parser.error(f"argument --ray-address: {error}")
     try:
         config = load_agent_config(args.algo, args.env, args.config)
     except ValueError as error:
@@ -177,12 +180,7 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
         help="local: the seeds one after another in this process; ray: one Ray task per seed, the same "
         "weights bit for bit (default: %(default)s)",
     )
-    parser.add_argument(
-        "--ray-address",
-        default=None,
-        metavar="ADDRESS",
-        help="the Ray cluster to run on (host:port, ray://host:port or auto; default: a local Ray)",
-    )
+    add_ray_address_argument(parser)
     parser.add_argument(
         "--config",
         type=Path,

@@ -108,8 +108,8 @@ def classic_entrants(env_ids: Sequence[str]) -> list[Entrant]:
 
 def _training_seeds(policy_files: Sequence[PolicyFile]) -> tuple[int, ...]:
     """The files' training seeds from their metadata; their positions where one has none or two share one."""
-    seeds = [None if policy_file.metadata is None else policy_file.metadata.seed for policy_file in policy_files]
-    if None in seeds or len(set(seeds)) < len(seeds):
+    seeds = [policy_file.metadata.seed for policy_file in policy_files if policy_file.metadata is not None]
+    if len(set(seeds)) < len(policy_files):
         return tuple(range(len(policy_files)))
     return tuple(seeds)
 

@@ -44,12 +44,13 @@ def plot_scores(tables: Sequence[Table], path: Path) -> Path:
         for y, standing in enumerate(standings):
             estimate, colour = standing.normalised, KIND_COLOURS[standing.kind]
             if estimate.has_interval:
-                whiskers = [[estimate.value - estimate.low], [estimate.high - estimate.value]]
+                low, high = estimate.bounds
+                whiskers = [[estimate.value - low], [high - estimate.value]]
                 axes.errorbar(estimate.value, y, xerr=whiskers, fmt="o", color=colour, capsize=3)
             else:
                 axes.plot(estimate.value, y, "o", markerfacecolor="none", color=colour)
         axes.set_yticks(range(len(standings)), [standing.entrant for standing in standings])
-        highs = [s.normalised.high if s.normalised.has_interval else s.normalised.value for s in standings]
+        highs = [s.normalised.bounds[1] for s in standings]
         axes.set_xlim(0.0, 1.1 * max([1.0, *highs]))
         axes.axvline(1.0, color="0.5", linestyle="--", linewidth=1.0)
         axes.set_title(table.suite.name, fontsize="medium")
@@ -70,15 +71,7 @@ def plot_aggregate(
 
     names = list(estimates)
     points = {name: np.array([e.value for e in estimates[name]]) for name in names}
-    intervals = {
-        name: np.array(
-            [
-                [e.low if e.has_interval else e.value for e in estimates[name]],
-                [e.high if e.has_interval else e.value for e in estimates[name]],
-            ]
-        )
-        for name in names
-    }
+    intervals = {name: np.array([e.bounds for e in estimates[name]]).T for name in names}
     figure, panels = plot_utils.plot_interval_estimates(
         points, intervals, metric_names, algorithms=names, xlabel=xlabel, subfigure_width=4.5, row_height=0.5
     )

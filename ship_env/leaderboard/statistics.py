@@ -58,6 +58,13 @@ class Estimate:
     def has_interval(self) -> bool:
         return self.low is not None and self.high is not None
 
+    @property
+    def bounds(self) -> tuple[float, float]:
+        """(low, high), or the value twice without an interval."""
+        if self.low is None or self.high is None:
+            return self.value, self.value
+        return self.low, self.high
+
     def above(self, threshold: float) -> bool:
         """Whether the whole interval lies above ``threshold`` (``False`` without an interval)."""
         return self.low is not None and self.low > threshold

@@ -88,7 +88,7 @@ class AgentConfig:
     policy: str | type = "MlpPolicy"
     env_kwargs: Mapping[str, Any] = field(default_factory=dict)
     normalize: Mapping[str, Any] | None = None
-    env_wrappers: tuple[Callable[[gym.Env], gym.Env], ...] = ()
+    env_wrappers: tuple[Callable[[gym.Env], gym.Wrapper], ...] = ()
     callbacks: tuple[Callable[[], BaseCallback], ...] = ()
     hyperparameters: Mapping[str, Any] = field(default_factory=dict)
     source: Path | None = None

@@ -16,6 +16,7 @@ evaluates ``policy_kwargs`` without this package in scope, so the class is named
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import torch
 from gymnasium import spaces
@@ -49,6 +50,6 @@ class ScaledObservationPolicy(ActorCriticPolicy):
     """PPO's (and A2C's) ``MlpPolicy`` whose features extractor is :class:`ScaledObservation`
     (``features_extractor_kwargs={"scales": [...]}`` gives the factors)."""
 
-    def __init__(self, *args, **kwargs) -> None:
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
         kwargs.setdefault("features_extractor_class", ScaledObservation)
         super().__init__(*args, **kwargs)

@@ -107,6 +107,12 @@ def test_a_clearly_worse_entrant_is_said_to_be_worse():
 
 
 def test_a_classic_autopilots_interval_comes_from_its_episodes():
+    """...and one better than the best on 8 of the 10 episodes improves on it with probability 0.8."""
+    better = CLASSIC_SCORES * np.where(np.arange(10) < 8, 0.99, 1.01)
+    table = rank(SUITE, _results(REFERENCE, "classic", CLASSIC_SCORES) + _results("MRAC", "classic", better))
+    assert table.standing("MRAC").improvement is None  # the best classic autopilot now
+    assert table.standing(REFERENCE).improvement.value == pytest.approx(0.2)
+    assert table.standing(REFERENCE).improvement.low < PARITY
     standing = _board().standing(REFERENCE)
     assert standing.seeds == 1 and standing.sample == "10 episodes (deterministic)"
     assert standing.score.low < metrics.aggregate_iqm(CLASSIC_SCORES) < standing.score.high

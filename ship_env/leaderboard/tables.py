@@ -4,9 +4,8 @@ An entrant's scores on a suite are a (training seeds x episodes) matrix of the s
 metric (a classic autopilot, deterministic, has one row). Each row of a suite's table gives the
 statistics of :mod:`ship_env.leaderboard.statistics`: the IQM of the ranking metric and of the
 normalised score (1 = the environment's reference autopilot) with 95 % stratified-bootstrap
-intervals, and for a learned entrant its probability of improvement over the best classic
-autopilot (the lowest IQM). The other metrics are plain aggregates over all its episodes. Rows are
-ranked by the IQM, lower first (ties by name).
+intervals, and its probability of improvement over the best classic autopilot (the lowest IQM).
+The other metrics are plain aggregates over all its episodes. Rows are ranked by the IQM, lower first (ties by name).
 
 A learned entrant *beats* the best classic autopilot only when the probability of improvement's
 interval lies above parity (0.5) and its rudder travel is at most :data:`TRAVEL_ALLOWANCE` times the
@@ -53,7 +52,7 @@ class Standing:
         score: the IQM of the ranking metric with its interval.
         normalised: the IQM of the normalised score (1 = the reference autopilot) with its interval.
         improvement: the probability of improvement over the best classic autopilot with its
-            interval (learned entrants; ``None`` otherwise).
+            interval (``None`` for that autopilot itself and the human rows).
         values: metric key -> the aggregate over all the episodes (NaN where there is none).
         seeds: the training seeds sailed (1 for a classic autopilot, 0 for a human row).
         episodes: the episodes sailed per seed.
@@ -187,11 +186,11 @@ def rank(suite: Suite, results: Sequence[EpisodeResult]) -> Table:
     )
     classic = [name for name in matrices if kinds[name] == "classic"]
     best = min(classic, key=lambda name: (iqms[name][0].value, name)) if classic else None
-    learned = [name for name in matrices if kinds[name] == "learned"]
+    others = [name for name in matrices if name != best]
     chances = (
         {}
         if best is None
-        else grouped_estimates({n: [improvements(matrices[n], matrices[best])] for n in learned}, ["mean"])
+        else grouped_estimates({n: [improvements(matrices[n], matrices[best])] for n in others}, ["mean"])
     )
     rows = [
         Standing(

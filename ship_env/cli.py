@@ -23,6 +23,7 @@ from tqdm import tqdm
 
 # Learned policies: ``train`` and ``leaderboard`` live in their packages (ship_env.rl, ship_env.leaderboard).
 from ship_env.baselines.online_estimators.cli import add_parser as add_identify_bench_command
+from ship_env.command_line import UsageError, add_command, name_list, number, prepare_outputs, whole_number
 from ship_env.leaderboard.cli import add_parser as add_leaderboard_command
 from ship_env.manoeuvres import (
     ManoeuvreResult,
@@ -59,11 +60,12 @@ from ship_env.workbench import (
     write_report,
 )
 from ship_env.workbench.envelope import MIN_SEGMENT, EnvelopeCheck, check_envelope, inside_logs
-from ship_env.workbench.errors import pooled, run_errors
+from ship_env.workbench.errors import RunErrors, pooled, run_errors
 from ship_env.workbench.fit import NUISANCE
 from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
 from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
+from ship_env.workbench.replay import Simulated
 from ship_env.workbench.signals import past_the_library
 from ship_env.workbench.tables import (
     diagnosis_table,
@@ -86,24 +88,8 @@ EFFECT_SETS: dict[str, Callable[[str], ShipModel]] = {
 PULL_OUT_RUDDER_DEG = 20.0
 
 
-class UsageError(Exception):
-    """A command-line value that is well formed but does not fit the chosen ship."""
-
-    def __init__(self, argument: str, message: str) -> None:
-        super().__init__(message)
-        self.argument = argument
-
-
 # -- argument types: each raises ArgumentTypeError, which argparse reports with the argument --------
-def _positive_number(text: str) -> float:
-    """Read a positive finite number (speed in kn, step in s)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
-    return value
+_positive_number = number("a positive number", above=0.0)
 
 
 def _ship(text: str) -> str:
@@ -113,18 +99,18 @@ def _ship(text: str) -> str:
     raise argparse.ArgumentTypeError(f"unknown ship {text!r}; known: {', '.join(list_ships())} (or a YAML file)")
 
 
+#: Read a comma-separated list of effects (the registry as it is when the arguments are parsed).
+_effect_names = name_list("effect", EFFECTS)
+
+
 def _effects(text: str) -> str:
     """Check an effect set name or a comma-separated list of effects; returns it normalised."""
     if text in EFFECT_SETS:
         return text
-    names = [name.strip() for name in text.split(",") if name.strip()]
-    unknown = [name for name in names if name not in EFFECTS]
-    if unknown or not names:
-        raise argparse.ArgumentTypeError(
-            f"unknown effect {', '.join(map(repr, unknown)) or repr(text)}; use one of {', '.join(EFFECT_SETS)} "
-            f"alone, or a comma-separated list of: {', '.join(EFFECTS)}"
-        )
-    return ",".join(names)
+    try:
+        return ",".join(_effect_names(text))
+    except argparse.ArgumentTypeError as error:
+        raise argparse.ArgumentTypeError(f"{error}; or one of {', '.join(EFFECT_SETS)} alone") from None
 
 
 def _turn_angle(text: str) -> float:
@@ -172,17 +158,6 @@ def _check_rudder(model: ShipModel, argument: str, degrees: float, shown: str) -
         raise UsageError(argument, f"{shown} exceeds the rudder limit of {limit:g} deg of {model.ship.name}")
 
 
-def _prepare_outputs(plot: Path | None, json_file: Path | None) -> None:
-    """Create the plot folder and check the JSON file's folder before any simulation runs."""
-    if plot is not None:
-        try:
-            plot.mkdir(parents=True, exist_ok=True)
-        except OSError as error:
-            raise UsageError("--plot", f"cannot create folder {str(plot)!r}: {error.strerror}") from None
-    if json_file is not None and not json_file.parent.is_dir():
-        raise UsageError("--json", f"folder {str(json_file.parent)!r} does not exist")
-
-
 def run_manoeuvres(args: argparse.Namespace) -> int:
     """``ship-env manoeuvre``: sail the standard manoeuvres, print the figures and IMO criteria."""
     model = _build_model(args.ship, args.effects)
@@ -190,7 +165,7 @@ def run_manoeuvres(args: argparse.Namespace) -> int:
         _check_rudder(model, "--turn-angle", angle, f"{angle:g} deg")
     for rudder, heading in args.zigzag:
         _check_rudder(model, "--zigzag", rudder, f"{rudder:g}/{heading:g}")
-    _prepare_outputs(args.plot, args.json)
+    prepare_outputs(args.plot, args.json)
     settings = TrialSettings(speed=None if args.speed is None else args.speed * KNOT, dt=args.dt)
     pull_out_rudder = min(math.radians(PULL_OUT_RUDDER_DEG), model.rudder_limit)
     tasks: list[tuple[str, Callable[[], ManoeuvreResult]]] = [
@@ -228,7 +203,8 @@ def run_manoeuvres(args: argparse.Namespace) -> int:
 
 def add_manoeuvre_command(subcommands: argparse._SubParsersAction) -> None:
     """Register ``ship-env manoeuvre``."""
-    parser = subcommands.add_parser(
+    parser = add_command(
+        subcommands,
         "manoeuvre",
         help="sail the standard manoeuvres and print their IMO figures",
         description=(
@@ -237,13 +213,12 @@ def add_manoeuvre_command(subcommands: argparse._SubParsersAction) -> None:
             "spiral (Bech). Prints advance, transfer, tactical diameter, overshoot angles, the spiral\n"
             "characteristic and the MSC.137(76) 5.3 criteria with pass or fail."
         ),
-        epilog=(
-            "examples:\n"
-            "  ship-env manoeuvre\n"
-            "  ship-env manoeuvre --effects minimal --turn-angle 35 -35 20 --zigzag 10/10 -10/-10\n"
-            "  ship-env manoeuvre --speed 15 --plot plots/ --json figures.json"
+        examples=(
+            "ship-env manoeuvre",
+            "ship-env manoeuvre --effects minimal --turn-angle 35 -35 20 --zigzag 10/10 -10/-10",
+            "ship-env manoeuvre --speed 15 --plot plots/ --json figures.json",
         ),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        handler=run_manoeuvres,
     )
     # Read "-10/-10" (the mirrored zig-zag) as a value, not an option, as argparse does from
     # Python 3.13 on; before that only plain negative numbers such as "-35" were.
@@ -299,7 +274,6 @@ def add_manoeuvre_command(subcommands: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--json", type=Path, default=None, metavar="FILE", help="write the figures and criteria to FILE as JSON"
     )
-    parser.set_defaults(handler=run_manoeuvres, command_parser=parser)
 
 
 # -- the measurement workbench: fit, compare, diagnose, improve -----------------------------------
@@ -315,46 +289,14 @@ def _workbench_model(text: str) -> str:
     return text if text in WORKBENCH_MODELS else _effects(text)
 
 
-def _effect_names(text: str) -> list[str]:
-    """Read a comma-separated list of effects."""
-    names = [name.strip() for name in text.split(",") if name.strip()]
-    unknown = [name for name in names if name not in EFFECTS]
-    if unknown or not names:
-        raise argparse.ArgumentTypeError(
-            f"unknown effect {', '.join(map(repr, unknown)) or repr(text)}; known: {', '.join(EFFECTS)}"
-        )
-    return names
-
-
 def _names(text: str) -> list[str]:
     """Read a comma-separated list of names (terms, nuisance terms)."""
     return [name.strip() for name in text.split(",") if name.strip()]
 
 
-def _whole_number(text: str, smallest: int = 1) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = smallest - 1
-    if value < smallest:
-        kind = "positive" if smallest == 1 else "non-negative"
-        raise argparse.ArgumentTypeError(f"expected a {kind} whole number, got {text!r}")
-    return value
-
-
-def _count(text: str) -> int:
-    """A whole number, 0 or more."""
-    return _whole_number(text, smallest=0)
-
-
-def _fraction(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1, got {text!r}") from None
-    if not 0.0 <= value < 1.0:
-        raise argparse.ArgumentTypeError(f"expected a number between 0 and 1, got {text!r}")
-    return value
+_whole_number = whole_number(1)
+_count = whole_number(0)
+_fraction = number("a number between 0 and 1", minimum=0.0, below=1.0)
 
 
 def _workbench_setup(args: argparse.Namespace) -> ReplayModel:
@@ -420,7 +362,7 @@ class WorkbenchRuns:
     checks: dict[str, EnvelopeCheck]
 
 
-def _group_of(log: Log, rule: str | None) -> str:
+def _group_of(log: Log, rule: str) -> str:
     """The group of a run under ``--group-by``: its folder, or the part of its name the pattern matches."""
     if rule == "folder":
         return Path(log.source).parent.name
@@ -466,7 +408,9 @@ def _workbench_runs(args: argparse.Namespace, setup: ReplayModel) -> WorkbenchRu
     return WorkbenchRuns(logs, groups, validation, checks)
 
 
-def _print_inside_outside(title: str, logs: Sequence[Log], replays: Sequence, runs: WorkbenchRuns, scales) -> None:
+def _print_inside_outside(
+    title: str, logs: Sequence[Log], replays: Sequence[Simulated], runs: WorkbenchRuns, scales: ErrorScales
+) -> None:
     """RMS errors over the samples inside and outside the envelope, where a run has both."""
     checks = [runs.checks.get(log.name) for log in logs]
     if not any(check is not None and 0.0 < check.share for check in checks):
@@ -519,7 +463,7 @@ def _model_line(setup: ReplayModel, logs: Sequence[Log]) -> str:
 def _fit_json(validation: CrossValidation, scales: ErrorScales, runs: WorkbenchRuns) -> dict:
     fitted = validation.fit
 
-    def errors(errors) -> dict:
+    def errors(errors: RunErrors) -> dict:
         return {**errors.in_display_units(), "score": errors.score(scales), "samples": errors.samples}
 
     document = {
@@ -533,7 +477,7 @@ def _fit_json(validation: CrossValidation, scales: ErrorScales, runs: WorkbenchR
         "in_sample": {e.name: errors(e) for e in (*fitted.errors, fitted.pooled)},
         "held_out": {e.name: errors(e) for e in (*validation.held_out, validation.pooled)},
     }
-    if validation.validation:
+    if validation.validation and validation.pooled_validation is not None:
         document["validation"] = {e.name: errors(e) for e in (*validation.validation, validation.pooled_validation)}
     return document
 
@@ -547,11 +491,16 @@ def _print_validation_runs(validation: CrossValidation, runs: WorkbenchRuns, sca
     _print_inside_outside("validation runs", validation.validation_logs, validation.validation_replays, runs, scales)
 
 
-def run_fit(args: argparse.Namespace) -> int:
-    """``ship-env fit``: fit the model to the logs, validate it leaving one run out."""
+def _workbench_start(args: argparse.Namespace) -> tuple[ReplayModel, FitOptions, WorkbenchRuns]:
+    """A workbench command's model, options and runs, its output files claimed before any work."""
     setup, options = _workbench_setup(args), _workbench_options(args)
     _claim_outputs(args)
-    runs = _workbench_runs(args, setup)
+    return setup, options, _workbench_runs(args, setup)
+
+
+def run_fit(args: argparse.Namespace) -> int:
+    """``ship-env fit``: fit the model to the logs, validate it leaving one run out."""
+    setup, options, runs = _workbench_start(args)
     logs = runs.logs
     keys = _terms(args, setup)
     print(_model_line(setup, logs) + f"; fitted terms: {', '.join(keys)}")
@@ -574,9 +523,7 @@ def run_fit(args: argparse.Namespace) -> int:
 
 def run_compare(args: argparse.Namespace) -> int:
     """``ship-env compare``: replay the logs with a model as it is (no fitting)."""
-    setup, options = _workbench_setup(args), _workbench_options(args)
-    _claim_outputs(args)
-    runs = _workbench_runs(args, setup)
+    setup, options, runs = _workbench_start(args)
     logs = [*runs.logs, *runs.validation]
     print(_model_line(setup, logs))
     comparison = compare(setup, logs, options.initial_window)
@@ -590,8 +537,7 @@ def run_compare(args: argparse.Namespace) -> int:
 
 def run_diagnose(args: argparse.Namespace) -> int:
     """``ship-env diagnose``: rank the effects the model lacks."""
-    setup, options = _workbench_setup(args), _workbench_options(args)
-    runs = _workbench_runs(args, setup)
+    setup, options, runs = _workbench_start(args)
     logs = runs.logs
     print(_model_line(setup, logs))
     validation = cross_validate(
@@ -613,9 +559,7 @@ def run_diagnose(args: argparse.Namespace) -> int:
 
 def run_improve(args: argparse.Namespace) -> int:
     """``ship-env improve``: add effects while the held-out error falls; the error ladder and a report."""
-    setup, options = _workbench_setup(args), _workbench_options(args)
-    _claim_outputs(args)
-    runs = _workbench_runs(args, setup)
+    setup, options, runs = _workbench_start(args)
     logs = runs.logs
     print(_model_line(setup, logs))
     ladder = improve(
@@ -791,25 +735,31 @@ def _add_candidate_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-_WORKBENCH_EPILOG = (
-    "the built-in Esso Osaka data (../shared/data/esso_osaka):\n"
-    "  ship-env fit ../shared/data/esso_osaka/zigzag\n"
-    "  ship-env diagnose ../shared/data/esso_osaka/zigzag\n"
-    "  ship-env fit ../shared/data/esso_osaka/zigzag --add propeller_slipstream,rudder_offset --json fit.json\n"
-    "  ship-env compare ../shared/data/esso_osaka/zigzag --parameters fit.json --plot plots/\n"
-    "  ship-env improve ../shared/data/esso_osaka/zigzag --report report/"
+#: The workbench commands' examples, on the built-in Esso Osaka data.
+WORKBENCH_EXAMPLES = (
+    "ship-env fit ../shared/data/esso_osaka/zigzag",
+    "ship-env diagnose ../shared/data/esso_osaka/zigzag",
+    "ship-env fit ../shared/data/esso_osaka/zigzag --add propeller_slipstream,rudder_offset --json fit.json",
+    "ship-env compare ../shared/data/esso_osaka/zigzag --parameters fit.json --plot plots/",
+    "ship-env improve ../shared/data/esso_osaka/zigzag --report report/",
 )
 
 
 def _workbench_parser(
-    subcommands: argparse._SubParsersAction, name: str, help_text: str, description: str
+    subcommands: argparse._SubParsersAction,
+    name: str,
+    help_text: str,
+    description: str,
+    handler: Callable[[argparse.Namespace], int],
 ) -> argparse.ArgumentParser:
-    return subcommands.add_parser(
+    return add_command(
+        subcommands,
         name,
         help=help_text,
         description=description,
-        epilog="examples, " + _WORKBENCH_EPILOG,
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        examples=WORKBENCH_EXAMPLES,
+        handler=handler,
+        examples_title="examples, the built-in Esso Osaka data (../shared/data/esso_osaka)",
     )
 
 
@@ -822,12 +772,12 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         "Fit the model's parameters to measured runs by output-error simulation (measured rudder, speed,\n"
         "propeller rate and wind in; heading, rate of turn and track out), print them with standard errors,\n"
         "the in-sample errors and the held-out errors of leave-one-run-out cross-validation.",
+        run_fit,
     )
     _add_workbench_arguments(parser)
     parser.add_argument("--per-run", action="store_true", help="also fit each run on its own (in-sample)")
     parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write a held-out PNG per run into DIR")
     parser.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the fit to FILE as JSON")
-    parser.set_defaults(handler=run_fit, command_parser=parser)
 
     parser = _workbench_parser(
         subcommands,
@@ -835,6 +785,7 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         "replay logs with a model and print its RMS errors",
         "Replay each run with the model as it is (preset values, or a fit's JSON), from its measured\n"
         "initial state, and print RMS heading, rate-of-turn, position and track errors per run and pooled.",
+        run_compare,
     )
     _add_workbench_arguments(parser, fitting=False)
     parser.add_argument(
@@ -845,7 +796,6 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         help="the fitted model from 'ship-env fit --json FILE' (replaces --model and --add)",
     )
     parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write a PNG per run into DIR")
-    parser.set_defaults(handler=run_compare, command_parser=parser)
 
     parser = _workbench_parser(
         subcommands,
@@ -854,10 +804,10 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         "Fit and validate the model, then for each effect it lacks: the evidence in the residuals\n"
         "(correlation with the effect's regressors, variance explained) and the held-out error after\n"
         "adding it and refitting; best first.",
+        run_diagnose,
     )
     _add_workbench_arguments(parser)
     _add_candidate_arguments(parser)
-    parser.set_defaults(handler=run_diagnose, command_parser=parser)
 
     parser = _workbench_parser(
         subcommands,
@@ -866,6 +816,7 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         "Start from the model, add the missing effect with the lowest held-out error while it lowers the\n"
         "held-out score by at least --min-gain; print the error ladder and write a Markdown report with\n"
         "its figures.",
+        run_improve,
     )
     _add_workbench_arguments(parser)
     _add_candidate_arguments(parser)
@@ -889,7 +840,6 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         metavar="DIR",
         help="folder for report.md and its figures (default: %(default)s)",
     )
-    parser.set_defaults(handler=run_improve, command_parser=parser)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -916,7 +866,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return args.handler(args)
     except UsageError as error:
-        args.command_parser.error(f"argument {error.argument}: {error}")
+        command_parser: argparse.ArgumentParser = args.command_parser
+        command_parser.error(f"argument {error.argument}: {error}")
     except (LogError, FormatError, FitError, OutputError) as error:
         print(f"ship-env {args.command}: error: {error}", file=sys.stderr)
         return 1

@@ -10,32 +10,13 @@ import argparse
 import dataclasses
 from pathlib import Path
 
+from ship_env.command_line import add_command, number, whole_number
 from ship_env.envs.tracks import TRACK_IDS
 from ship_env.leaderboard.evaluation import BACKENDS
 from ship_env.leaderboard.suites import CONDITIONS, COURSE_CHANGE_DISTURBANCES, SUITE_SPECS, SuiteSpec
 from ship_env.ray_cluster import add_ray_address_argument
 
 _CONDITIONS_BY_SLUG = {condition.slug: condition for condition in CONDITIONS}
-
-
-def _course_change(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a course change in deg, got {text!r}") from None
-    if not 0.0 < value <= 180.0:
-        raise argparse.ArgumentTypeError(f"expected a course change in (0, 180] deg, got {text!r}")
-    return value
-
-
-def _repetitions(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"expected a whole number >= 1, got {text!r}")
-    return value
 
 
 def chosen_spec(args: argparse.Namespace) -> SuiteSpec:
@@ -89,7 +70,8 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
 
 def add_parser(subcommands: argparse._SubParsersAction) -> None:
     """Register ``ship-env leaderboard``."""
-    parser = subcommands.add_parser(
+    parser = add_command(
+        subcommands,
         "leaderboard",
         help="rank the classic autopilots and learned policies on fixed, seeded suites",
         description=(
@@ -105,13 +87,12 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
             "classic autopilot: it beats it only where that interval excludes parity (0.5). The same\n"
             "seeds give the same tables and intervals to the last digit."
         ),
-        epilog=(
-            "examples:\n"
-            "  ship-env leaderboard\n"
-            "  ship-env leaderboard --suite full --backend ray --out leaderboard_full\n"
-            "  ship-env leaderboard --policies runs/CourseChange-v0/ppo --conditions nominal --tracks"
+        examples=(
+            "ship-env leaderboard",
+            "ship-env leaderboard --suite full --backend ray --out leaderboard_full",
+            "ship-env leaderboard --policies runs/CourseChange-v0/ppo --conditions nominal --tracks",
         ),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        handler=run_leaderboard_command,
     )
     parser.add_argument(
         "--suite",
@@ -146,7 +127,7 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
     add_ray_address_argument(parser)
     parser.add_argument(
         "--course-changes",
-        type=_course_change,
+        type=number("a course change in (0, 180] deg", above=0.0, maximum=180.0),
         nargs="+",
         default=None,
         metavar="DEG",
@@ -178,11 +159,10 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--repetitions",
-        type=_repetitions,
+        type=whole_number(1),
         default=None,
         metavar="N",
         help="sail each episode N times with other seeds (default: the suite's)",
     )
     parser.add_argument("--no-plots", action="store_true", help="write the tables only")
     parser.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
-    parser.set_defaults(handler=run_leaderboard_command, command_parser=parser)

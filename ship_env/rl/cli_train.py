@@ -11,6 +11,7 @@ import shlex
 import time
 from pathlib import Path
 
+from ship_env.command_line import add_command, whole_number
 from ship_env.ray_cluster import add_ray_address_argument
 from ship_env.rl.agents import ALGORITHMS, DEFAULT_TORCH_THREADS
 from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE, PolicyMetadata
@@ -18,19 +19,6 @@ from ship_env.rl.seeds import BACKENDS, SeedRun
 
 #: The environment ``--env`` defaults to.
 DEFAULT_ENV = "ship_env/CourseChange-v0"
-
-
-def _whole_number(minimum: int):
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"expected a whole number >= {minimum}, got {text!r}")
-        return value
-
-    return parse
 
 
 def default_out(env_id: str, algo: str) -> Path:
@@ -124,7 +112,8 @@ def _seed_list(text: str) -> tuple[int, ...]:
 
 def add_parser(subcommands: argparse._SubParsersAction) -> None:
     """Register ``ship-env train``."""
-    parser = subcommands.add_parser(
+    parser = add_command(
+        subcommands,
         "train",
         help="train a PPO or SAC policy on an environment",
         description=(
@@ -136,13 +125,12 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
             "A folder that already holds a run is not overwritten without --force. TensorBoard logs go to\n"
             "<out>/tensorboard when tensorboard is installed."
         ),
-        epilog=(
-            "examples:\n"
-            "  ship-env train --algo ppo --env ship_env/CourseChange-v0\n"
-            "  ship-env train --algo ppo --env ship_env/CourseChange-v0 --seeds 0-4 --backend ray\n"
-            "  ship-env train --algo sac --env ship_env/CourseChange-v0 --steps 50000 --seed 3 --out runs/sac3"
+        examples=(
+            "ship-env train --algo ppo --env ship_env/CourseChange-v0",
+            "ship-env train --algo ppo --env ship_env/CourseChange-v0 --seeds 0-4 --backend ray",
+            "ship-env train --algo sac --env ship_env/CourseChange-v0 --steps 50000 --seed 3 --out runs/sac3",
         ),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        handler=run_train,
     )
     parser.add_argument("--algo", choices=list(ALGORITHMS), required=True, help="the algorithm")
     parser.add_argument(
@@ -150,13 +138,13 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--steps",
-        type=_whole_number(1),
+        type=whole_number(1),
         default=None,
         metavar="N",
         help="environment steps to train (default: the config's n_timesteps)",
     )
     seeds = parser.add_mutually_exclusive_group()
-    seeds.add_argument("--seed", type=_whole_number(0), default=0, metavar="S", help="random seed (default: 0)")
+    seeds.add_argument("--seed", type=whole_number(0), default=0, metavar="S", help="random seed (default: 0)")
     seeds.add_argument(
         "--seeds",
         type=_seed_list,
@@ -190,10 +178,9 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
     )
     parser.add_argument(
         "--torch-threads",
-        type=_whole_number(1),
+        type=whole_number(1),
         default=DEFAULT_TORCH_THREADS,
         metavar="N",
         help="torch intra-op threads; 1 is fastest on 2 shared cores (default: %(default)s)",
     )
     parser.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
-    parser.set_defaults(handler=run_train, command_parser=parser)

@@ -8,31 +8,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from pathlib import Path
 
 from ship_env.baselines.online_estimators.scenarios import SCENARIOS, adaptation_trials
-
-
-def _scenarios(text: str) -> list[str]:
-    names = [name.strip() for name in text.split(",") if name.strip()]
-    unknown = [name for name in names if name not in SCENARIOS]
-    if unknown or not names:
-        raise argparse.ArgumentTypeError(
-            f"unknown scenario {', '.join(map(repr, unknown)) or repr(text)}; known: {', '.join(SCENARIOS)}"
-        )
-    return names
-
-
-def _scale(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
-    if not (math.isfinite(value) and 0.05 <= value <= 10.0):
-        raise argparse.ArgumentTypeError(f"expected a factor between 0.05 and 10, got {text!r}")
-    return value
+from ship_env.command_line import add_command, name_list, number, prepare_outputs
 
 
 def run_identify_bench(args: argparse.Namespace) -> int:
@@ -47,13 +27,7 @@ def run_identify_bench(args: argparse.Namespace) -> int:
         scale_label,
     )
 
-    if args.plot is not None:
-        try:
-            args.plot.mkdir(parents=True, exist_ok=True)
-        except OSError as error:
-            args.command_parser.error(f"argument --plot: cannot create folder {str(args.plot)!r}: {error.strerror}")
-    if args.json is not None and not args.json.parent.is_dir():
-        args.command_parser.error(f"argument --json: folder {str(args.json.parent)!r} does not exist")
+    prepare_outputs(args.plot, args.json)
     runs = []
     for name in args.scenarios:
         print(f"sailing {name}{scale_label(args.scale)} ...", file=sys.stderr)
@@ -112,7 +86,8 @@ def run_identify_bench(args: argparse.Namespace) -> int:
 
 def add_parser(subparsers: argparse._SubParsersAction) -> None:
     """Register ``ship-env identify-bench``."""
-    parser = subparsers.add_parser(
+    parser = add_command(
+        subparsers,
         "identify-bench",
         help="compare the on-line identification methods (Perera, Nguyen, Song, Passenier) on the same logs",
         description=(
@@ -123,17 +98,16 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
             "6.1) and the cost per sample; then test stelling 5 (random walk against a forgetting factor\n"
             "matched to the same steady-state noise)."
         ),
-        epilog=(
-            "examples:\n"
-            "  ship-env identify-bench --plot identification/\n"
-            "  ship-env identify-bench --scenarios zigzag,loading-change --no-adaptation\n"
-            "  ship-env identify-bench --scale 0.25 --json bench.json"
+        examples=(
+            "ship-env identify-bench --plot identification/",
+            "ship-env identify-bench --scenarios zigzag,loading-change --no-adaptation",
+            "ship-env identify-bench --scale 0.25 --json bench.json",
         ),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        handler=run_identify_bench,
     )
     parser.add_argument(
         "--scenarios",
-        type=_scenarios,
+        type=name_list("scenario", SCENARIOS),
         default=list(SCENARIOS),
         metavar="NAME[,NAME]",
         help=f"scenarios to run (default: all): {', '.join(SCENARIOS)}",
@@ -141,7 +115,7 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--seed", type=int, default=0, metavar="N", help="noise and rudder seed (default: %(default)s)")
     parser.add_argument(
         "--scale",
-        type=_scale,
+        type=number("a factor between 0.05 and 10", minimum=0.05, maximum=10.0),
         default=1.0,
         metavar="F",
         help="multiply every run's duration (and change time) by F, e.g. 0.25 for a quick look (default: %(default)s)",
@@ -149,4 +123,3 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--no-adaptation", action="store_true", help="leave out the stelling-5 comparison")
     parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write convergence plots (PNG) into DIR")
     parser.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the results to FILE as JSON")
-    parser.set_defaults(handler=run_identify_bench, command_parser=parser)

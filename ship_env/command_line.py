@@ -1,0 +1,115 @@
+"""What the ``ship-env`` subcommands share: their parser, argument types that name the bad value
+and the output options checked before any work (``--ray-address`` is in :mod:`ship_env.ray_cluster`).
+
+Each subcommand's module registers itself with :func:`add_command` and reads its values with the
+types here; an argument type raises ``argparse.ArgumentTypeError``, which argparse reports with
+the argument's name and exit status 2, and a handler raises :class:`UsageError` for a value that is
+well formed but does not fit (``ship_env.cli.main`` reports it the same way).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable, Collection, Sequence
+from pathlib import Path
+
+
+class UsageError(Exception):
+    """A command-line value that is well formed but does not fit (the chosen ship, the file system)."""
+
+    def __init__(self, argument: str, message: str) -> None:
+        super().__init__(message)
+        self.argument = argument
+
+
+def add_command(
+    subcommands: argparse._SubParsersAction,
+    name: str,
+    *,
+    help: str,
+    description: str,
+    examples: Sequence[str],
+    handler: Callable[[argparse.Namespace], int],
+    examples_title: str = "examples",
+) -> argparse.ArgumentParser:
+    """Register subcommand ``name``: its description as written, its examples as the epilog; ``handler``
+    runs it with the parsed arguments (``args.command_parser`` is this parser, for its errors)."""
+    parser = subcommands.add_parser(
+        name,
+        help=help,
+        description=description,
+        epilog=f"{examples_title}:\n" + "\n".join(f"  {example}" for example in examples),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.set_defaults(handler=handler, command_parser=parser)
+    return parser
+
+
+# -- argument types -------------------------------------------------------------------------------
+def number(
+    what: str,
+    *,
+    minimum: float = -math.inf,
+    maximum: float = math.inf,
+    above: float | None = None,
+    below: float | None = None,
+) -> Callable[[str], float]:
+    """An argument type: a finite number in [``minimum``, ``maximum``], and greater than ``above`` and
+    less than ``below`` where given; otherwise "expected ``what``, got '...'"."""
+
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        inside = math.isfinite(value) and minimum <= value <= maximum
+        if not inside or (above is not None and value <= above) or (below is not None and value >= below):
+            raise argparse.ArgumentTypeError(f"expected {what}, got {text!r}")
+        return value
+
+    return parse
+
+
+def whole_number(minimum: int) -> Callable[[str], int]:
+    """An argument type: a whole number of at least ``minimum``."""
+    kind = {0: "a non-negative whole number", 1: "a positive whole number"}.get(minimum, f"a whole number >= {minimum}")
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected {kind}, got {text!r}") from None
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"expected {kind}, got {text!r}")
+        return value
+
+    return parse
+
+
+def name_list(kind: str, known: Collection[str]) -> Callable[[str], list[str]]:
+    """An argument type: comma-separated names, each one of ``known`` (read when parsing, so a live
+    registry may grow); otherwise "unknown ``kind`` '...'; known: ..."."""
+
+    def parse(text: str) -> list[str]:
+        names = [name.strip() for name in text.split(",") if name.strip()]
+        unknown = [name for name in names if name not in known]
+        if unknown or not names:
+            raise argparse.ArgumentTypeError(
+                f"unknown {kind} {', '.join(map(repr, unknown)) or repr(text)}; known: {', '.join(known)}"
+            )
+        return names
+
+    return parse
+
+
+# -- outputs --------------------------------------------------------------------------------------
+def prepare_outputs(plot: Path | None, json_file: Path | None) -> None:
+    """Create the ``--plot`` folder and check the ``--json`` file's folder before any work is done."""
+    if plot is not None:
+        try:
+            plot.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise UsageError("--plot", f"cannot create folder {str(plot)!r}: {error.strerror}") from None
+    if json_file is not None and not json_file.parent.is_dir():
+        raise UsageError("--json", f"folder {str(json_file.parent)!r} does not exist")

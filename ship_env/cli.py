@@ -40,6 +40,7 @@ from ship_env.manoeuvres import (
 )
 from ship_env.manoeuvres.results import KNOT
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
+from ship_env.ray_cluster import RayUnavailable
 from ship_env.rl.cli_train import add_parser as add_train_command
 from ship_env.workbench import (
     ErrorScales,
@@ -868,6 +869,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UsageError as error:
         command_parser: argparse.ArgumentParser = args.command_parser
         command_parser.error(f"argument {error.argument}: {error}")
+    except RayUnavailable as error:  # --backend ray: an address that does not answer, or one without Ray
+        command_parser = args.command_parser
+        command_parser.error(f"argument --ray-address: {error}")
     except (LogError, FormatError, FitError, OutputError) as error:
         print(f"ship-env {args.command}: error: {error}", file=sys.stderr)
         return 1

@@ -37,13 +37,10 @@ def chosen_spec(args: argparse.Namespace) -> SuiteSpec:
 def run_leaderboard_command(args: argparse.Namespace) -> int:
     """Evaluate, print the tables and the wall time, write tables and plots into ``--out``."""
     from ship_env.leaderboard.board import run_leaderboard, write_leaderboard
-    from ship_env.ray_cluster import RayUnavailable, check_backend
+    from ship_env.ray_cluster import check_backend
     from ship_env.rl.policy_file import PolicyFileError
 
-    try:
-        check_backend(args.backend, args.ray_address)
-    except RayUnavailable as error:
-        args.command_parser.error(f"argument --ray-address: {error}")
+    check_backend(args.backend, args.ray_address)
     try:
         board = run_leaderboard(
             chosen_spec(args),
@@ -55,8 +52,6 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
         )
     except PolicyFileError as error:
         args.command_parser.error(f"argument --policies: {error}")
-    except RayUnavailable as error:
-        args.command_parser.error(f"argument --ray-address: {error}")
     print(board.markdown())
     episodes = len(board.results)
     print(

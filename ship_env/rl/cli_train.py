@@ -52,15 +52,12 @@ def seed_runs(args: argparse.Namespace) -> list[SeedRun]:
 
 def run_train(args: argparse.Namespace) -> int:
     """Train each seed, save ``model.zip`` and ``metadata.json`` into its folder, print a summary."""
-    from ship_env.ray_cluster import RayUnavailable, check_backend
+    from ship_env.ray_cluster import check_backend
     from ship_env.rl.agents import load_agent_config
     from ship_env.rl.seeds import train_seeds, trained_already
     from ship_env.rl.training import TENSORBOARD_FOLDER, tensorboard_installed
 
-    try:
-        check_backend(args.backend, args.ray_address)
-    except RayUnavailable as error:
-        args.command_parser.error(f"argument --ray-address: {error}")
+    check_backend(args.backend, args.ray_address)
     try:
         config = load_agent_config(args.algo, args.env, args.config)
     except ValueError as error:
@@ -80,19 +77,16 @@ def run_train(args: argparse.Namespace) -> int:
         )
 
     start = time.perf_counter()
-    try:
-        train_seeds(
-            config,
-            runs,
-            steps=args.steps,
-            torch_threads=args.torch_threads,
-            backend=args.backend,
-            ray_address=args.ray_address,
-            on_done=report,
-            progress_bar=not args.no_progress and len(runs) == 1,
-        )
-    except RayUnavailable as error:
-        args.command_parser.error(f"argument --ray-address: {error}")
+    train_seeds(
+        config,
+        runs,
+        steps=args.steps,
+        torch_threads=args.torch_threads,
+        backend=args.backend,
+        ray_address=args.ray_address,
+        on_done=report,
+        progress_bar=not args.no_progress and len(runs) == 1,
+    )
     if len(runs) > 1:
         print(f"{len(runs)} seeds in {time.perf_counter() - start:.1f} s on the {args.backend} backend")
     print(f"metadata (with the command that repeats each run): {METADATA_FILE} beside each model")

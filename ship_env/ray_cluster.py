@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 import socket
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from contextlib import contextmanager
 from types import ModuleType
 
@@ -44,8 +44,9 @@ def check_address(address: str) -> None:
         raise RayUnavailable(f"Ray address {address!r}: no Ray cluster answers there ({error})") from None
 
 
-def add_ray_address_argument(parser: argparse.ArgumentParser) -> None:
-    """``--ray-address`` of the commands with ``--backend ray``."""
+def add_backend_arguments(parser: argparse.ArgumentParser, backends: Sequence[str], help: str) -> None:
+    """``--backend`` (``local`` by default; ``help`` says what each does) and ``--ray-address``."""
+    parser.add_argument("--backend", choices=backends, default="local", help=f"{help} (default: %(default)s)")
     parser.add_argument(
         "--ray-address",
         default=None,

@@ -14,7 +14,7 @@ from ship_env.command_line import add_command, number, whole_number
 from ship_env.envs.tracks import TRACK_IDS
 from ship_env.leaderboard.evaluation import BACKENDS
 from ship_env.leaderboard.suites import CONDITIONS, COURSE_CHANGE_DISTURBANCES, SUITE_SPECS, SuiteSpec
-from ship_env.ray_cluster import add_ray_address_argument
+from ship_env.ray_cluster import add_backend_arguments
 
 _CONDITIONS_BY_SLUG = {condition.slug: condition for condition in CONDITIONS}
 
@@ -113,13 +113,9 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
         metavar="DIR",
         help="folder for the tables and plots (default: %(default)s)",
     )
-    parser.add_argument(
-        "--backend",
-        choices=BACKENDS,
-        default="local",
-        help="local: in this process; ray: one Ray task per controller, training seed and suite (default: %(default)s)",
+    add_backend_arguments(
+        parser, BACKENDS, "local: in this process; ray: one Ray task per controller, training seed and suite"
     )
-    add_ray_address_argument(parser)
     parser.add_argument(
         "--course-changes",
         type=number("a course change in (0, 180] deg", above=0.0, maximum=180.0),

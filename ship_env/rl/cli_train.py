@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 
 from ship_env.command_line import add_command, whole_number
-from ship_env.ray_cluster import add_ray_address_argument
+from ship_env.ray_cluster import add_backend_arguments
 from ship_env.rl.agents import ALGORITHMS, DEFAULT_TORCH_THREADS
 from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE, PolicyMetadata
 from ship_env.rl.seeds import BACKENDS, SeedRun
@@ -155,14 +155,11 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
         "with --seeds, the folder of the seeds' folders (default: runs/<Env>/<algo>)",
     )
     parser.add_argument("--force", action="store_true", help="overwrite runs already trained in those folders")
-    parser.add_argument(
-        "--backend",
-        choices=BACKENDS,
-        default="local",
-        help="local: the seeds one after another in this process; ray: one Ray task per seed, the same "
-        "weights bit for bit (default: %(default)s)",
+    add_backend_arguments(
+        parser,
+        BACKENDS,
+        "local: the seeds one after another in this process; ray: one Ray task per seed, the same weights bit for bit",
     )
-    add_ray_address_argument(parser)
     parser.add_argument(
         "--config",
         type=Path,

@@ -158,3 +158,40 @@ def test_crossflow_yaw_damping_adds_minus_c_r_abs_r_at_any_speed(speed):
     expected = -with_it.parameter("crossflow_yaw.coefficient") * abs(rate) * rate
     assert slopes[1] - slopes[0] == pytest.approx(expected, rel=1e-12)
     assert with_it.envelope.minimum_speed == 0.0 and without.envelope.minimum_speed == pytest.approx(0.1)
+
+
+@pytest.mark.parametrize("propeller_rate", [-12.0, 12.0])
+def test_a_propeller_astern_takes_the_rudder_inflow_and_walks_the_stern(propeller_rate):
+    """The astern effect's closed form: for n < 0 the rudder inflow falls by c_a (n D)^2 (not below 0)
+    and the side moment grows by c_w (n D)^2; for n > 0 nothing changes, and no slipstream astern."""
+    from ship_env.model import state as S
+    from ship_env.model.dynamics import derivatives
+
+    values = {
+        "propeller_slipstream.coefficient": 0.1,
+        "propeller_astern.rudder_inflow": 0.05,
+        "propeller_astern.walk": 0.02,
+    }
+    base = ShipModel(SHIP, [*REQUIRED_EFFECTS, "propeller_slipstream", "propeller_astern"], values)
+    without = base.without_effects("propeller_astern")
+    state = np.zeros(S.STATE_SIZE)
+    rudder = math.radians(10.0)
+    conditions = np.zeros(S.CONDITION_SIZE)
+    conditions[S.SERVICE_SPEED] = 0.3
+    conditions[S.PROPELLER_RATE] = propeller_rate
+    slopes = []
+    for model in (without, base):
+        out = np.zeros(S.STATE_SIZE)
+        derivatives(state, rudder, conditions, np.zeros(S.NOISE_SIZE), 0.0, model.record[0], out)
+        slopes.append(out[S.RATE_OF_TURN])
+    gain, time_constant = base.parameter("yaw.gain"), base.parameter("yaw.time_constant")
+    induced = (propeller_rate * base.parameter("propeller_slipstream.propeller_diameter")) ** 2
+    scale = time_constant * base.length**2
+    if propeller_rate > 0:
+        assert slopes[1] == slopes[0]
+        assert slopes[0] == pytest.approx((0.3**2 + 0.1 * induced) * gain * rudder / scale, rel=1e-12)
+    else:
+        assert slopes[0] == pytest.approx(0.3**2 * gain * rudder / scale, rel=1e-12)  # no slipstream astern
+        inflow = max(0.3**2 - 0.05 * induced, 0.0)
+        assert slopes[1] == pytest.approx((inflow * gain * rudder - 0.02 * induced) / scale, rel=1e-12)
+    assert base.envelope.propeller_ahead_only is False and without.envelope.propeller_ahead_only is True

@@ -178,12 +178,12 @@ def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorS
     if math.isfinite(spread) and score - new <= NOISE_SIGMAS * spread:
         return (
             f"lowers the held-out score by {100.0 * gain:.1f}%, within its uncertainty "
-            f"({NOISE_SIGMAS:g} x {100.0 * spread / score:.1f}%, jackknife over the runs): the model is at the "
-            "noise floor of these logs"
+            f"({NOISE_SIGMAS:g} x {100.0 * spread / score:.1f}%, jackknife over the runs): near the noise floor "
+            "of these logs, the gain is not told from the scatter between runs"
         )
     weak = _terms_at_null(candidate)
     if weak is not None:
-        return f"lowers the held-out score by {100.0 * gain:.1f}%, but {weak}: at the noise floor of these logs"
+        return f"lowers the held-out score by {100.0 * gain:.1f}%, but {weak}: near the noise floor of these logs"
     if rules.require_validation and current.pooled_validation and validation.pooled_validation:
         before, after = current.pooled_validation.score(scales), validation.pooled_validation.score(scales)
         if after > (1.0 - rules.min_gain) * before:

@@ -116,7 +116,7 @@ def _conditions(log: Log, model: ShipModel) -> np.ndarray:
     else:
         rows[:, S.SERVICE_SPEED] = model.service_speed if log.service_speed is None else log.service_speed
     if log.propeller_rate is not None:
-        rows[:, S.PROPELLER_RATE] = np.maximum(log.propeller_rate, 0.0)
+        rows[:, S.PROPELLER_RATE] = log.propeller_rate  # signed: astern is negative (``propeller_astern``)
     if log.wind_speed is not None and log.wind_direction is not None:
         rows[:, S.WIND_SPEED] = np.maximum(log.wind_speed, 0.0)
         rows[:, S.WIND_DIRECTION] = log.wind_direction

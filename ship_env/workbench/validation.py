@@ -9,8 +9,10 @@ of the fold estimates gives jackknife standard errors.
 A fold's fit starts from the all-run fit, which already is nearly its optimum: by default
 (``FitOptions.fold_method = "linearised"``) it is one Gauss-Newton step from the all-run fit with
 the left-out rows removed from its Jacobian, the classic one-step approximation of leave-one-out
-(no replay needed); ``"refit"`` runs a full least-squares fit per fold instead. The held-out replays
-of every fold run in one compiled batch.
+(no replay needed); ``"refit"`` runs a full least-squares fit per fold instead. Where the one step
+moves a term by more than ``FOLD_STEP_LIMIT`` of its scale (a term the other runs hardly determine:
+the linearisation no longer holds), that fold is refitted in full. The held-out replays of every
+fold run in one compiled batch.
 
 Runs of another kind (``validate_on``: fit on zig-zags, score on turning runs) are replayed by the
 all-run fit: they are *validation runs*, never fitted.
@@ -133,8 +135,15 @@ def fold_groups(logs: Sequence[Log], groups: Sequence[str] | None) -> list[list[
     return [[i for i, label in enumerate(groups) if label == name] for name in order]
 
 
-def _linearised_fold(problem: Problem, fitted: FitResult, left_out: Sequence[int]) -> np.ndarray:
-    """One Gauss-Newton step from the all-run fit with the left-out runs' rows removed (in scale units)."""
+#: Largest step of a linearised fold, in units of the terms' scales, beyond which the fold is refitted.
+FOLD_STEP_LIMIT = 0.5
+
+
+def _linearised_fold(problem: Problem, fitted: FitResult, left_out: Sequence[int]) -> np.ndarray | None:
+    """One Gauss-Newton step from the all-run fit with the left-out runs' rows removed (in scale units).
+
+    None where the step moves a term by more than ``FOLD_STEP_LIMIT`` scales: refit that fold instead.
+    """
     lengths = [problem.residual_length(run) for run in range(len(problem.logs))]
     edges = np.concatenate([[0], np.cumsum(lengths)])
     keep = np.ones(len(fitted.residual), dtype=bool)
@@ -142,6 +151,8 @@ def _linearised_fold(problem: Problem, fitted: FitResult, left_out: Sequence[int
         keep[edges[run] : edges[run + 1]] = False
     jacobian, residual = fitted.jacobian[keep], fitted.residual[keep]
     step = np.linalg.lstsq(jacobian, -residual, rcond=None)[0] if jacobian.shape[1] else np.zeros(0)
+    if np.any(np.abs(step[: len(problem.terms)]) > FOLD_STEP_LIMIT):
+        return None
     lower, upper = problem.bounds()
     return np.clip(fitted.solution + step, lower, upper)
 
@@ -177,12 +188,13 @@ def cross_validate(
     problem, everything = problems[best], fits[best]
     points = []
     for left_out in folds_runs:
-        if options.fold_method == "refit":
+        step = _linearised_fold(problem, everything, left_out) if options.fold_method == "linearised" else None
+        if step is None:
             others = [log for i, log in enumerate(logs) if i not in left_out]
             fold = Problem(everything.setup, others, keys, options)
             points.append(problem.point_of(fold.values_at(fold.solve().solution)))
         else:
-            points.append(problem.padded(_linearised_fold(problem, everything, left_out)[: len(keys)]))
+            points.append(problem.padded(step[: len(keys)]))
     # Every fold's runs left out, replayed from their measured states, in one batch.
     owner = {run: f for f, left_out in enumerate(folds_runs) for run in left_out}
     replays = problem.replay_each(points, [owner[run] for run in range(len(logs))])

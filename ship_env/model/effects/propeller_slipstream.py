@@ -10,7 +10,8 @@ The model uses
 in place of u^2 in the rudder term of the yaw equation (see ``yaw``), so the rudder moment is
 K* (u_R / L)^2 delta / tau*. At low speed and high propeller rate (a ship accelerating from rest,
 a harbour manoeuvre) the ship turns much faster than the speed-scheduled model predicts; at
-rest with the propeller turning it still turns. With c_s = 0 the effect vanishes.
+rest with the propeller turning it still turns. With c_s = 0 the effect vanishes. A propeller
+turning astern sends no slipstream over the rudder (see ``propeller_astern``).
 
 Symbols: n propeller rate (rps), D propeller diameter (m), c_s slipstream coefficient
 (about eta 8 K_T / pi, 0.1 to 0.5).
@@ -35,8 +36,8 @@ EFFECT = Effect(
 
 @kernel
 def inflow_speed_squared(inflow_speed_squared, propeller_rate, coefficient, propeller_diameter):
-    """u_R^2 = u^2 + c_s (n D)^2, m^2/s^2, from the inflow without it (u^2)."""
-    induced = propeller_rate * propeller_diameter
+    """u_R^2 = u^2 + c_s (n D)^2, m^2/s^2, from the inflow without it (u^2); a propeller astern adds nothing."""
+    induced = max(propeller_rate, 0.0) * propeller_diameter
     return inflow_speed_squared + coefficient * induced * induced
 
 

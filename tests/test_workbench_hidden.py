@@ -122,8 +122,9 @@ def test_no_hidden_effect_adds_nothing():
 
 
 def test_an_effect_hidden_near_the_noise_floor_is_not_found():
-    """A 0.2-deg rudder offset in six 60-s runs: the offset lowers the held-out score by some 18 %, past
-    the 5 % gate, but by less than twice its jackknife error over the runs -- the noise decides."""
+    """A 0.2-deg rudder offset in six 60-s runs: it lowers the held-out score by some 18 %, past the
+    5 % gate and about one jackknife error, but the fitted offset lies within two standard errors of
+    zero: the noise decides."""
     offset = {**HIDDEN_VALUES, "rudder_offset.angle": math.radians(0.2)}
     truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "rudder_offset"], offset))
     check_nothing_is_added(truth, SHORT_RUNS, refit=3)

@@ -9,9 +9,9 @@ diagnosis made on a rung says why the next effects were chosen.
 An effect *pays* (:func:`verdict`) when
 
 1. it lowers the held-out score by at least ``min_gain`` (5 %);
-2. the fall exceeds its uncertainty: ``NOISE_SIGMAS`` times the jackknife standard error, over the
+2. the fall exceeds its uncertainty: ``GAIN_SIGMAS`` times the jackknife standard error, over the
    runs (or groups) left out, of the difference of the two scores -- a gain within it is noise;
-3. its fitted terms differ from their null values (an offset of 0) by more than ``NOISE_SIGMAS``
+3. its fitted terms differ from their null values (an offset of 0) by more than ``TERM_SIGMAS``
    standard errors for at least one term (the larger of the Jacobian's and the jackknife's);
 4. with validation runs of another kind and ``require_validation``, it lowers their score by at
    least ``min_gain`` as well.
@@ -37,8 +37,10 @@ from ship_env.workbench.validation import CrossValidation, cross_validate
 MIN_GAIN = 0.05
 #: Where no single effect pays, pairs of this many candidates (those with most evidence) are tried.
 PAIR_WIDTH = 4
-#: Standard errors by which a gain, and an added term's distance from its null value, must exceed noise.
-NOISE_SIGMAS = 2.0
+#: Jackknife standard errors of the held-out score's fall that the fall must exceed.
+GAIN_SIGMAS = 1.0
+#: Standard errors by which one of an added effect's terms must lie from its null value.
+TERM_SIGMAS = 2.0
 
 
 @dataclass(frozen=True)
@@ -175,10 +177,10 @@ def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorS
     if gain < rules.min_gain:
         return f"changes the held-out score by {-100.0 * gain:+.1f}% (needs -{100.0 * rules.min_gain:.0f}%)"
     spread = validation.score_jackknife(scales, current)
-    if math.isfinite(spread) and score - new <= NOISE_SIGMAS * spread:
+    if math.isfinite(spread) and score - new <= GAIN_SIGMAS * spread:
         return (
             f"lowers the held-out score by {100.0 * gain:.1f}%, within its uncertainty "
-            f"({NOISE_SIGMAS:g} x {100.0 * spread / score:.1f}%, jackknife over the runs): near the noise floor "
+            f"({GAIN_SIGMAS:g} x {100.0 * spread / score:.1f}%, jackknife over the runs): near the noise floor "
             "of these logs, the gain is not told from the scatter between runs"
         )
     weak = _terms_at_null(candidate)
@@ -204,9 +206,7 @@ def _terms_at_null(candidate: CandidateResult) -> str | None:
     ratios = {
         e.term.key: abs(e.value - (e.term.null or 0.0)) / max(e.std_error, jackknife[e.term.key], 1e-300) for e in added
     }
-    if max(ratios.values()) > NOISE_SIGMAS:
+    if max(ratios.values()) > TERM_SIGMAS:
         return None
     shown = ", ".join(f"{key} {ratio:.1f}" for key, ratio in ratios.items())
-    return (
-        f"its terms lie within {NOISE_SIGMAS:g} standard errors of their null values (|value - null| / s.e.: {shown})"
-    )
+    return f"its terms lie within {TERM_SIGMAS:g} standard errors of their null values (|value - null| / s.e.: {shown})"

@@ -11,7 +11,7 @@ import ship_env  # noqa: E402  (after the path set-up above)
 
 project = "ship_env"
 release = version = ship_env.__version__
-extensions = ["sphinx.ext.autodoc", "sphinx.ext.napoleon", "myst_parser", "effect_table", "docstrings"]
+extensions = ["sphinx.ext.autodoc", "sphinx.ext.napoleon", "myst_parser", "effect_table", "docstrings", "command_help"]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 exclude_patterns = ["_build"]
 html_theme = "alabaster"

@@ -1,0 +1,39 @@
+"""The ``command-help`` directive: ``ship-env``'s help and each subcommand's, as the parser prints them.
+
+Built from :func:`ship_env.cli.build_parser` at build time, so the page cannot drift from the options.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+
+from docutils import nodes
+from sphinx.application import Sphinx
+from sphinx.util.docutils import SphinxDirective
+
+#: The width argparse wraps the help to.
+COLUMNS = "100"
+
+
+class CommandHelp(SphinxDirective):
+    """``.. command-help::`` (no arguments): a section per subcommand with its ``--help``."""
+
+    def run(self) -> list[nodes.Node]:
+        from ship_env.cli import build_parser
+
+        os.environ["COLUMNS"] = COLUMNS
+        parser = build_parser()
+        (subcommands,) = (action for action in parser._actions if isinstance(action, argparse._SubParsersAction))
+        sections: list[nodes.Node] = [nodes.literal_block(text=parser.format_help())]
+        for name, command in subcommands.choices.items():
+            section = nodes.section(ids=[nodes.make_id(f"ship-env {name}")])
+            section += nodes.title(text=f"ship-env {name}")
+            section += nodes.literal_block(text=command.format_help())
+            sections.append(section)
+        return sections
+
+
+def setup(app: Sphinx) -> dict[str, object]:
+    app.add_directive("command-help", CommandHelp)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}

@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import argparse
 import socket
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from types import ModuleType
+from typing import Any
 
 #: Seconds to wait for a Ray head to accept a connection before giving up on its address.
 CONNECT_TIMEOUT_S = 5.0
@@ -81,3 +82,24 @@ def ray_session(address: str | None = None) -> Iterator[ModuleType]:
         yield ray
     finally:
         ray.shutdown()
+
+
+def run_as_tasks(
+    function: Callable[..., Any],
+    arguments: Sequence[tuple[Any, ...]],
+    on_done: Callable[[int, Any], object],
+    address: str | None = None,
+    num_cpus: int = 1,
+) -> list[Any]:
+    """``function(*arguments[i])`` as one Ray task each (in :func:`ray_session` ``address``), each
+    task holding ``num_cpus``; ``on_done(i, result)`` as each finishes; the results in ``arguments``' order."""
+    with ray_session(address) as ray:
+        remote = ray.remote(num_cpus=num_cpus)(function)
+        pending = {remote.remote(*task_arguments): index for index, task_arguments in enumerate(arguments)}
+        results: list[Any] = [None] * len(arguments)
+        while pending:
+            (done,), _ = ray.wait(list(pending), num_returns=1)
+            index = pending.pop(done)
+            results[index] = ray.get(done)
+            on_done(index, results[index])
+    return results

@@ -76,18 +76,11 @@ def run_on_ray(
 ) -> list[list[EpisodeResult]]:
     """Run each job as a Ray task (on the cluster at ``address``, default: this process's Ray session
     or a local one); ``advance(n)`` with a job's episodes as it finishes."""
-    from ship_env.ray_cluster import ray_session
+    from ship_env.ray_cluster import run_as_tasks
 
-    with ray_session(address) as ray:
-        remote_job = ray.remote(run_job)
-        pending = {remote_job.remote(job): index for index, job in enumerate(jobs)}
-        results: list[list[EpisodeResult]] = [[] for _ in jobs]
-        while pending:
-            done, _ = ray.wait(list(pending), num_returns=1)
-            index = pending.pop(done[0])
-            results[index] = ray.get(done[0])
-            advance(len(jobs[index].suite.episodes))
-    return results
+    return run_as_tasks(
+        run_job, [(job,) for job in jobs], lambda index, _: advance(len(jobs[index].suite.episodes)), address
+    )
 
 
 def evaluate(

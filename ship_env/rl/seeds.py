@@ -106,26 +106,23 @@ def train_seeds(
     :func:`trained_already`."""
     if backend not in BACKENDS:
         raise ValueError(f"backend: expected one of {', '.join(BACKENDS)}, got {backend!r}")
-    results: dict[int, PolicyMetadata] = {}
     if backend == "local":
-        for index, run in enumerate(runs):
-            results[index] = train_seed(config, run, steps, torch_threads, progress_bar)
+        trained = []
+        for run in runs:
+            trained.append(train_seed(config, run, steps, torch_threads, progress_bar))
             if on_done is not None:
-                on_done(run, results[index])
-        return [results[index] for index in range(len(runs))]
-    from ship_env.ray_cluster import ray_session
+                on_done(run, trained[-1])
+        return trained
+    from ship_env.ray_cluster import run_as_tasks
 
-    with ray_session(ray_address) as ray:
-        remote = ray.remote(num_cpus=torch_threads)(_train_seed_files)
-        pending = {remote.remote(config, run, steps, torch_threads): index for index, run in enumerate(runs)}
-        while pending:
-            (done,), _ = ray.wait(list(pending), num_returns=1)
-            index = pending.pop(done)
-            metadata, files = ray.get(done)
-            for name, content in files.items():
-                (runs[index].out / name).parent.mkdir(parents=True, exist_ok=True)
-                (runs[index].out / name).write_bytes(content)
-            results[index] = metadata
-            if on_done is not None:
-                on_done(runs[index], metadata)
-    return [results[index] for index in range(len(runs))]
+    def store(index: int, result: tuple[PolicyMetadata, dict[str, bytes]]) -> None:
+        metadata, files = result
+        for name, content in files.items():
+            (runs[index].out / name).parent.mkdir(parents=True, exist_ok=True)
+            (runs[index].out / name).write_bytes(content)
+        if on_done is not None:
+            on_done(runs[index], metadata)
+
+    arguments = [(config, run, steps, torch_threads) for run in runs]
+    finished = run_as_tasks(_train_seed_files, arguments, store, ray_address, num_cpus=torch_threads)
+    return [metadata for metadata, _ in finished]

@@ -24,9 +24,9 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 
 from ship_env.model.declarations import Envelope
+from ship_env.model.effects.wave_spectrum import GRAVITY
 from ship_env.workbench.logs import MIN_SAMPLES, Log
 
-GRAVITY = 9.81
 #: Seconds over which the track is smoothed before the course over ground is taken from it.
 COURSE_WINDOW = 1.0
 #: Shortest stretch inside the envelope kept as a segment, s.

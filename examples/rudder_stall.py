@@ -18,23 +18,22 @@ import sys
 import tempfile
 from pathlib import Path
 
-from ship_env.model import REQUIRED_EFFECTS, Contribution, Effect, Parameter, ShipModel, register_effect
+from ship_env.model import REQUIRED_EFFECTS, ShipModel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, register_effect
 
 # -- the effect, as a naval engineer writes it ------------------------------------------------------
 RUDDER_STALL = Effect(
-    name="rudder_stall",
-    title="rudder stall (the rudder force stops growing with the angle beyond the stall angle)",
-    equations="delta_e = delta_s tanh(delta / delta_s)",
-    parameters=(
-        Parameter(
-            "angle",
-            "rad",
-            "delta_s, the angle the rudder force levels off at",
-            math.radians(5.0),
-            math.radians(60.0),
-            default=math.radians(60.0),
-            source="assumed: a rudder that does not stall in the logs' range",
-        ),
+    "rudder_stall",
+    "rudder stall (the rudder force stops growing with the angle beyond the stall angle)",
+    "delta_e = delta_s tanh(delta / delta_s)",
+    Parameter(
+        "angle",
+        "rad",
+        "delta_s, the angle the rudder force levels off at",
+        math.radians(5.0),
+        math.radians(60.0),
+        default=math.radians(60.0),
+        source="assumed: a rudder that does not stall in the logs' range",
     ),
 )
 

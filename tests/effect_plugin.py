@@ -6,23 +6,21 @@ in the hull's wake shows): delta_e = delta (1 - k |delta|).
 
 from __future__ import annotations
 
-from ship_env.model import Contribution, Effect, Parameter
+from ship_env.model.effect_api import Contribution, Effect, Parameter
 
 EFFECT = Effect(
-    name="rudder_lift_loss",
-    title="rudder lift lost at large angles (delta_e = delta (1 - k |delta|))",
-    equations="delta_e = delta (1 - k |delta|)",
-    parameters=(
-        Parameter(
-            "loss",
-            "1/rad",
-            "k, fraction of rudder force lost per radian",
-            0.0,
-            1.5,
-            default=0.0,
-            source="assumed: none",
-            null=0.0,
-        ),
+    "rudder_lift_loss",
+    "rudder lift lost at large angles (delta_e = delta (1 - k |delta|))",
+    "delta_e = delta (1 - k |delta|)",
+    Parameter(
+        "loss",
+        "1/rad",
+        "k, fraction of rudder force lost per radian",
+        0.0,
+        1.5,
+        default=0.0,
+        source="assumed: none",
+        null=0.0,
     ),
 )
 

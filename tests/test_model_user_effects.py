@@ -97,7 +97,7 @@ def test_a_hidden_instance_is_recovered_by_the_fit(plugin):
 # -- errors ---------------------------------------------------------------------------------------
 def _effect(name: str = "bad_effect", **parameter) -> Effect:
     fields = {"minimum": 0.0, "maximum": 1.0, "default": 0.0, "source": "assumed", **parameter}
-    return Effect(name, "a test effect", "none", (Parameter("size", fields.pop("unit", "-"), "a size", **fields),))
+    return Effect(name, "a test effect", "none", Parameter("size", fields.pop("unit", "-"), "a size", **fields))
 
 
 def _adds(effective_rudder, size):
@@ -114,6 +114,13 @@ def test_a_clash_with_a_built_in_name_is_refused():
         ValueError, match=r"effect 'norrbin' from module test_model_user_effects: name: 'norrbin' is already"
     ):
         register_effect(_effect("norrbin"), [Contribution("effective_rudder", _adds)])
+
+
+def test_parameters_given_as_a_tuple_are_refused_by_the_declaration():
+    size = Parameter("size", "-", "a size", 0.0, 1.0)
+    with pytest.raises(TypeError, match=r"effect 'bad_effect': parameters: expected Parameter\(\.\.\.\) arguments one"):
+        Effect("bad_effect", "a test effect", "none", (size,))  # type: ignore[arg-type]
+    assert Effect("bad_effect", "a test effect", "none", size).parameters == (size,)
 
 
 @pytest.mark.parametrize(

@@ -12,7 +12,7 @@ base model leaves out (propeller astern, low-speed cross-flow) widens it when it
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 # Units a YAML file may use, with the factor that converts them to the SI unit the model uses.
 UNIT_CONVERSIONS: dict[str, tuple[str, float]] = {
@@ -112,9 +112,12 @@ ENVELOPE_LIMITS: tuple[Parameter, ...] = (
 )
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class Effect:
     """A physical effect of the model: its name, its words, its equations and its parameters.
+
+    Declared as ``Effect(name, title, equations, *parameters, required=False, envelope=Envelope())``:
+    the parameters one after another (see ``effect_api``).
 
     Attributes:
         name: the identifier used in configs and on the command line (``wind_moment``).
@@ -129,9 +132,32 @@ class Effect:
     name: str
     title: str
     equations: str
-    parameters: tuple[Parameter, ...] = field(default_factory=tuple)
-    required: bool = False
-    envelope: Envelope = field(default_factory=Envelope)
+    parameters: tuple[Parameter, ...]
+    required: bool
+    envelope: Envelope
+
+    def __init__(
+        self,
+        name: str,
+        title: str,
+        equations: str,
+        *parameters: Parameter,
+        required: bool = False,
+        envelope: Envelope | None = None,
+    ) -> None:
+        for parameter in parameters:
+            if not isinstance(parameter, Parameter):
+                raise TypeError(
+                    f"effect {name!r}: parameters: expected Parameter(...) arguments one after another, "
+                    f"got {parameter!r}"
+                )
+        # A frozen dataclass sets its fields through object.__setattr__.
+        object.__setattr__(self, "name", name)
+        object.__setattr__(self, "title", title)
+        object.__setattr__(self, "equations", equations)
+        object.__setattr__(self, "parameters", parameters)
+        object.__setattr__(self, "required", required)
+        object.__setattr__(self, "envelope", Envelope() if envelope is None else envelope)
 
     def field_name(self, parameter: str) -> str:
         """The name of a parameter in the compiled parameter record (``yaw_gain``)."""

@@ -17,21 +17,15 @@ coefficients of H(r*).
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="asymmetry",
-    title="port-starboard asymmetry (propeller side force, asymmetric stern flow)",
-    equations="(2.27), (2.54) with a propeller side force",
-    parameters=(
-        Parameter(
-            "side_force", "-", "c_p, propeller side force per (n D)^2 in the units of K* u^2 delta; + turns to port"
-        ),
-        Parameter("constant", "-", "alpha0 of H(r*): steady r* at zero rudder is -alpha0 / alpha1"),
-        Parameter("quadratic", "-", "alpha2 of H(r*): the ship turns tighter to port for alpha2 > 0"),
-    ),
+    "asymmetry",
+    "port-starboard asymmetry (propeller side force, asymmetric stern flow)",
+    "(2.27), (2.54) with a propeller side force",
+    Parameter("side_force", "-", "c_p, propeller side force per (n D)^2 in the units of K* u^2 delta; + turns to port"),
+    Parameter("constant", "-", "alpha0 of H(r*): steady r* at zero rudder is -alpha0 / alpha1"),
+    Parameter("quadratic", "-", "alpha2 of H(r*): the ship turns tighter to port for alpha2 > 0"),
 )
 
 

@@ -22,17 +22,13 @@ forward speed (``minimum_speed`` 0); going astern stays outside it.
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Envelope, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Envelope, Parameter, kernel
 
 EFFECT = Effect(
-    name="crossflow_yaw",
-    title="cross-flow yaw damping (the hull's quadratic drag against turning, at any speed)",
-    equations="dr/dt += -c_cf |r| r, c_cf = rho T C_D L^4 / (64 I_zz) (cross-flow principle, strip theory)",
-    parameters=(
-        Parameter("coefficient", "1/rad", "c_cf, yaw acceleration per |r| r from the hull's cross-flow drag", 0.0),
-    ),
+    "crossflow_yaw",
+    "cross-flow yaw damping (the hull's quadratic drag against turning, at any speed)",
+    "dr/dt += -c_cf |r| r, c_cf = rho T C_D L^4 / (64 I_zz) (cross-flow principle, strip theory)",
+    Parameter("coefficient", "1/rad", "c_cf, yaw acceleration per |r| r from the hull's cross-flow drag", 0.0),
     envelope=Envelope(minimum_speed=0.0),
 )
 

@@ -11,19 +11,15 @@ from __future__ import annotations
 
 import math
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="current",
-    title="current (set and drift of the water)",
-    equations="(2.71), (2.72)",
-    parameters=(
-        Parameter("variation", "-", "a, relative amplitude of the tidal speed variation", minimum=0.0, maximum=1.0),
-        Parameter("swing", "rad", "b, amplitude of the tidal direction swing", minimum=0.0),
-        Parameter("period", "s", "T, period of the tidal variation", minimum=1e-6),
-    ),
+    "current",
+    "current (set and drift of the water)",
+    "(2.71), (2.72)",
+    Parameter("variation", "-", "a, relative amplitude of the tidal speed variation", minimum=0.0, maximum=1.0),
+    Parameter("swing", "rad", "b, amplitude of the tidal direction swing", minimum=0.0),
+    Parameter("period", "s", "T, period of the tidal variation", minimum=1e-6),
 )
 
 

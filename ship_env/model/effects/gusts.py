@@ -12,18 +12,14 @@ from __future__ import annotations
 
 import math
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="gusts",
-    title="wind gusts (turbulence on the wind speed)",
-    equations="(2.5.3): stochastic component on V_wr",
-    parameters=(
-        Parameter("intensity", "-", "I, gust standard deviation as a fraction of the true wind speed", minimum=0.0),
-        Parameter("time_constant", "s", "T_g, correlation time of the gusts", minimum=1e-6),
-    ),
+    "gusts",
+    "wind gusts (turbulence on the wind speed)",
+    "(2.5.3): stochastic component on V_wr",
+    Parameter("intensity", "-", "I, gust standard deviation as a fraction of the true wind speed", minimum=0.0),
+    Parameter("time_constant", "s", "T_g, correlation time of the gusts", minimum=1e-6),
 )
 
 

@@ -9,14 +9,12 @@ x0 points north, y0 east, psi is clockwise from north; v is positive to starboar
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, kernel
 
 EFFECT = Effect(
-    name="kinematics",
-    title="track over the ground from speed, drift and heading",
-    equations="(2.64), (2.65)",
+    "kinematics",
+    "track over the ground from speed, drift and heading",
+    "(2.64), (2.65)",
     required=True,
 )
 

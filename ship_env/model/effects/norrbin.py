@@ -13,18 +13,14 @@ the effect vanishes.
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="norrbin",
-    title="non-linear yaw damping (Norrbin's |r| r and cubic terms: the spiral curve's shape)",
-    equations="(2.27), (2.28)",
-    parameters=(
-        Parameter("cubic", "-", "alpha3 of H(r*), the cubic coefficient", minimum=0.0),
-        Parameter("odd_quadratic", "-", "alpha2' of H(r*), the coefficient of |r*| r*"),
-    ),
+    "norrbin",
+    "non-linear yaw damping (Norrbin's |r| r and cubic terms: the spiral curve's shape)",
+    "(2.27), (2.28)",
+    Parameter("cubic", "-", "alpha3 of H(r*), the cubic coefficient", minimum=0.0),
+    Parameter("odd_quadratic", "-", "alpha2' of H(r*), the coefficient of |r*| r*"),
 )
 
 

@@ -24,18 +24,14 @@ Symbols: n propeller rate (rps, negative astern), D propeller diameter (m,
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Envelope, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Envelope, Parameter, kernel
 
 EFFECT = Effect(
-    name="propeller_astern",
-    title="propeller astern (the rudder loses its inflow; the propeller walks the stern sideways)",
-    equations="u_R^2 = max(u_R^2 - c_a (n D)^2, 0) and a side moment c_w (n D)^2 for n < 0, in (2.54)",
-    parameters=(
-        Parameter("rudder_inflow", "-", "c_a, fraction of (n D)^2 taken from the rudder inflow astern", minimum=0.0),
-        Parameter("walk", "-", "c_w, propeller walk astern per (n D)^2 in the units of K* u^2 delta; + turns to port"),
-    ),
+    "propeller_astern",
+    "propeller astern (the rudder loses its inflow; the propeller walks the stern sideways)",
+    "u_R^2 = max(u_R^2 - c_a (n D)^2, 0) and a side moment c_w (n D)^2 for n < 0, in (2.54)",
+    Parameter("rudder_inflow", "-", "c_a, fraction of (n D)^2 taken from the rudder inflow astern", minimum=0.0),
+    Parameter("walk", "-", "c_w, propeller walk astern per (n D)^2 in the units of K* u^2 delta; + turns to port"),
     envelope=Envelope(propeller_ahead_only=False),
 )
 

@@ -19,18 +19,14 @@ Symbols: n propeller rate (rps), D propeller diameter (m), c_s slipstream coeffi
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="propeller_slipstream",
-    title="propeller slipstream over the rudder (more rudder effect at high propeller rate)",
-    equations="rudder inflow u_R^2 = u^2 + c_s (n D)^2 in the rudder term of (2.54)",
-    parameters=(
-        Parameter("coefficient", "-", "c_s, fraction of (n D)^2 added to the rudder inflow", minimum=0.0),
-        Parameter("propeller_diameter", "m", "D, propeller diameter", minimum=0.0),
-    ),
+    "propeller_slipstream",
+    "propeller slipstream over the rudder (more rudder effect at high propeller rate)",
+    "rudder inflow u_R^2 = u^2 + c_s (n D)^2 in the rudder term of (2.54)",
+    Parameter("coefficient", "-", "c_s, fraction of (n D)^2 added to the rudder inflow", minimum=0.0),
+    Parameter("propeller_diameter", "m", "D, propeller diameter", minimum=0.0),
 )
 
 

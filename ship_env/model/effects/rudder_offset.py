@@ -9,15 +9,13 @@ but, being an angle, it scales with the rudder's effectiveness (e.g. with the sl
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="rudder_offset",
-    title="rudder offset (neutral rudder angle not at zero; propeller asymmetry)",
-    equations="(2.27) alpha0, as an angle",
-    parameters=(Parameter("angle", "rad", "delta_0, added to the actual rudder angle"),),
+    "rudder_offset",
+    "rudder offset (neutral rudder angle not at zero; propeller asymmetry)",
+    "(2.27) alpha0, as an angle",
+    Parameter("angle", "rad", "delta_0, added to the actual rudder angle"),
 )
 
 

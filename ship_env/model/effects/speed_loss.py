@@ -14,19 +14,15 @@ normalised gain, beta3 cubic coefficient.
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="speed_loss",
-    title="loss of forward speed in a turn (added resistance from turning)",
-    equations="(2.55), (2.39), (2.53)",
-    parameters=(
-        Parameter("gain", "-", "K_u*, normalised gain from r*^2 to speed loss u*", minimum=0.0),
-        Parameter("time_constant", "-", "tau_u*, normalised time constant in ship lengths", minimum=1e-6),
-        Parameter("cubic", "-", "beta3 of H_u(u*) = u* + beta3 u*^3", minimum=0.0),
-    ),
+    "speed_loss",
+    "loss of forward speed in a turn (added resistance from turning)",
+    "(2.55), (2.39), (2.53)",
+    Parameter("gain", "-", "K_u*, normalised gain from r*^2 to speed loss u*", minimum=0.0),
+    Parameter("time_constant", "-", "tau_u*, normalised time constant in ship lengths", minimum=1e-6),
+    Parameter("cubic", "-", "beta3 of H_u(u*) = u* + beta3 u*^3", minimum=0.0),
 )
 
 

@@ -10,14 +10,13 @@ at most rudder_rate * h, so 0 -> 35 deg takes exactly 35 / rate seconds.
 
 from __future__ import annotations
 
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="steering_machine",
-    title="steering-machine rate limit (rudder follows the order at a limited speed)",
-    equations="(2.3.4), Fig. 2.9",
-    parameters=(Parameter("rudder_rate", "rad/s", "maximum rate of the actual rudder", minimum=1e-6),),
+    "steering_machine",
+    "steering-machine rate limit (rudder follows the order at a limited speed)",
+    "(2.3.4), Fig. 2.9",
+    Parameter("rudder_rate", "rad/s", "maximum rate of the actual rudder", minimum=1e-6),
 )
 
 

@@ -9,18 +9,14 @@ the circle by the drift angle beta = atan(-v/u).
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="sway",
-    title="drift angle in a turn (Van Leeuwen sway velocity)",
-    equations="(2.47)-(2.49), (2.60)",
-    parameters=(
-        Parameter("linear", "-", "gamma1*, sway per normalised rate of turn (gamma = gamma1* L)"),
-        Parameter("cubic", "-", "gamma3*, cubic coefficient of H_v(r*)"),
-    ),
+    "sway",
+    "drift angle in a turn (Van Leeuwen sway velocity)",
+    "(2.47)-(2.49), (2.60)",
+    Parameter("linear", "-", "gamma1*, sway per normalised rate of turn (gamma = gamma1* L)"),
+    Parameter("cubic", "-", "gamma3*, cubic coefficient of H_v(r*)"),
 )
 
 

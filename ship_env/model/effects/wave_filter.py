@@ -16,19 +16,15 @@ from __future__ import annotations
 
 import math
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="wave_filter",
-    title="wave-induced high-frequency yaw on the measured heading (shaping filter)",
-    equations="Figs. 2.13, 2.14",
-    parameters=(
-        Parameter("natural_frequency", "rad/s", "omega_n, the filter's natural (peak) frequency", minimum=1e-6),
-        Parameter("damping", "-", "zeta, the filter's relative damping", minimum=1e-6),
-        Parameter("rate_rms", "rad/s", "sigma_r, standard deviation of the wave-induced rate of turn", minimum=0.0),
-    ),
+    "wave_filter",
+    "wave-induced high-frequency yaw on the measured heading (shaping filter)",
+    "Figs. 2.13, 2.14",
+    Parameter("natural_frequency", "rad/s", "omega_n, the filter's natural (peak) frequency", minimum=1e-6),
+    Parameter("damping", "-", "zeta, the filter's relative damping", minimum=1e-6),
+    Parameter("rate_rms", "rad/s", "sigma_r, standard deviation of the wave-induced rate of turn", minimum=0.0),
 )
 
 

@@ -28,19 +28,16 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Effect, Parameter, kernel
 
 GRAVITY = 9.81  # m/s^2
 
 EFFECT = Effect(
-    name="wave_spectrum",
-    title="wave yaw moment from a wave spectrum (encounter frequency, sin 2 gamma_w)",
-    equations="(2.89)-(2.91)",
-    parameters=(
-        Parameter("yaw_coefficient", "rad/s^2", "c_g, yaw acceleration per radian of wave slope", minimum=0.0),
-        Parameter("components", "-", "number of regular wave components", minimum=1, maximum=256, integer=True),
-    ),
+    "wave_spectrum",
+    "wave yaw moment from a wave spectrum (encounter frequency, sin 2 gamma_w)",
+    "(2.89)-(2.91)",
+    Parameter("yaw_coefficient", "rad/s^2", "c_g, yaw acceleration per radian of wave slope", minimum=0.0),
+    Parameter("components", "-", "number of regular wave components", minimum=1, maximum=256, integer=True),
 )
 
 

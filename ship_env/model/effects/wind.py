@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import kernel
 
 
 @kernel

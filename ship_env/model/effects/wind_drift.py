@@ -20,20 +20,16 @@ from __future__ import annotations
 
 import math
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 from ship_env.model.effects.kinematics import velocity_over_ground
-from ship_env.model.kernel import kernel
 
 EFFECT = Effect(
-    name="wind_drift",
-    title="wind drift (leeway from the wind's side force)",
-    equations="(2.79), (2.83) balanced by the hull's lateral resistance",
-    parameters=(
-        Parameter("force_ratio", "-", "c_y = rho_air a_y S_wy / (rho_water L T)", minimum=0.0),
-        Parameter("lift_slope", "-", "C_L, hull lateral lift per unit drift angle", minimum=0.0),
-        Parameter("crossflow_drag", "-", "C_D, hull cross-flow drag coefficient", minimum=1e-6),
-    ),
+    "wind_drift",
+    "wind drift (leeway from the wind's side force)",
+    "(2.79), (2.83) balanced by the hull's lateral resistance",
+    Parameter("force_ratio", "-", "c_y = rho_air a_y S_wy / (rho_water L T)", minimum=0.0),
+    Parameter("lift_slope", "-", "C_L, hull lateral lift per unit drift angle", minimum=0.0),
+    Parameter("crossflow_drag", "-", "C_D, hull cross-flow drag coefficient", minimum=1e-6),
 )
 
 

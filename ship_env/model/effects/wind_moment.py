@@ -29,23 +29,19 @@ speed-loss equation (2.86) is on.
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="wind_moment",
-    title="wind yaw moment and wind resistance",
-    equations="(2.82)-(2.88)",
-    parameters=(
-        Parameter("yaw_coefficient", "rad/m^2", "N_w' of (2.87); sign: + turns the bow into the wind"),
-        Parameter(
-            "beam_coefficient",
-            "rad/m^2",
-            "N_b', yaw from a beam wind (centre of effort off midships); + bow into the wind",
-        ),
-        Parameter("surge_coefficient", "1/m^2", "F_w' of (2.88); + means a head wind slows the ship"),
+    "wind_moment",
+    "wind yaw moment and wind resistance",
+    "(2.82)-(2.88)",
+    Parameter("yaw_coefficient", "rad/m^2", "N_w' of (2.87); sign: + turns the bow into the wind"),
+    Parameter(
+        "beam_coefficient",
+        "rad/m^2",
+        "N_b', yaw from a beam wind (centre of effort off midships); + bow into the wind",
     ),
+    Parameter("surge_coefficient", "1/m^2", "F_w' of (2.88); + means a head wind slows the ship"),
 )
 
 

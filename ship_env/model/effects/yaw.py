@@ -21,19 +21,15 @@ K* normalised gain, tau* normalised time constant, alpha1 linear coefficient.
 
 from __future__ import annotations
 
-from ship_env.model.contributions import Contribution
-from ship_env.model.declarations import Effect, Parameter
-from ship_env.model.kernel import kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 EFFECT = Effect(
-    name="yaw",
-    title="yaw response to the rudder (speed-scheduled first-order Nomoto, De Keizer)",
-    equations="(2.54), (2.27), (2.61)",
-    parameters=(
-        Parameter("gain", "-", "K*, normalised rudder-to-rate-of-turn gain", minimum=0.0),
-        Parameter("time_constant", "-", "tau*, normalised time constant in ship lengths", minimum=1e-6),
-        Parameter("linear", "-", "alpha1 of H(r*): 1 in (2.54); negative for a course-unstable ship"),
-    ),
+    "yaw",
+    "yaw response to the rudder (speed-scheduled first-order Nomoto, De Keizer)",
+    "(2.54), (2.27), (2.61)",
+    Parameter("gain", "-", "K*, normalised rudder-to-rate-of-turn gain", minimum=0.0),
+    Parameter("time_constant", "-", "tau*, normalised time constant in ship lengths", minimum=1e-6),
+    Parameter("linear", "-", "alpha1 of H(r*): 1 in (2.54); negative for a course-unstable ship"),
     required=True,
 )
 

@@ -20,7 +20,8 @@ class Estimator(Protocol):
     diverges and :class:`~ship_env.baselines.online_estimators.log.ExcitationLogError` for a log it cannot use.
     """
 
-    name: str
+    @property
+    def name(self) -> str: ...
 
     @property
     def parameter_names(self) -> tuple[str, ...]: ...

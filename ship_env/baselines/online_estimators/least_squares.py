@@ -34,6 +34,8 @@ weighting it reduces to this recursion; it adds nothing here.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ship_env.baselines.filter_health import FilterDivergenceError
@@ -97,6 +99,7 @@ class RecursiveLeastSquares:
         return error
 
 
+@dataclass(frozen=True, eq=False)
 class NguyenRLS:
     """Nguyen's RLS on a log, reporting K*, tau*; see the module docstring.
 
@@ -112,22 +115,17 @@ class NguyenRLS:
 
     parameter_names = NOMOTO
 
-    def __init__(
-        self,
-        length: float,
-        initial: NomotoParameters,
-        adaptation: Adaptation = NGUYEN_FORGETTING,
-        initial_covariance: float = NGUYEN_INITIAL_COVARIANCE,
-        include_heading: bool = True,
-        noise_variance: float = 1.0,
-    ) -> None:
-        self.length = length
-        self.initial = initial
-        self.adaptation = adaptation
-        self.initial_covariance = initial_covariance
-        self.include_heading = include_heading
-        self.noise_variance = noise_variance
-        self.name = f"Nguyen RLS ({adaptation.name})" if include_heading else f"least squares ({adaptation.name})"
+    length: float
+    initial: NomotoParameters
+    adaptation: Adaptation = NGUYEN_FORGETTING
+    initial_covariance: float = NGUYEN_INITIAL_COVARIANCE
+    include_heading: bool = True
+    noise_variance: float = 1.0
+
+    @property
+    def name(self) -> str:
+        method = "Nguyen RLS" if self.include_heading else "least squares"
+        return f"{method} ({self.adaptation.name})"
 
     def run(self, log: ExcitationLog) -> ParameterHistory:
         """K*, tau* after each sample of ``log`` (uniformly sampled, with speed)."""

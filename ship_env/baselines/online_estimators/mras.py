@@ -33,6 +33,8 @@ times its initial trace (wind-up), raises :class:`~ship_env.baselines.filter_hea
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ship_env.baselines.filter_health import FilterDivergenceError
@@ -45,6 +47,7 @@ from ship_env.baselines.online_estimators.log import ExcitationLog
 OBSERVATIONS = ("combined", "series-parallel", "parallel")
 
 
+@dataclass(frozen=True, eq=False)
 class CombinedMRAS:
     """The combined identifier on a log, reporting K*, tau*; see the module docstring.
 
@@ -61,28 +64,22 @@ class CombinedMRAS:
 
     parameter_names = NOMOTO
 
-    def __init__(
-        self,
-        length: float,
-        initial: NomotoParameters,
-        adaptation: Adaptation,
-        noise_variance: float,
-        parameter_uncertainty: float = 1.0,
-        output_uncertainty: float = 0.01,
-        observation: str = "combined",
-        covariance_limit: float = 1e6,
-    ) -> None:
-        if observation not in OBSERVATIONS:
-            raise ValueError(f"observation must be one of {OBSERVATIONS}, got {observation!r}")
-        self.length = length
-        self.initial = initial
-        self.adaptation = adaptation
-        self.noise_variance = noise_variance
-        self.parameter_uncertainty = parameter_uncertainty
-        self.output_uncertainty = output_uncertainty
-        self.observation = observation
-        self.covariance_limit = covariance_limit
-        self.name = f"MRAS {observation} ({adaptation.name})"
+    length: float
+    initial: NomotoParameters
+    adaptation: Adaptation
+    noise_variance: float
+    parameter_uncertainty: float = 1.0
+    output_uncertainty: float = 0.01
+    observation: str = "combined"
+    covariance_limit: float = 1e6
+
+    def __post_init__(self) -> None:
+        if self.observation not in OBSERVATIONS:
+            raise ValueError(f"observation must be one of {OBSERVATIONS}, got {self.observation!r}")
+
+    @property
+    def name(self) -> str:
+        return f"MRAS {self.observation} ({self.adaptation.name})"
 
     def run(self, log: ExcitationLog) -> ParameterHistory:
         """K*, tau* after each sample of ``log`` (uniformly sampled, with speed)."""

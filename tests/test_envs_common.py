@@ -1,0 +1,91 @@
+"""Gymnasium's contract, the same for every ship environment: the checker, the discrete rudder,
+seeded resets and the rgb_array render."""
+
+from __future__ import annotations
+
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from env_contract import assert_same_steps, sail
+from gymnasium.utils.env_checker import check_env
+
+import ship_env  # noqa: F401  (registers the environments)
+from ship_env.envs.course_change import CourseChangeEnv
+from ship_env.envs.course_keeping import CourseKeepingEnv
+from ship_env.envs.track_follow import TrackFollowEnv
+from ship_env.envs.weather import DISTURBANCES, RANDOM_DISTURBANCE
+
+ENVS = {
+    "ship_env/CourseChange-v0": CourseChangeEnv,
+    "ship_env/CourseKeeping-v0": CourseKeepingEnv,
+    "ship_env/TrackFollow-v0": TrackFollowEnv,
+}
+EVERY_DISTURBANCE = [{"disturbance": level} for level in (*DISTURBANCES, RANDOM_DISTURBANCE)]
+
+#: Each environment with the options that change what it observes, draws or accepts.
+CHECKED = [
+    *(("ship_env/CourseChange-v0", options) for options in EVERY_DISTURBANCE),
+    *(("ship_env/CourseKeeping-v0", options) for options in EVERY_DISTURBANCE),
+    ("ship_env/CourseKeeping-v0", {"action_type": "discrete"}),
+    ("ship_env/TrackFollow-v0", {}),
+    ("ship_env/TrackFollow-v0", {"track": "T4", "disturbance": "calm"}),
+    ("ship_env/TrackFollow-v0", {"action_type": "discrete", "rudder_levels": 5}),
+]
+SEEDED = [
+    *(("ship_env/CourseChange-v0", options) for options in EVERY_DISTURBANCE),
+    ("ship_env/CourseKeeping-v0", {"disturbance": RANDOM_DISTURBANCE}),
+    ("ship_env/TrackFollow-v0", {}),
+]
+RENDERED = [
+    ("ship_env/CourseChange-v0", {"disturbance": "wind_current_waves"}),
+    ("ship_env/CourseKeeping-v0", {}),
+    ("ship_env/TrackFollow-v0", {"track": "T1"}),
+]
+
+
+def _ids(cases: list[tuple[str, dict]]) -> list[str]:
+    return [env_id.split("/")[1] + "".join(f"-{value}" for value in options.values()) for env_id, options in cases]
+
+
+def _assert_checked_without_warnings(env: gym.Env) -> None:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        check_env(env.unwrapped)
+    assert [str(warning.message) for warning in caught] == []
+
+
+@pytest.mark.parametrize(("env_id", "options"), CHECKED, ids=_ids(CHECKED))
+def test_check_env_passes_without_warnings(env_id, options):
+    _assert_checked_without_warnings(gym.make(env_id, **options))
+
+
+@pytest.mark.parametrize("env_id", list(ENVS))
+def test_every_env_offers_the_discrete_rudder(env_id):
+    env = gym.make(env_id, action_type="discrete", rudder_levels=3)
+    assert env.action_space == gym.spaces.Discrete(3)
+    _assert_checked_without_warnings(env)
+
+
+@pytest.mark.parametrize(("env_id", "options"), SEEDED, ids=_ids(SEEDED))
+def test_seeded_reset_repeats_the_trajectory_and_other_seeds_differ(env_id, options):
+    actions = np.random.default_rng(0).uniform(-1.0, 1.0, size=(40, 1)).astype(np.float32)
+    env = ENVS[env_id](**options)
+    first = sail(env, actions, seed=11)
+    assert_same_steps(first, sail(env, actions, seed=11))
+    assert_same_steps(first, sail(ENVS[env_id](**options), actions, seed=11))
+    other = sail(env, actions, seed=12)
+    assert not np.array_equal(first[-1][-1]["state"], other[-1][-1]["state"])
+
+
+@pytest.mark.parametrize(("env_id", "options"), RENDERED, ids=_ids(RENDERED))
+def test_rgb_array_render_returns_an_rgb_frame(env_id, options):
+    env = gym.make(env_id, render_mode="rgb_array", **options)
+    env.reset(seed=2)
+    for _ in range(20):
+        env.step(np.full(1, 0.5, dtype=np.float32))
+    frame = env.render()
+    assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3 and frame.shape[0] > 100
+    assert len(np.unique(frame.reshape(-1, 3), axis=0)) > 10
+    env.close()

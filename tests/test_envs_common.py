@@ -1,8 +1,11 @@
 """Gymnasium's contract, the same for every ship environment: the checker, the discrete rudder,
-seeded resets and the rgb_array render."""
+seeded resets, bad actions, a fresh interpreter's gym.make and the rgb_array render."""
 
 from __future__ import annotations
 
+import math
+import subprocess
+import sys
 import warnings
 
 import gymnasium as gym
@@ -37,6 +40,46 @@ SEEDED = [
     *(("ship_env/CourseChange-v0", options) for options in EVERY_DISTURBANCE),
     ("ship_env/CourseKeeping-v0", {"disturbance": RANDOM_DISTURBANCE}),
     ("ship_env/TrackFollow-v0", {}),
+]
+COURSE_CHANGE, COURSE_KEEPING, TRACK_FOLLOW = ENVS
+DISCRETE = {"action_type": "discrete"}
+BAD_CONTINUOUS_ACTIONS = (
+    np.array([np.nan]),
+    np.array([np.inf]),
+    np.array([-np.inf]),
+    np.array([0.1, 0.2]),
+    np.array([[0.1]]),
+    0.5,
+    "port",
+    None,
+)
+BAD_ACTIONS = [
+    *((env_id, {}, action) for env_id in ENVS for action in BAD_CONTINUOUS_ACTIONS),
+    (COURSE_KEEPING, {"action_type": "discrete", "rudder_levels": 3}, 3),
+    (COURSE_KEEPING, DISCRETE, True),
+    *((TRACK_FOLLOW, DISCRETE, action) for action in (7, -1, 0.5, np.array([3]))),
+]
+BAD_VECTOR_ACTIONS = [np.full((3,), 0.1), np.array([[0.1], [np.nan], [0.2]]), np.zeros((3, 2))]
+#: gym.make's keywords in a fresh interpreter, what it prints of the env and what that must read.
+FRESH = [
+    (
+        COURSE_CHANGE,
+        "rudder_limit_deg=10.0, disturbance='random'",
+        "round(env.unwrapped.task.rudder_limit, 6), env.unwrapped.task.disturbance",
+        ["600", str(round(math.radians(10.0), 6)), "random", "(5,)", "CourseChangeVectorEnv", "600"],
+    ),
+    (
+        COURSE_KEEPING,
+        "rudder_weight=0.5, action_type='discrete'",
+        "env.unwrapped.task.rudder_weight, env.action_space",
+        ["600", "0.5", "Discrete(7)", "(4,)", "CourseKeepingVectorEnv", "600"],
+    ),
+    (
+        TRACK_FOLLOW,
+        "track='T5', disturbance='calm'",
+        "info['scenario'].track, info['scenario'].disturbance",
+        ["3600", "T5", "calm", "(8,)", "TrackFollowVectorEnv", "3600"],
+    ),
 ]
 RENDERED = [
     ("ship_env/CourseChange-v0", {"disturbance": "wind_current_waves"}),
@@ -77,6 +120,43 @@ def test_seeded_reset_repeats_the_trajectory_and_other_seeds_differ(env_id, opti
     assert_same_steps(first, sail(ENVS[env_id](**options), actions, seed=11))
     other = sail(env, actions, seed=12)
     assert not np.array_equal(first[-1][-1]["state"], other[-1][-1]["state"])
+
+
+@pytest.mark.parametrize(("env_id", "options", "action"), BAD_ACTIONS)
+def test_bad_actions_raise_value_error_naming_the_action(env_id, options, action):
+    env = ENVS[env_id](**options)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="action") as raised:
+        env.step(action)
+    assert repr(action) in str(raised.value) or str(action) in str(raised.value)
+
+
+@pytest.mark.parametrize("env_id", list(ENVS))
+@pytest.mark.parametrize("action", BAD_VECTOR_ACTIONS, ids=["flat", "nan", "two-columns"])
+def test_bad_vector_actions_raise_value_error(env_id, action):
+    envs = gym.make_vec(env_id, num_envs=3, vectorization_mode="vector_entry_point")
+    envs.reset(seed=0)
+    with pytest.raises(ValueError, match="action"):
+        envs.step(action)
+
+
+@pytest.mark.parametrize(("env_id", "keywords", "printed", "expected"), FRESH, ids=[case[0] for case in FRESH])
+def test_make_from_a_fresh_interpreter_with_only_the_id_and_kwargs_passing_through(
+    tmp_path, env_id, keywords, printed, expected
+):
+    code = (
+        "import sys, gymnasium as gym\n"
+        "assert 'ship_env' not in sys.modules\n"
+        f"env = gym.make('ship_env:{env_id}', {keywords})\n"
+        "observation, info = env.reset(seed=1)\n"
+        "env.step(env.action_space.sample())\n"
+        f"envs = gym.make_vec('ship_env:{env_id}', num_envs=2, vectorization_mode='vector_entry_point')\n"
+        f"print(env.spec.max_episode_steps, {printed}, observation.shape, type(envs.unwrapped).__name__,"
+        " envs.unwrapped.max_episode_steps)\n"
+    )
+    result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.split() == expected
 
 
 @pytest.mark.parametrize(("env_id", "options"), RENDERED, ids=_ids(RENDERED))

@@ -30,7 +30,7 @@ import numpy as np
 
 from ship_env.model import EFFECTS, ShipModel
 from ship_env.workbench.errors import ErrorScales, RunErrors
-from ship_env.workbench.fit import FitOptions, Problem
+from ship_env.workbench.fit import FitOptions, Problem, one_blas_thread
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.signals import ResidualSignals, residual_signals
@@ -191,6 +191,7 @@ def evidence(current: CrossValidation, logs: Sequence[Log], effect: str, options
     return Evidence(correlation=math.sqrt(min(max(share, 0.0), 1.0)), variance_explained=share, linearised=linearised)
 
 
+@one_blas_thread
 def diagnose(
     current: CrossValidation,
     logs: Sequence[Log],
@@ -258,6 +259,7 @@ def refit_with(
     return CandidateResult(effects, own_evidence, validation)
 
 
+@one_blas_thread
 def pairs(
     diagnosis: Diagnosis, logs: Sequence[Log], options: FitOptions | None = None, width: int = 4
 ) -> list[CandidateResult]:

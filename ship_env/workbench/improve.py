@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from ship_env.model import ShipModel
 from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in_words, pairs
 from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.fit import FitOptions, as_setup
+from ship_env.workbench.fit import FitOptions, as_setup, one_blas_thread
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.validation import CrossValidation, cross_validate
@@ -87,6 +87,7 @@ class Ladder:
         return self.rungs[-1].validation
 
 
+@one_blas_thread
 def improve(
     model: ShipModel | ReplayModel,
     logs: Sequence[Log],

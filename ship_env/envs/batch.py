@@ -34,32 +34,28 @@ from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel
 from ship_env.model.simulator import batch_loop
 
-#: The loops over a batch's ships, compiled into a task module by :func:`define_update_loops`: its
-#: ``update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics, *task_arrays)`` for
-#: every ship, or with ``restarted_only`` for those just restarted; the arrays borrowed (no reference counts).
-UPDATE_LOOPS_SOURCE = """
-from numba import prange
-from ship_env.model.integrators import borrowed
-from ship_env.model.kernel import kernel, parallel_kernel
-
-
-@kernel
-def update_ships(restarted_only, *arrays):
+# The loop over a batch's ships, written once: serially (range) or on all cores (prange).
+_UPDATE_LOOP = """
+@{decorator}
+def {name}(restarted_only, *arrays):
     arrays = borrowed(arrays)
     episodes = arrays[4]
-    for i in range(episodes.shape[0]):
-        if episodes[i]["restarted"] or not restarted_only:
-            update_ship(i, *arrays)
-
-
-@parallel_kernel
-def update_ships_parallel(restarted_only, *arrays):
-    arrays = borrowed(arrays)
-    episodes = arrays[4]
-    for i in prange(episodes.shape[0]):
+    for i in {ships}(episodes.shape[0]):
         if episodes[i]["restarted"] or not restarted_only:
             update_ship(i, *arrays)
 """
+#: The loops over a batch's ships, compiled into a task module by :func:`define_update_loops`: its
+#: ``update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics, *task_arrays)`` for
+#: every ship, or with ``restarted_only`` for those just restarted; the arrays borrowed (no reference counts).
+UPDATE_LOOPS_SOURCE = "\n".join(
+    (
+        "from numba import prange",
+        "from ship_env.model.integrators import borrowed",
+        "from ship_env.model.kernel import kernel, parallel_kernel",
+        _UPDATE_LOOP.format(decorator="kernel", name="update_ships", ships="range"),
+        _UPDATE_LOOP.format(decorator="parallel_kernel", name="update_ships_parallel", ships="prange"),
+    )
+)
 
 
 def define_update_loops(module_globals: dict[str, Any]) -> tuple[Callable[..., None], Callable[..., None]]:

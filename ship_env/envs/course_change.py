@@ -104,12 +104,8 @@ class CourseChangeEnv(ShipEnv):
     ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``,
     ``wave_period_range``; and those every task shares (:class:`~ship_env.envs.task.ShipTask`):
     ``ship``, ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``,
-    ``fix_interval`` (s, default 0: a fix every step), ``action_type``, ``rudder_levels``.
-
-    ``ship_variation`` (default ``None``: the preset's ship every episode; ``True`` or a mapping of
-    ranges: each episode's K*, tau*, service speed and weather strength drawn from the environment's
-    ``np_random`` after the task's draws, recorded as ``info["scenario"].ship``; see
-    :mod:`ship_env.envs.variation`) trains policies that must hold up off the nominal ship.
+    ``fix_interval`` (s, default 0: a fix every step), ``action_type``, ``rudder_levels``, and
+    ``ship_variation`` (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
 
     ## Version History
 

@@ -127,12 +127,8 @@ class TrackFollowEnv(ShipEnv):
     ``rudder_limit_deg``, ``cross_track_weight``, ``rudder_travel_weight``, ``fix_interval``
     (s); and those every task shares (:class:`~ship_env.envs.task.ShipTask`): ``ship``,
     ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``, ``action_type``,
-    ``rudder_levels``.
-
-    ``ship_variation`` (default ``None``: the preset's ship every episode; ``True`` or a mapping of
-    ranges: each episode's K*, tau*, service speed and weather strength drawn from the environment's
-    ``np_random`` after the task's draws, recorded as ``info["scenario"].ship``; see
-    :mod:`ship_env.envs.variation`) trains policies that must hold up off the nominal ship.
+    ``rudder_levels``, and ``ship_variation`` (each episode's ship drawn around the preset's:
+    :mod:`ship_env.envs.variation`).
 
     ## Version History
 

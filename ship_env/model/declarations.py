@@ -12,7 +12,7 @@ base model leaves out (propeller astern, low-speed cross-flow) widens it when it
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 # Units a YAML file may use, with the factor that converts them to the SI unit the model uses.
 UNIT_CONVERSIONS: dict[str, tuple[str, float]] = {
@@ -151,13 +151,9 @@ class Effect:
                     f"effect {name!r}: parameters: expected Parameter(...) arguments one after another, "
                     f"got {parameter!r}"
                 )
-        # A frozen dataclass sets its fields through object.__setattr__.
-        object.__setattr__(self, "name", name)
-        object.__setattr__(self, "title", title)
-        object.__setattr__(self, "equations", equations)
-        object.__setattr__(self, "parameters", parameters)
-        object.__setattr__(self, "required", required)
-        object.__setattr__(self, "envelope", Envelope() if envelope is None else envelope)
+        values = (name, title, equations, parameters, required, Envelope() if envelope is None else envelope)
+        for attribute, value in zip(fields(self), values, strict=True):
+            object.__setattr__(self, attribute.name, value)  # how a frozen dataclass sets its fields
 
     def field_name(self, parameter: str) -> str:
         """The name of a parameter in the compiled parameter record (``yaw_gain``)."""

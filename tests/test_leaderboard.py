@@ -56,6 +56,13 @@ def robustness():
     return run_leaderboard(spec, shipped=False, progress=False)
 
 
+def _beside_the_fixed_pd(table, name: str):
+    """The fixed PD's and ``name``'s standings in ``table``, printed for the test log."""
+    fixed, other = table.standing("PD, fixed gains"), table.standing(name)
+    print(f"{table.suite.name}: fixed {fixed.values}\n {name} {other.values}")
+    return fixed, other
+
+
 @pytest.mark.parametrize("disturbance", ["calm", "wind_current"])
 def test_gain_scheduled_pd_beats_the_fixed_pd_at_half_speed(robustness, disturbance):
     """Fixed gains at half speed leave the loop at half its natural frequency and with damping 0.60
@@ -65,8 +72,7 @@ def test_gain_scheduled_pd_beats_the_fixed_pd_at_half_speed(robustness, disturba
     allowance: ``test_baselines_pd``); the adaptive autopilots, scheduled alike but on the yaw
     filter's signals, beat the fixed PD with less rudder travel."""
     table = robustness.table(f"CourseChange {disturbance} | half speed")
-    fixed, scheduled = table.standing("PD, fixed gains"), table.standing("PD, gain-scheduled")
-    print(f"{disturbance}: fixed {fixed.values}\n scheduled {scheduled.values}")
+    fixed, scheduled = _beside_the_fixed_pd(table, "PD, gain-scheduled")
     assert scheduled.rank < fixed.rank
     assert scheduled.values["integrated_heading_error"] < fixed.values["integrated_heading_error"]
     assert scheduled.values["overshoot"] < fixed.values["overshoot"]
@@ -81,8 +87,7 @@ def test_gain_scheduled_pd_beats_the_fixed_pd_at_half_speed(robustness, disturba
 @pytest.mark.parametrize("disturbance", ["calm", "wind_current"])
 def test_mrac_beats_the_fixed_pd_when_the_ships_k_and_tau_are_halved(robustness, disturbance):
     table = robustness.table(f"CourseChange {disturbance} | K*, tau* x0.5")
-    fixed, mrac = table.standing("PD, fixed gains"), table.standing("MRAC")
-    print(f"{disturbance}: fixed {fixed.values}\n MRAC {mrac.values}")
+    fixed, mrac = _beside_the_fixed_pd(table, "MRAC")
     assert mrac.rank < fixed.rank
     assert mrac.values["integrated_heading_error"] < fixed.values["integrated_heading_error"]
     assert mrac.values["rudder_travel"] < fixed.values["rudder_travel"]
@@ -100,8 +105,7 @@ def test_mrac_keeps_the_design_loop_when_the_ships_k_and_tau_are_doubled(
     ``test_baselines_pd``), with less overshoot and a third of the rudder travel."""
     table = robustness.table(f"CourseChange {disturbance} | K*, tau* x2")
     nominal = nominal_course_changes.table(f"CourseChange {disturbance} | nominal")
-    fixed, mrac = table.standing("PD, fixed gains"), table.standing("MRAC")
-    print(f"{disturbance}: fixed {fixed.values}\n MRAC {mrac.values}")
+    fixed, mrac = _beside_the_fixed_pd(table, "MRAC")
     error = "integrated_heading_error"
     mrac_shift = abs(mrac.values[error] - nominal.standing("MRAC").values[error])
     fixed_shift = abs(fixed.values[error] - nominal.standing("PD, fixed gains").values[error])

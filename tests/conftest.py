@@ -9,7 +9,6 @@ import numpy as np
 import pytest
 
 from ship_env.model import Conditions, ShipModel, Simulator
-from ship_env.model import state as S
 
 CONTAINER = "container_226m"
 
@@ -24,11 +23,11 @@ def run(
     method: str = "rk4",
     heading: float = 0.0,
 ) -> np.ndarray:
-    """Simulate one ship and return its states, shape (steps + 1, STATE_SIZE), plus speed column."""
+    """Simulate one ship and return its states, shape (steps + 1, model.state_size), plus speed column."""
     sim = Simulator(model, dt=dt, method=method)
     sim.reset(seed=seed, conditions=conditions, heading=heading)
     steps = int(round(duration / dt))
-    history = np.empty((steps + 1, S.STATE_SIZE + 1))
+    history = np.empty((steps + 1, model.state_size + 1))
     history[0, :-1] = sim.state[0]
     history[0, -1] = sim.speed[0]
     for k in range(steps):
@@ -39,7 +38,7 @@ def run(
     return history
 
 
-SPEED = S.STATE_SIZE  # column of ``run``'s history holding the forward speed
+SPEED = -1  # column of ``run``'s history holding the forward speed
 
 
 @pytest.fixture(scope="session")

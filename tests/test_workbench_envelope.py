@@ -145,14 +145,14 @@ def test_crossflow_yaw_damping_adds_minus_c_r_abs_r_at_any_speed(speed):
 
     without = ShipModel(SHIP, REQUIRED_EFFECTS)
     with_it = without.with_effects("crossflow_yaw")
-    state = np.zeros(S.STATE_SIZE)
+    state = np.zeros(without.state_size)
     state[S.RATE_OF_TURN] = -math.radians(2.0)
     conditions = np.zeros(S.CONDITION_SIZE)
     conditions[S.SERVICE_SPEED] = speed
     slopes = []
     for model in (without, with_it):
-        out = np.zeros(S.STATE_SIZE)
-        derivatives(state, 0.1, conditions, np.zeros(S.NOISE_SIZE), 0.0, model.record[0], out)
+        out = np.zeros(without.state_size)
+        derivatives(state, 0.1, conditions, np.zeros(without.state_size), 0.0, model.record[0], out)
         slopes.append(out[S.RATE_OF_TURN])
     rate = state[S.RATE_OF_TURN]
     expected = -with_it.parameter("crossflow_yaw.coefficient") * abs(rate) * rate
@@ -174,15 +174,15 @@ def test_a_propeller_astern_takes_the_rudder_inflow_and_walks_the_stern(propelle
     }
     base = ShipModel(SHIP, [*REQUIRED_EFFECTS, "propeller_slipstream", "propeller_astern"], values)
     without = base.without_effects("propeller_astern")
-    state = np.zeros(S.STATE_SIZE)
+    state = np.zeros(without.state_size)
     rudder = math.radians(10.0)
     conditions = np.zeros(S.CONDITION_SIZE)
     conditions[S.SERVICE_SPEED] = 0.3
     conditions[S.PROPELLER_RATE] = propeller_rate
     slopes = []
     for model in (without, base):
-        out = np.zeros(S.STATE_SIZE)
-        derivatives(state, rudder, conditions, np.zeros(S.NOISE_SIZE), 0.0, model.record[0], out)
+        out = np.zeros(without.state_size)
+        derivatives(state, rudder, conditions, np.zeros(without.state_size), 0.0, model.record[0], out)
         slopes.append(out[S.RATE_OF_TURN])
     gain, time_constant = base.parameter("yaw.gain"), base.parameter("yaw.time_constant")
     induced = (propeller_rate * base.parameter("propeller_slipstream.propeller_diameter")) ** 2

@@ -81,8 +81,8 @@ def suite_envs(suite: Suite, entrant: Entrant) -> tuple[gym.Env, ShipModel]:
 
 def sail_recorded(entrant: Entrant, suite: Suite, episode: Episode) -> tuple[np.ndarray, ShipTask]:
     """Sail one episode of ``suite`` with ``entrant`` (a learned one's first training seed),
-    recording it: the true states at each step (steps + 1, ``STATE_SIZE``; layout
-    :mod:`ship_env.model.state`) and the sailed task (its tracks)."""
+    recording it: the true states at each step (steps + 1, state size; layout
+    ``ShipModel.state_names``) and the sailed task (its tracks)."""
     env, design_model = suite_envs(suite, entrant)
     states: list[np.ndarray] = []
     try:

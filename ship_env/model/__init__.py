@@ -1,6 +1,6 @@
 """The ship as equations: one module per physical effect, composed by :class:`ShipModel`."""
 
-from ship_env.model.contributions import Contribution
+from ship_env.model.contributions import Contribution, State
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
 from ship_env.model.registry import register_effect
@@ -19,6 +19,7 @@ __all__ = [
     "Ship",
     "ShipModel",
     "Simulator",
+    "State",
     "list_ships",
     "load_ship",
     "register_effect",

@@ -11,14 +11,20 @@ contribution behind its effect's on/off flag, quantity by quantity in the order 
    read it;
 4. effective rudder and rudder inflow, H(r*) and side moments;
 5. yaw accelerations (the hull's, then the outside moments on top of the one held over the step),
-   and the rates of the states effects own (speed loss, disturbance states).
+   and the rates of the states effects own (speed loss, disturbance states, a user effect's own).
+
+The state's layout is the motion's states, then the effects' own (``registry.state_layout``); the
+integrator's other per-step pieces are composed the same way, so that it names no effect either:
+the contributions held over a step (:func:`held_yaw_acceleration`), the white noise that drives
+the states declared noise-driven (:func:`draw_white_noise`), the actual rudder a rudder actuator
+reaches (:func:`actual_rudder`); and the states' initial values (:func:`start_states`).
 
 The code is compiled where a compiled caller (``integrators.step_ship``) meets a record type: the
 record's fields name the effects, and its ``equations_<hash>`` field the version of their
 equations, so numba's on-disk cache holds one compiled step per set of effects and is never
 reused for changed equations. :func:`source` shows the code for a record.
 
-The actual rudder is not integrated here: the steering machine moves it exactly (see
+The actual rudder is not integrated here: :func:`actual_rudder` moves it exactly (see
 ``integrators``), and the derivative takes the rudder angle at the instant as an argument.
 """
 
@@ -38,19 +44,25 @@ from numba import types
 from numba.core.errors import NumbaIRAssumptionWarning
 from numba.extending import overload
 
-from ship_env.model import contributions
+from ship_env.model import contributions, noise
 from ship_env.model import state as S
-from ship_env.model.contributions import INPUTS, QUANTITIES, STATE_DERIVATIVES, WIND
+from ship_env.model.contributions import (
+    HELD_INPUTS,
+    INPUTS,
+    QUANTITIES,
+    STEP_INPUTS,
+    STEP_QUANTITIES,
+    WIND,
+    derivative_quantity,
+    white_noise_input,
+)
 from ship_env.model.effects.wind import relative_wind
-from ship_env.model.registry import EFFECTS, PRINCIPAL_NAMES, RegisteredEffect
+from ship_env.model.noise import standard_normal_pair
+from ship_env.model.registry import EFFECTS, PRINCIPAL_NAMES, RegisteredEffect, state_layout
 
 #: The record field that names the version of the effects' equations (``equations_<hash>``).
 FINGERPRINT_PREFIX = "equations_"
 
-_INPUT_EXPRESSIONS = {
-    "wave_white_noise": f"white_noise[{S.NOISE_WAVE}]",
-    "gust_white_noise": f"white_noise[{S.NOISE_GUST}]",
-}
 _PREAMBLE = f"""    length = p["length"]
     heading = state[{S.HEADING}]
     rate_of_turn = state[{S.RATE_OF_TURN}]
@@ -64,7 +76,7 @@ _PREAMBLE = f"""    length = p["length"]
 
 def _composer_source() -> str:
     """The source of what writes the composed code: this module, the quantities and the state layout."""
-    return "".join(inspect.getsource(module) for module in (sys.modules[__name__], contributions, S))
+    return "".join(inspect.getsource(module) for module in (sys.modules[__name__], contributions, S, noise))
 
 
 def fingerprint(effects: Sequence[str]) -> str:
@@ -95,19 +107,36 @@ class _Writer:
         self.lines: list[str] = []
         #: Contributions computed with the apparent wind: (effect, index) -> the variable holding them.
         self.early: dict[tuple[str, int], str] = {}
-        self.namespace: dict[str, Any] = {"math": math, "relative_wind": relative_wind, "finite": _finite}
+        #: Arguments read otherwise than usual in the function being written (the held time).
+        self.overrides: dict[str, str] = {}
+        self.namespace: dict[str, Any] = {
+            "math": math,
+            "np": np,
+            "relative_wind": relative_wind,
+            "finite": _finite,
+            "standard_normal_pair": standard_normal_pair,
+        }
+        self.layout = state_layout(entries)
+        #: The states driven by white noise, in the order of their noise channels.
+        self.noise = [(entry, state) for entry in entries for state in entry.states if state.white_noise is not None]
+        self.derivatives = {derivative_quantity(name) for name in self.layout}
 
     def expression(self, argument: str, entry: RegisteredEffect) -> str:
         """The code that reads a contribution's argument."""
         own = {parameter.name for parameter in entry.effect.parameters}
-        if argument in QUANTITIES or argument in INPUTS and argument not in _INPUT_EXPRESSIONS:
+        if argument in self.overrides:
+            return self.overrides[argument]
+        channels = [white_noise_input(state.name) for _, state in self.noise]
+        if argument in channels:
+            return f"white_noise[{channels.index(argument)}]"
+        if argument in QUANTITIES or argument in INPUTS or argument in self.derivatives:
             return argument
-        if argument in _INPUT_EXPRESSIONS:
-            return _INPUT_EXPRESSIONS[argument]
+        if argument in STEP_QUANTITIES or argument in HELD_INPUTS or any(argument in n for n in STEP_INPUTS.values()):
+            return argument
         if argument == "rudder":
             return "rudder"
-        if argument in S.STATE_NAMES:
-            return f"state[{S.STATE_NAMES.index(argument)}]"
+        if argument in self.layout:
+            return f"state[{self.layout.index(argument)}]"
         if argument in S.CONDITION_NAMES:
             return f"conditions[{S.CONDITION_NAMES.index(argument)}]"
         if argument in own:
@@ -121,11 +150,14 @@ class _Writer:
 
     def call(self, entry: RegisteredEffect, index: int) -> str:
         contribution = entry.contributions[index]
-        name = f"{entry.effect.name}_{index}"
-        self.namespace[name] = contribution.function
-        arguments = ", ".join(self.expression(argument, entry) for argument in entry.arguments(contribution))
+        return self.call_function(entry, contribution.function, f"{entry.effect.name}_{index}", contribution.quantity)
+
+    def call_function(self, entry: RegisteredEffect, function: Callable[..., Any], name: str, what: str) -> str:
+        """The code that calls one of an effect's functions on what its arguments name."""
+        self.namespace[name] = function
+        arguments = ", ".join(self.expression(argument, entry) for argument in entry.arguments(function))
         if self.checked:
-            return f"finite({name}({arguments}), {entry.effect.name!r}, {contribution.quantity!r})"
+            return f"finite({name}({arguments}), {entry.effect.name!r}, {what!r})"
         return f"{name}({arguments})"
 
     def emit(self, line: str, depth: int = 1) -> None:
@@ -137,7 +169,7 @@ class _Writer:
             self.emit("north_rate = 0.0", depth)
             self.emit("east_rate = 0.0", depth)
         else:
-            self.emit(f"{quantity} = {QUANTITIES[quantity][0]}", depth)
+            self.emit(f"{quantity} = {_start(quantity)}", depth)
 
     def apply(self, entry: RegisteredEffect, index: int, depth: int) -> None:
         """One contribution: added to its quantity, or replacing it where it reads it."""
@@ -147,7 +179,7 @@ class _Writer:
             self.emit(f"added_north, added_east = {call}", depth)
             self.emit("north_rate += added_north", depth)
             self.emit("east_rate += added_east", depth)
-        elif quantity in entry.arguments(entry.contributions[index]):
+        elif quantity in entry.arguments(entry.contributions[index]) or quantity in STEP_QUANTITIES:
             self.emit(f"{quantity} = {call}", depth)
         elif (entry.effect.name, index) in self.early:
             self.emit(f"{quantity} = {quantity} + {self.early[entry.effect.name, index]}", depth)
@@ -172,13 +204,14 @@ class _Writer:
             (entry, index)
             for entry in self.entries
             for index, contribution in enumerate(entry.contributions)
-            if contribution.quantity == quantity and (select is None or select(entry, index))
+            if contribution.quantity == quantity
+            and (select(entry, index) if select is not None else not contribution.held)
         ]
         if fresh:
             first = chosen[0] if chosen else None
             if (
                 first is not None
-                and QUANTITIES[quantity][0] in ("0.0", "(0.0, 0.0)")
+                and _start(quantity) in ("0.0", "(0.0, 0.0)")
                 and (first[0].effect.required or first[0].effect.flag_name == flag_checked)
                 and (first[0].effect.name, first[1]) not in self.early
                 and quantity not in first[0].arguments(first[0].contributions[first[1]])
@@ -255,30 +288,109 @@ class _Writer:
         }
         for index, rate in rates.items():
             self.emit(f"out[{index}] = {rate}")
-        owned = [(name, entry) for entry in self.entries for name in entry.states]
-        for index in range(S.STATE_SIZE):
+        for index in range(len(self.layout)):
             if index not in rates:
                 self.emit(f"out[{index}] = 0.0")
-        for owner in dict.fromkeys(entry.effect.name for _, entry in owned):
-            entry = next(e for _, e in owned if e.effect.name == owner)
+        for entry in self.entries:
+            if not entry.states:
+                continue
             depth = 1 if entry.effect.required else 2
             if depth == 2:
                 self.emit(f'if p["{entry.effect.flag_name}"]:')
-            for name in entry.states:
-                quantity = STATE_DERIVATIVES[name]
+            for state in entry.states:
+                quantity = derivative_quantity(state.name)
                 self.quantity(quantity, depth, flag_checked=entry.effect.flag_name)
-                self.emit(f"out[{S.STATE_NAMES.index(name)}] = {quantity}", depth)
+                self.emit(f"out[{self.layout.index(state.name)}] = {quantity}", depth)
 
     def derivative(self) -> str:
         self.lines.append(_PREAMBLE.rstrip("\n"))
         self.motion()
-        done = {"sway_velocity", "ground_velocity", *WIND, *STATE_DERIVATIVES.values()}
+        done = {"sway_velocity", "ground_velocity", *WIND, *self.derivatives}
         for quantity in QUANTITIES:
             if quantity not in done:
                 self.quantity(quantity)
         self.state_rates()
         body = "\n".join(self.lines)
         return f"def derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):\n{body}\n"
+
+    def held(self) -> str:
+        """The contributions held over the step, each on top of the last, with the time at mid-step."""
+        self.lines.append(_PREAMBLE.rstrip("\n"))
+        self.emit("mid_step_time = state[0] + 0.5 * dt")
+        self.overrides = {"time": "mid_step_time", "rudder": f"state[{S.RUDDER}]"}
+        self.emit("held = 0.0")
+        first = True
+        for entry in self.entries:
+            for index, contribution in enumerate(entry.contributions):
+                if not contribution.held:
+                    continue
+                # The first is assigned, not added to 0: the sum keeps a -0.0 as the hand-written step did.
+                update = self.call(entry, index) if first else f"held + {self.call(entry, index)}"
+                if entry.effect.required:
+                    self.emit(f"held = {update}")
+                else:
+                    self.emit(f'if p["{entry.effect.flag_name}"]:')
+                    self.emit(f"held = {update}", 2)
+                first = False
+        body = "\n".join(self.lines)
+        return f"def held_yaw_acceleration(state, conditions, waves, dt, p):\n{body}\n    return held\n"
+
+    def white_noise(self) -> str:
+        """Unit white noise for the noise-driven states (over sqrt(dt)), drawn where an intensity is not 0.
+
+        Channel pair k of step j is drawn at counter j + k 2^40: the first pair's are the step's
+        own counters whatever else is registered.
+        """
+        self.lines.append(_PREAMBLE.rstrip("\n"))
+        self.overrides = {"rudder": f"state[{S.RUDDER}]"}
+        for channel in range(len(self.noise)):
+            self.emit(f"out[{channel}] = 0.0")
+        self.emit("draw = False")
+        for position, (entry, state) in enumerate(self.noise):
+            assert state.white_noise is not None  # ``self.noise`` holds the noise-driven states
+            condition = f"{self.call_function(entry, state.white_noise, f'noise_{position}', state.name)} != 0.0"
+            if not entry.effect.required:
+                condition = f'p["{entry.effect.flag_name}"] and {condition}'
+            self.emit(f"if not draw and {condition}:")
+            self.emit("draw = True", 2)
+        if self.noise:
+            self.emit("if draw:")
+            for pair in range(0, len(self.noise), 2):
+                counter = f"np.uint64(step_index) + np.uint64({(pair // 2) << 40})" if pair else "np.uint64(step_index)"
+                self.emit(f"first, second = standard_normal_pair(noise_key, {counter})", 2)
+                self.emit(f"out[{pair}] = first / math.sqrt(dt)", 2)
+                if pair + 1 < len(self.noise):
+                    self.emit(f"out[{pair + 1}] = second / math.sqrt(dt)", 2)
+        body = "\n".join(self.lines)
+        return f"def draw_white_noise(state, conditions, noise_key, step_index, dt, p, out):\n{body}\n"
+
+    def rudder(self) -> str:
+        """The actual rudder ``duration`` s into the step: the limited order, or where an actuator takes it."""
+        self.lines.append(_PREAMBLE.rstrip("\n"))
+        self.quantity("actual_rudder", select=lambda entry, index: True)
+        body = "\n".join(self.lines)
+        signature = "actual_rudder(state, rudder, limited_order, duration, conditions, p)"
+        return f"def {signature}:\n{body}\n    return actual_rudder\n"
+
+    def initial(self) -> str:
+        """Write the effects' states' initial values into a state whose motion is set."""
+        self.lines.append(_PREAMBLE.rstrip("\n"))
+        self.overrides = {"rudder": f"state[{S.RUDDER}]"}
+        for entry in self.entries:
+            for state in entry.new_states:
+                index = self.layout.index(state.name)
+                if not callable(state.initial):
+                    self.emit(f"state[{index}] = {float(state.initial)!r}")
+                    continue
+                self.emit(f"state[{index}] = 0.0")
+                call = self.call_function(entry, state.initial, f"initial_{index}", state.name)
+                if entry.effect.required:
+                    self.emit(f"state[{index}] = {call}")
+                else:
+                    self.emit(f'if p["{entry.effect.flag_name}"]:')
+                    self.emit(f"state[{index}] = {call}", 2)
+        body = "\n".join(self.lines)
+        return f"def start_states(state, conditions, p):\n{body}\n"
 
     def sway(self) -> str:
         self.lines.append(_PREAMBLE.rstrip("\n"))
@@ -288,6 +400,24 @@ class _Writer:
 
 
 _COMPOSER_SOURCE = _composer_source()
+
+#: The composed functions: kind -> (the writer's method, the function's name).
+_KINDS = {
+    "derivatives": ("derivative", "derivatives"),
+    "checked": ("derivative", "derivatives"),
+    "sway": ("sway", "sway_velocity"),
+    "held": ("held", "held_yaw_acceleration"),
+    "white_noise": ("white_noise", "draw_white_noise"),
+    "rudder": ("rudder", "actual_rudder"),
+    "initial": ("initial", "start_states"),
+}
+
+
+def _start(quantity: str) -> str:
+    """A quantity's starting value: as ``QUANTITIES`` (or ``STEP_QUANTITIES``) says, 0 for a state's rate."""
+    if quantity in QUANTITIES:
+        return QUANTITIES[quantity][0]
+    return STEP_QUANTITIES[quantity][0] if quantity in STEP_QUANTITIES else "0.0"
 
 
 def _finite(value: Any, effect: str, quantity: str) -> Any:
@@ -301,15 +431,16 @@ def _finite(value: Any, effect: str, quantity: str) -> Any:
 
 @cache
 def _composed(kind: str, field_names: tuple[str, ...], fingerprint: str) -> tuple[Callable[..., Any], str]:
-    """The composed Python function of ``kind`` ('derivatives', 'checked' or 'sway') for a record, and its source.
+    """The composed Python function of ``kind`` (a key of ``_KINDS``) for a record, and its source.
 
     'checked' is ``derivatives`` checking each contribution for a NaN or infinity as it goes.
     """
     effects, _ = record_effects(field_names)
     writer = _Writer([EFFECTS.entry(name) for name in effects], field_names, checked=kind == "checked")
-    code = writer.sway() if kind == "sway" else writer.derivative()
+    method, name = _KINDS[kind]
+    code = getattr(writer, method)()
     exec(compile(code, f"<ship_env.model.dynamics {kind} {fingerprint}>", "exec"), writer.namespace)
-    return writer.namespace["sway_velocity" if kind == "sway" else "derivatives"], code
+    return writer.namespace[name], code
 
 
 def _field_names(p: Any) -> tuple[str, ...]:
@@ -325,10 +456,30 @@ def _implementation(kind: str, p: Any) -> Callable[..., Any]:
     return _composed(kind, names, fingerprint)[0]
 
 
-def source(record: np.ndarray) -> str:
-    """The code of ``derivatives`` composed for a parameter record (``ShipModel.record``)."""
+def source(record: np.ndarray, kind: str = "derivatives") -> str:
+    """The code of ``derivatives`` (or another kind of ``_KINDS``) composed for a parameter record."""
     names = _field_names(record)
-    return _composed("derivatives", names, record_effects(names)[1])[1]
+    return _composed(kind, names, record_effects(names)[1])[1]
+
+
+def state_names(record: np.ndarray) -> tuple[str, ...]:
+    """The state's layout for a parameter record: the motion's states, then the effects' own."""
+    effects, _ = record_effects(_field_names(record))
+    return state_layout([EFFECTS.entry(name) for name in effects])
+
+
+def start_states(states: np.ndarray, conditions: np.ndarray, record: np.ndarray) -> None:
+    """Write the effects' states' initial values into rows of ``states`` whose motion is set (in place).
+
+    Args:
+        states: (N, state size) states, one row per ship.
+        conditions: (N, CONDITION_SIZE) the conditions each ship starts in.
+        record: the model's parameter record (``ShipModel.record``).
+    """
+    names = _field_names(record)
+    function = _composed("initial", names, record_effects(names)[1])[0]
+    for state, row in zip(states, conditions, strict=True):
+        function(state, row, record[0])
 
 
 def derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):
@@ -372,6 +523,46 @@ def _sway_velocity_overload(state, conditions, p):
     return _implementation("sway", p)
 
 
+def held_yaw_acceleration(state, conditions, waves, dt, p):
+    """The yaw acceleration the contributions ``held`` over a step give, rad/s^2 (the sea's, 2.91).
+
+    Evaluated once per step, with the time at mid-step and the other states at the step's start.
+    """
+    return _implementation("held", p)(state, conditions, waves, dt, p)
+
+
+def draw_white_noise(state, conditions, noise_key, step_index, dt, p, out):
+    """Write the step's white noise, one channel per noise-driven state, into ``out`` (0 where none is needed).
+
+    The noise is drawn only where a noise-driven state's intensity is not zero: a gust's is I V_w,
+    an exact zero in calm air, so skipping the draw there changes no bit of the state (only the sign
+    of a zero slope may differ) and saves a logarithm, a square root, a sine and a cosine a step.
+    """
+    _implementation("white_noise", p)(state, conditions, noise_key, step_index, dt, p, out)
+
+
+def actual_rudder(state, rudder, limited_order, duration, conditions, p):
+    """The actual rudder ``duration`` s into a step that started at ``rudder``, for the limited order, rad."""
+    return _implementation("rudder", p)(state, rudder, limited_order, duration, conditions, p)
+
+
+@overload(held_yaw_acceleration, jit_options=_JIT_OPTIONS, inline="always")
+def _held_overload(state, conditions, waves, dt, p):
+    return _implementation("held", p)
+
+
+@overload(draw_white_noise, jit_options=_JIT_OPTIONS, inline="always")
+def _white_noise_overload(state, conditions, noise_key, step_index, dt, p, out):
+    warnings.filterwarnings("ignore", r"variable 'draw_white_noise_v\d+_", NumbaIRAssumptionWarning)
+    return _implementation("white_noise", p)
+
+
+@overload(actual_rudder, jit_options=_JIT_OPTIONS, inline="always")
+def _actual_rudder_overload(state, rudder, limited_order, duration, conditions, p):
+    warnings.filterwarnings("ignore", r"variable 'actual_rudder_v\d+_", NumbaIRAssumptionWarning)
+    return _implementation("rudder", p)
+
+
 def check_contributions(model: Any) -> None:
     """Evaluate the contributions of a model's effects from outside ``ship_env`` at a few states.
 
@@ -390,11 +581,20 @@ def check_contributions(model: Any) -> None:
     conditions[S.CURRENT_SPEED] = 0.3
     conditions[S.WIND_SPEED] = 10.0
     conditions[S.WIND_DIRECTION] = math.radians(45.0)
-    out = np.zeros(S.STATE_SIZE)
+    size = len(state_names(model.record))
+    out = np.zeros(size)
     for sign in (1.0, -1.0):
-        state = np.zeros(S.STATE_SIZE)
+        state = np.zeros(size)
         state[S.HEADING] = 0.3
         state[S.RATE_OF_TURN] = sign * math.radians(0.3)
         state[S.SPEED_LOSS] = 0.05
-        rudder = sign * math.radians(20.0)
-        composed(state, rudder, conditions, np.ones(S.NOISE_SIZE), 0.0, record, out)
+        state[S.RUDDER] = sign * math.radians(20.0)
+        start_states(state[np.newaxis], conditions[np.newaxis], model.record)
+        for where, value in zip(state_names(model.record), state, strict=True):
+            if not math.isfinite(value):
+                owner = next(e for e in model.effects if any(s.name == where for s in EFFECTS.entry(e).states))
+                raise ValueError(
+                    f"effect {owner!r} from {EFFECTS.entry(owner).origin}: the initial value of its state "
+                    f"{where!r} is {value!r}"
+                )
+        composed(state, state[S.RUDDER], conditions, np.ones(size), 0.0, record, out)

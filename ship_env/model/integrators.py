@@ -1,12 +1,14 @@
 """Fixed-step integration of the ship's equations: one ship, or a batch in one compiled call.
 
 Each step holds the ordered rudder, the conditions and the white noise constant (zero-order hold).
-The wave-spectrum excitation is likewise evaluated once per step, at mid-step.
-The continuous states are integrated with classic fourth-order Runge-Kutta (default) or forward
-Euler; the actual rudder is moved exactly by the steering machine's rate limiter, and the RK4
-stages see the rudder where the steering machine has it at their instant. White noise of unit
-intensity is the standard normal sample divided by sqrt(dt), so its effect does not depend on the
-step size.
+The contributions declared ``held`` (the wave spectrum's excitation) are likewise evaluated once
+per step, at mid-step. The continuous states are integrated with classic fourth-order Runge-Kutta
+(default) or forward Euler; the actual rudder is moved exactly where an effect declares how it
+follows the order (the steering machine's rate limiter, ``dynamics.actual_rudder``), and the RK4
+stages see the rudder where it is at their instant. White noise of unit intensity is the standard
+normal sample divided by sqrt(dt), so its effect does not depend on the step size; it is drawn
+only where a state declared noise-driven needs it (``dynamics.draw_white_noise``). This module
+names no effect: all of that comes from the effects' declarations.
 
 ``step_ship`` and ``step_ships`` run the same compiled code per ship, so a batch of N ships gives
 exactly the numbers of N single runs.
@@ -27,16 +29,15 @@ from numba.extending import intrinsic
 from numba.np.arrayobj import make_array
 
 from ship_env.model import state as S
-from ship_env.model.dynamics import derivatives
-from ship_env.model.effects import steering_machine, wave_spectrum
+from ship_env.model.dynamics import actual_rudder, derivatives, draw_white_noise, held_yaw_acceleration
 from ship_env.model.kernel import kernel, parallel_kernel
-from ship_env.model.noise import standard_normal_pair
 
 RK4 = 0
 EULER = 1
 METHODS = {"rk4": RK4, "euler": EULER}
 
-# Rows of the scratch space: four RK4 slopes, the stage state, the white noise.
+# Rows of the scratch space: four RK4 slopes, the stage state, the white noise (a channel per
+# noise-driven state: never more than the state's size).
 WORK_NOISE = 5
 WORK_ROWS = 6
 
@@ -65,31 +66,15 @@ def borrowed(typingctx, arrays):
 
 
 @kernel
-def new_workspace():
-    """Scratch space for ``step_ship``."""
-    return np.zeros((WORK_ROWS, max(S.STATE_SIZE, S.NOISE_SIZE)))
+def new_workspace(state_size):
+    """Scratch space for ``step_ship`` on states of ``state_size`` (``ShipModel.state_size``)."""
+    return np.zeros((WORK_ROWS, state_size))
 
 
 @kernel
-def _rudder_at(rudder, limited_order, duration, p):
-    """The actual rudder ``duration`` seconds into the step."""
-    if p["steering_machine_on"]:
-        return steering_machine.rudder_after(rudder, limited_order, duration, p["steering_machine_rudder_rate"])
-    return limited_order
-
-
-@kernel
-def needs_white_noise(conditions, p):
-    """Whether this step's white noise can move the state: the wave filter's, or gusts in wind.
-
-    The gust noise enters only as I V_w w (``gusts.rate``), an exact zero when the wind or the
-    intensity is zero; the sample is finite, so skipping the draw then changes no bit of the state
-    (in calm water only the sign of a zero slope may differ) and saves a logarithm, a square root,
-    a sine and a cosine per ship and step.
-    """
-    if p["wave_filter_on"]:
-        return True
-    return p["gusts_on"] and p["gusts_intensity"] * conditions[S.WIND_SPEED] != 0.0
+def limit_order(ordered_rudder, rudder_limit):
+    """The ordered rudder clipped at +-rudder_limit (Fig. 2.9, the rudder limiter)."""
+    return min(max(ordered_rudder, -rudder_limit), rudder_limit)
 
 
 @kernel
@@ -97,47 +82,33 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
     """Advance one ship's ``state`` in place by ``dt`` seconds.
 
     Args:
-        state: (STATE_SIZE,) the ship's state.
+        state: the ship's state (layout ``ShipModel.state_names``).
         ordered_rudder: the ordered rudder angle, rad (clipped at the rudder limit here).
         conditions: (CONDITION_SIZE,) the conditions held over the step.
         noise_key: the ship's random key (uint64, see ``noise``).
         step_index: how many steps the ship has taken since reset (numbers its noise samples).
-        waves: (3, count) wave components for the wave-spectrum effect.
+        waves: (3, count) wave components of the sea the ship meets (for the held contributions).
         params: the model's one-element parameter record array.
         dt: the step, s.
         method: ``RK4`` or ``EULER``.
-        work: (WORK_ROWS, STATE_SIZE) scratch space, overwritten.
+        work: ``new_workspace(state size)``, scratch space, overwritten.
 
     Returns:
         True while the model is valid: every state finite and the forward speed not negative
         (u* <= 1). False flags a ship the caller must not go on with.
     """
     p = params[0]
-    order = steering_machine.limit_order(ordered_rudder, p["rudder_limit"])
+    size = state.shape[0]
+    order = limit_order(ordered_rudder, p["rudder_limit"])
     rudder = state[S.RUDDER]
     white_noise = work[WORK_NOISE]
-    white_noise[:] = 0.0
-    if needs_white_noise(conditions, p):
-        # One Box-Muller draw gives both channels (S.NOISE_SIZE == 2) of this step.
-        wave_noise, gust_noise = standard_normal_pair(noise_key, np.uint64(step_index))
-        white_noise[S.NOISE_WAVE] = wave_noise / math.sqrt(dt)
-        white_noise[S.NOISE_GUST] = gust_noise / math.sqrt(dt)
-    wave_yaw = 0.0
-    if p["wave_spectrum_on"]:
-        # The sea's yaw excitation is held over the step, evaluated at mid-step.
-        wave_yaw = wave_spectrum.yaw_acceleration(
-            state[S.TIME] + 0.5 * dt,
-            state[S.NORTH],
-            state[S.EAST],
-            state[S.HEADING],
-            conditions[S.WAVE_DIRECTION],
-            waves,
-            p["wave_spectrum_yaw_coefficient"],
-        )
+    draw_white_noise(state, conditions, noise_key, step_index, dt, p, white_noise)
+    held = held_yaw_acceleration(state, conditions, waves, dt, p)
+    rudder_end = actual_rudder(state, rudder, order, dt, conditions, p)
     k1 = work[0]
-    derivatives(state, _rudder_at(rudder, order, 0.0, p), conditions, white_noise, wave_yaw, p, k1)
+    derivatives(state, actual_rudder(state, rudder, order, 0.0, conditions, p), conditions, white_noise, held, p, k1)
     if method == EULER:
-        for j in range(S.STATE_SIZE):
+        for j in range(size):
             state[j] += dt * k1[j]
     else:
         k2 = work[1]
@@ -145,26 +116,26 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
         k4 = work[3]
         stage = work[4]
         half = 0.5 * dt
-        rudder_half = _rudder_at(rudder, order, half, p)
-        for j in range(S.STATE_SIZE):
+        rudder_half = actual_rudder(state, rudder, order, half, conditions, p)
+        for j in range(size):
             stage[j] = state[j] + half * k1[j]
-        derivatives(stage, rudder_half, conditions, white_noise, wave_yaw, p, k2)
-        for j in range(S.STATE_SIZE):
+        derivatives(stage, rudder_half, conditions, white_noise, held, p, k2)
+        for j in range(size):
             stage[j] = state[j] + half * k2[j]
-        derivatives(stage, rudder_half, conditions, white_noise, wave_yaw, p, k3)
-        for j in range(S.STATE_SIZE):
+        derivatives(stage, rudder_half, conditions, white_noise, held, p, k3)
+        for j in range(size):
             stage[j] = state[j] + dt * k3[j]
-        derivatives(stage, _rudder_at(rudder, order, dt, p), conditions, white_noise, wave_yaw, p, k4)
-        for j in range(S.STATE_SIZE):
+        derivatives(stage, rudder_end, conditions, white_noise, held, p, k4)
+        for j in range(size):
             state[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
-    state[S.RUDDER] = _rudder_at(rudder, order, dt, p)
+    state[S.RUDDER] = rudder_end
     return is_valid(state)
 
 
 @kernel
 def is_valid(state):
     """Whether a state is inside the model's validity: finite, with forward speed u >= 0."""
-    for j in range(S.STATE_SIZE):
+    for j in range(state.shape[0]):
         if not math.isfinite(state[j]):
             return False
     return state[S.SPEED_LOSS] <= 1.0
@@ -201,7 +172,7 @@ def _step_range(
     first, stop, states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid
 ):
     """Step ships ``first`` to ``stop - 1`` of a batch with a scratch space of their own (``step_ships``)."""
-    work = new_workspace()
+    work = new_workspace(states.shape[1])
     _step_rows(
         first, stop, work, states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid
     )

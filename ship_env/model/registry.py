@@ -5,8 +5,8 @@ An effect is an :class:`~ship_env.model.declarations.Effect` declaration with it
 register themselves (``effects/__init__.py``); an effect of your own registers
 
 - from an installed package, through the entry-point group ``ship_env.effects``: the entry point
-  names a module that holds ``EFFECT`` and ``CONTRIBUTIONS`` (as the modules under ``effects/``
-  do), e.g. in ``pyproject.toml``::
+  names a module that holds ``EFFECT``, ``CONTRIBUTIONS`` and, if it owns states, ``STATES`` (as the
+  modules under ``effects/`` do), e.g. in ``pyproject.toml``::
 
       [project.entry-points."ship_env.effects"]
       shallow_water = "my_ships.shallow_water"
@@ -21,6 +21,7 @@ from the parameters' declared defaults.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import importlib.metadata
 import inspect
@@ -33,7 +34,19 @@ from typing import Any
 import numba
 
 from ship_env.model import state as S
-from ship_env.model.contributions import INPUTS, QUANTITIES, STATE_DERIVATIVES, WIND, Contribution
+from ship_env.model.contributions import (
+    HELD_INPUTS,
+    HELD_QUANTITIES,
+    INPUTS,
+    QUANTITIES,
+    STEP_INPUTS,
+    STEP_QUANTITIES,
+    WIND,
+    Contribution,
+    State,
+    derivative_quantity,
+    white_noise_input,
+)
 from ship_env.model.declarations import Effect, Parameter
 
 #: The entry-point group effects outside ``ship_env`` register under.
@@ -50,22 +63,37 @@ class RegisteredEffect:
     Attributes:
         effect: its declaration.
         contributions: its terms in the state derivative.
-        states: the state variables it owns (their derivative acts only where it is on).
+        states: the state variables it owns (their rate acts only where it is on).
         origin: where it comes from: ``ship_env`` for the built-ins, else the module or entry point.
     """
 
     effect: Effect
     contributions: tuple[Contribution, ...]
-    states: tuple[str, ...]
+    states: tuple[State, ...]
     origin: str
 
     @property
     def builtin(self) -> bool:
         return self.origin == "ship_env"
 
-    def arguments(self, contribution: Contribution) -> tuple[str, ...]:
-        """The names a contribution's function reads, in order."""
-        return tuple(inspect.signature(_python_function(contribution.function)).parameters)
+    @property
+    def new_states(self) -> tuple[State, ...]:
+        """The states it adds to the layout (not the motion's, whose rate it may govern)."""
+        return tuple(state for state in self.states if state.name not in S.MOTION_STATES)
+
+    def arguments(self, contribution: Contribution | Callable[..., Any]) -> tuple[str, ...]:
+        """The names a contribution's function (or a state's initial value or noise intensity) reads, in order."""
+        function = contribution.function if isinstance(contribution, Contribution) else contribution
+        return _arguments(function)
+
+
+def _arguments(function: Callable[..., Any]) -> tuple[str, ...]:
+    return tuple(inspect.signature(_python_function(function)).parameters)
+
+
+def state_layout(entries: Sequence[RegisteredEffect]) -> tuple[str, ...]:
+    """The names of the state variables, in order: the motion's, then the effects' own, in registration order."""
+    return (*S.MOTION_STATES, *(state.name for entry in entries for state in entry.new_states))
 
 
 def _python_function(function: Callable[..., Any]) -> Callable[..., Any]:
@@ -135,7 +163,7 @@ class EffectRegistry(Mapping[str, Effect]):
         self,
         effect: Effect,
         contributions: Sequence[Contribution],
-        states: Sequence[str] = (),
+        states: Sequence[State] = (),
         origin: str | None = None,
     ) -> RegisteredEffect:
         """Check an effect and add it (see :func:`register_effect`)."""
@@ -155,19 +183,24 @@ class EffectRegistry(Mapping[str, Effect]):
         if not builtin and effect.required:
             raise ValueError(f"{where}: required: only the built-in effects can be required")
         _check_parameters(effect, where, builtin)
-        states = tuple(states)
-        for state in states:
-            if state not in STATE_DERIVATIVES:
-                raise ValueError(
-                    f"{where}: states: {state!r} is not a state with a derivative of its own; "
-                    f"known: {', '.join(STATE_DERIVATIVES)}"
-                )
-            owner = next(
-                (e for e in self._entries.values() if state in e.states and e.effect.name != effect.name), None
-            )
-            if owner is not None:
-                raise ValueError(f"{where}: states: {state!r} is already owned by effect {owner.effect.name!r}")
+        states = self._check_states(effect, tuple(states), where)
         checked = tuple(self._check_contribution(effect, c, states, where, builtin) for c in contributions)
+        for state in states:
+            if not any(c.quantity == derivative_quantity(state.name) for c in checked):
+                raise ValueError(
+                    f"{where}: state {state.name!r}: it has no derivative; add "
+                    f"Contribution({derivative_quantity(state.name)!r}, function) to the effect's contributions"
+                )
+        for state in states:
+            for label, function in (("initial", state.initial), ("white_noise", state.white_noise)):
+                if callable(function):
+                    self._check_arguments(
+                        effect, _arguments(function), states, set(), f"{where}: state {state.name!r}: {label}", builtin
+                    )
+        states = tuple(
+            state if state.white_noise is None else dataclasses.replace(state, white_noise=_compiled(state.white_noise))
+            for state in states
+        )
         entry = RegisteredEffect(effect, checked, states, origin)
         self._entries[effect.name] = entry
         self._fingerprints.pop(effect.name, None)
@@ -181,42 +214,114 @@ class EffectRegistry(Mapping[str, Effect]):
         del self._entries[name]
         self._fingerprints.pop(name, None)
 
+    def _check_states(self, effect: Effect, states: tuple[object, ...], where: str) -> tuple[State, ...]:
+        """Each a State with a unit and words, its name free (or a motion state whose rate no other effect governs)."""
+        others = {state.name: e for e in self._entries.values() if e.effect.name != effect.name for state in e.states}
+        taken = set(INPUTS) | set(QUANTITIES) | set(S.CONDITION_NAMES) | set(PRINCIPAL_NAMES)
+        names: set[str] = set()
+        for state in states:
+            label = f"{where}: state {getattr(state, 'name', state)!r}"
+            if not isinstance(state, State):
+                raise TypeError(f"{label}: expected State(name, unit, description, ...), got {state!r}")
+            if not state.name.isidentifier() or state.name in names:
+                raise ValueError(f"{label}: name: expected a Python identifier unique in the effect")
+            names.add(state.name)
+            if state.name in others:
+                owner = others[state.name]
+                raise ValueError(
+                    f"{label}: name: {state.name!r} is already a state of effect {owner.effect.name!r} "
+                    f"from {owner.origin}; choose another name"
+                )
+            if state.name in S.MOTION_STATES and derivative_quantity(state.name) not in QUANTITIES:
+                raise ValueError(
+                    f"{label}: name: {state.name!r} is a state of the ship's motion, whose rate the model gives; "
+                    "choose another name"
+                )
+            if state.name in taken:
+                raise ValueError(f"{label}: name: {state.name!r} is already an input, quantity, condition or principal")
+            if not isinstance(state.unit, str) or not state.unit.strip():
+                raise ValueError(f"{label}: unit: every state needs its SI unit ('-' if dimensionless)")
+            if not state.description.strip():
+                raise ValueError(f"{label}: description: say what the state holds")
+            if not callable(state.initial) and (
+                isinstance(state.initial, bool) or not isinstance(state.initial, (int, float))
+            ):
+                raise TypeError(f"{label}: initial: expected a number or a function, got {state.initial!r}")
+            if not callable(state.initial) and not math.isfinite(state.initial):
+                raise ValueError(f"{label}: initial: must be finite, got {state.initial!r}")
+            if state.white_noise is not None and not callable(state.white_noise):
+                raise TypeError(f"{label}: white_noise: expected None or a function, got {state.white_noise!r}")
+        return states  # type: ignore[return-value]  # every item checked to be a State
+
     def _check_contribution(
-        self, effect: Effect, contribution: object, states: tuple[str, ...], where: str, origin_builtin: bool
+        self, effect: Effect, contribution: object, states: tuple[State, ...], where: str, origin_builtin: bool
     ) -> Contribution:
         if not isinstance(contribution, Contribution):
             raise TypeError(f"{where}: contributions: expected Contribution(quantity, function), got {contribution!r}")
         quantity = contribution.quantity
-        if quantity not in QUANTITIES:
-            raise ValueError(f"{where}: contribution quantity {quantity!r} is unknown; known: {', '.join(QUANTITIES)}")
-        owned = {derivative: state for state, derivative in STATE_DERIVATIVES.items()}
-        if quantity in owned and owned[quantity] not in states and not self._owner(owned[quantity]):
+        derivatives = {derivative_quantity(s.name): s.name for e in self._entries.values() for s in e.new_states}
+        derivatives |= {derivative_quantity(s.name): s.name for s in states}
+        derivatives |= {derivative_quantity(name): name for name in S.MOTION_STATES}
+        if quantity not in QUANTITIES and quantity not in STEP_QUANTITIES and quantity not in derivatives:
+            known = ", ".join([*QUANTITIES, *STEP_QUANTITIES, *(q for q in derivatives if q not in QUANTITIES)])
+            raise ValueError(f"{where}: contribution quantity {quantity!r} is unknown; known: {known}")
+        state = derivatives.get(quantity)
+        if state is not None and not any(s.name == state for s in states) and not self._owner(state):
             raise ValueError(
-                f"{where}: contribution to {quantity!r}: no effect owns the state {owned[quantity]!r}; "
+                f"{where}: contribution to {quantity!r}: no effect owns the state {state!r}; "
                 f"declare it in the effect's states"
+            )
+        if contribution.held and quantity not in HELD_QUANTITIES:
+            raise ValueError(
+                f"{where}: contribution to {quantity!r}: held: only {', '.join(HELD_QUANTITIES)} "
+                "can be held over a step"
             )
         if not callable(contribution.function):
             raise TypeError(f"{where}: contribution to {quantity!r}: function: expected a function")
+        if quantity in STEP_QUANTITIES:
+            earlier = {quantity, *STEP_INPUTS[quantity]}
+        elif contribution.held:
+            earlier = set(HELD_INPUTS)
+        elif quantity in QUANTITIES:
+            order = list(QUANTITIES)
+            earlier = set(order[: order.index(quantity) + 1]) | set(WIND)
+        else:
+            earlier = set(QUANTITIES) | {quantity}
+        arguments = _arguments(contribution.function)
+        label = f"{where}: contribution to {quantity!r}"
+        self._check_arguments(effect, arguments, states, earlier, label, origin_builtin)
+        return Contribution(quantity, _compiled(contribution.function), contribution.held)
+
+    def _check_arguments(
+        self,
+        effect: Effect,
+        arguments: Sequence[str],
+        states: tuple[State, ...],
+        earlier: set[str],
+        where: str,
+        origin_builtin: bool,
+    ) -> None:
+        """Every argument names something the model has at that point."""
         own = {parameter.name for parameter in effect.parameters}
         fields = {f"{e.name}_{p.name}" for e in self.declarations() for p in e.parameters}
         fields |= {f"{effect.name}_{name}" for name in own}
-        known = set(INPUTS) | set(S.STATE_NAMES) | set(S.CONDITION_NAMES) | set(PRINCIPAL_NAMES) | own | fields
-        order = list(QUANTITIES)
-        earlier = set(order[: order.index(quantity) + 1]) | set(WIND)
-        for argument in inspect.signature(_python_function(contribution.function)).parameters:
+        state_names = {s.name for e in self._entries.values() for s in e.states} | {s.name for s in states}
+        noise = {white_noise_input(s.name) for s in states if s.white_noise is not None}
+        known = set(INPUTS) | set(S.MOTION_STATES) | state_names | noise | set(S.CONDITION_NAMES)
+        known |= set(PRINCIPAL_NAMES) | own | fields
+        for argument in arguments:
             if argument in known or argument in earlier or origin_builtin:
                 # A built-in may read a built-in's parameter registered after it: ``dynamics`` checks it.
                 continue
             raise ValueError(
-                f"{where}: contribution to {quantity!r}: argument {argument!r} names nothing the model has at that "
+                f"{where}: argument {argument!r} names nothing the model has at that "
                 f"point: use an input ({', '.join(INPUTS)}), a quantity computed before it, a state, a condition, a "
                 f"principal particular, one of the effect's parameters ({', '.join(sorted(own)) or 'none'}) or "
                 f"another effect's parameter as its record field (e.g. 'yaw_gain')"
             )
-        return Contribution(quantity, _compiled(contribution.function))
 
     def _owner(self, state: str) -> bool:
-        return any(state in entry.states for entry in self._entries.values())
+        return any(state == s.name for entry in self._entries.values() for s in entry.states)
 
     # -- reading ---------------------------------------------------------------------------------
     def declarations(self) -> list[Effect]:
@@ -229,7 +334,11 @@ class EffectRegistry(Mapping[str, Effect]):
         for name in names:
             if name not in self._fingerprints:
                 entry = self.entry(name)
-                sources = [f"{c.quantity}:{_source(c.function)}" for c in entry.contributions]
+                sources = [f"{c.quantity}:{c.held}:{_source(c.function)}" for c in entry.contributions]
+                for state in entry.states:
+                    functions = [f for f in (state.initial, state.white_noise) if callable(f)]
+                    initial = "" if callable(state.initial) else repr(float(state.initial))
+                    sources.append(f"{state.name}:{initial}:{''.join(_source(f) for f in functions)}")
                 self._fingerprints[name] = hashlib.sha256("\n".join(sources).encode()).hexdigest()
             digest.update(f"{name}={self._fingerprints[name]};".encode())
         return digest.hexdigest()[:16]
@@ -296,7 +405,7 @@ EFFECTS = EffectRegistry()
 
 
 def register_effect(
-    effect: Effect, contributions: Sequence[Contribution], states: Sequence[str] = ()
+    effect: Effect, contributions: Sequence[Contribution], states: Sequence[State] = ()
 ) -> RegisteredEffect:
     """Register an effect written outside ``ship_env`` (from a notebook or a script).
 
@@ -304,7 +413,8 @@ def register_effect(
         effect: its declaration: name, title, equations, parameters (each with a unit, a finite
             range and, where the presets lack it, a default with its source).
         contributions: its terms in the state derivative (see ``ship_env.model.contributions``).
-        states: the state variables it owns (``STATE_DERIVATIVES``), usually none.
+        states: the state variables it owns (:class:`~ship_env.model.contributions.State`), each with its
+            rate among the contributions (``<name>_derivative``); usually none.
 
     Registering again under the same name replaces an effect from outside ``ship_env`` (a cell run
     again); a built-in's name is refused. Models built afterwards use it.

@@ -25,6 +25,8 @@ from typing import Any
 import numpy as np
 import yaml
 
+from ship_env.model import dynamics
+from ship_env.model import state as S
 from ship_env.model.declarations import ENVELOPE_LIMITS, Envelope, Parameter
 from ship_env.model.dynamics import FINGERPRINT_PREFIX, check_contributions, fingerprint
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
@@ -267,6 +269,14 @@ class ShipModel:
         for key, value in (parameters or {}).items():
             self._set(key, value)
         self.record = self._build_record()
+        #: The layout of the model's state: the motion's states, then the registered effects' own.
+        self.state_names: tuple[str, ...] = dynamics.state_names(self.record)
+        #: Whether every effect's own state starts at 0 (a reset has nothing more to set).
+        self.own_states_start_at_zero = all(
+            not callable(state.initial) and state.initial == 0.0
+            for name in EFFECTS
+            for state in EFFECTS.entry(name).new_states
+        )
         check_contributions(self)
 
     def _set(self, key: str, value: float) -> None:
@@ -360,6 +370,23 @@ class ShipModel:
     def has(self, effect: str) -> bool:
         """Whether an effect is on."""
         return effect in self.effects
+
+    @property
+    def state_size(self) -> int:
+        """The number of state variables a ship of this model has (``state_names``)."""
+        return len(self.state_names)
+
+    def start_states(self, states: np.ndarray, conditions: np.ndarray) -> None:
+        """Set the effects' own states to their initial values in rows of ``states`` whose motion is set.
+
+        Args:
+            states: (N, state_size) states, written in place after the motion's states.
+            conditions: (N, CONDITION_SIZE) the conditions each ship starts in.
+        """
+        if not self.own_states_start_at_zero:
+            dynamics.start_states(states, conditions, self.record)
+        else:
+            states[:, S.MOTION_SIZE :] = 0.0
 
     def __repr__(self) -> str:
         return f"ShipModel({self.ship.name!r}, effects={list(self.effects)})"

@@ -1,6 +1,6 @@
 """The simulator: N ships of one model, stepped together, reproducible from a seed.
 
-:class:`Simulator` holds the batch's state ``(N, STATE_SIZE)``, the conditions each ship sails in,
+:class:`Simulator` holds the batch's state ``(N, model.state_size)``, the conditions each ship sails in,
 the sea each one meets and a random generator per ship. ``step`` advances all ships in one compiled
 call, a large batch on all cores where that is faster (:class:`Cores`); with ``N = 1`` it takes a
 lighter path. Ship ``i`` of a batch seeded with ``seed`` draws its
@@ -187,7 +187,7 @@ class Simulator:
         self._method_code = METHODS[method]
         self._wave_count = int(model.parameter("wave_spectrum.components")) if model.has("wave_spectrum") else 0
         # The arrays are allocated once and written in place, so views of them stay valid.
-        self.state = np.zeros((self.num_ships, S.STATE_SIZE))
+        self.state = np.zeros((self.num_ships, model.state_size))
         self.conditions = np.zeros((self.num_ships, S.CONDITION_SIZE))
         self.waves = np.zeros((self.num_ships, 3, self._wave_count))
         self.seeds = np.zeros(self.num_ships, dtype=np.int64)
@@ -195,7 +195,7 @@ class Simulator:
         self.step_index = np.zeros(self.num_ships, dtype=np.int64)
         self._orders = np.zeros(self.num_ships)
         self._valid = np.ones(self.num_ships, dtype=np.bool_)
-        self._work = new_workspace()
+        self._work = new_workspace(model.state_size)
         self._step_ships = batch_loop(self.num_ships, step_ships, step_ships_parallel)
         self._state0 = self.state[0]
         self._conditions0 = self.conditions[0]
@@ -238,6 +238,10 @@ class Simulator:
         )
         if rate_of_turn is not None:
             self.state[rows, S.RATE_OF_TURN] = self._per_ship_value("rate_of_turn", rate_of_turn, count)
+        if not self.model.own_states_start_at_zero:
+            started = self.state[rows]
+            self.model.start_states(started, self.conditions[rows])
+            self.state[rows] = started
         if self._wave_count:
             uniforms = noise.uniform_table(self.noise_keys[rows], noise.WAVE_DOMAIN, 2 * self._wave_count)
             self.waves[rows] = wave_spectrum.components(
@@ -359,7 +363,9 @@ class Simulator:
     def _raise_invalid(self, ship: int) -> None:
         state = self.state[ship]
         bad = [
-            f"{name} = {value!r}" for name, value in zip(S.STATE_NAMES, state, strict=True) if not math.isfinite(value)
+            f"{name} = {value!r}"
+            for name, value in zip(self.model.state_names, state, strict=True)
+            if not math.isfinite(value)
         ]
         if not bad:
             bad = [f"speed_loss u* = {state[S.SPEED_LOSS]:.3f} > 1 (forward speed negative)"]

@@ -1,14 +1,18 @@
 """Layout of a ship's state and of the conditions it sails in.
 
-A batch of ``N`` ships is a float64 array of shape ``(N, STATE_SIZE)``; one ship is a row.
+A batch of ``N`` ships is a float64 array of shape ``(N, state size)``; one ship is a row. The
+state is the ship's motion (:data:`MOTION_STATES`, every model has them), then the states the
+registered effects own (their ``STATES``, ``contributions.State``), in the order the effects
+register: the built-in library's first (:data:`LIBRARY_STATES`), then those of effects from outside
+``ship_env``. A model's layout is ``ShipModel.state_names``.
 Angles are in radians, the heading is not wrapped (it counts whole turns), positions in metres
 in the earth-fixed frame (x0 north, y0 east), time in seconds.
 """
 
 from __future__ import annotations
 
-# State variables (thesis ch. 2): time, position, heading, rate of turn, relative speed loss u*,
-# actual rudder angle, and the disturbance states (HF wave filter, wind gust).
+# The ship's motion (thesis ch. 2, DESIGN 3): time, position, heading, rate of turn, relative speed
+# loss u* and actual rudder angle. The speed_loss effect governs u*'s rate (u* stays 0 without it).
 TIME = 0  # s, time since the start of the run
 NORTH = 1  # m, x0 (2.71)
 EAST = 2  # m, y0 (2.72)
@@ -16,23 +20,16 @@ HEADING = 3  # rad, psi, clockwise from north, not wrapped
 RATE_OF_TURN = 4  # rad/s, r, positive turning to starboard
 SPEED_LOSS = 5  # -, u* = dU / U0 (2.41)
 RUDDER = 6  # rad, actual rudder angle delta, positive gives positive r (2.23)
-WAVE_HEADING = 7  # rad, HF wave-induced heading (Fig. 2.13), not part of the track
-WAVE_RATE = 8  # rad/s, HF wave-induced rate of turn (Fig. 2.13)
-GUST = 9  # m/s, random component on the relative wind speed (2.5.3)
-STATE_SIZE = 10
+MOTION_SIZE = 7
 
-STATE_NAMES = (
-    "time",
-    "north",
-    "east",
-    "heading",
-    "rate_of_turn",
-    "speed_loss",
-    "rudder",
-    "wave_heading",
-    "wave_rate",
-    "gust",
-)
+MOTION_STATES = ("time", "north", "east", "heading", "rate_of_turn", "speed_loss", "rudder")
+
+# Where the built-in effects' own states land (``effects/__init__`` checks it as they register):
+# the disturbance states of the wave filter and of the gusts.
+WAVE_HEADING = 7  # rad, HF wave-induced heading (Fig. 2.13), not part of the track (wave_filter)
+WAVE_RATE = 8  # rad/s, HF wave-induced rate of turn (Fig. 2.13) (wave_filter)
+GUST = 9  # m/s, random component on the relative wind speed (2.5.3) (gusts)
+LIBRARY_STATES = (*MOTION_STATES, "wave_heading", "wave_rate", "gust")
 
 # Conditions: held constant over one step, one row per ship, set by the caller (a scenario, an
 # environment, or a measured log replayed step by step).
@@ -60,8 +57,3 @@ CONDITION_NAMES = (
     "yaw_gain_change",
     "yaw_time_constant_change",
 )
-
-# White-noise channels drawn once per step (standard normal, held over the step).
-NOISE_WAVE = 0  # drives the HF wave shaping filter
-NOISE_GUST = 1  # drives the gust process
-NOISE_SIZE = 2

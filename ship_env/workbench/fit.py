@@ -206,7 +206,7 @@ class Problem:
         return x[: len(self.terms)] * np.array([term.scale for term in self.terms])
 
     def _initial_offset(self, x: np.ndarray, run: int) -> np.ndarray:
-        offset = np.zeros(S.STATE_SIZE)
+        offset = np.zeros(S.MOTION_SIZE)
         first = len(self.terms) + run * len(self._nuisance)
         for k, (index, scale, _) in enumerate(self._nuisance):
             offset[index] = x[first + k] * scale
@@ -227,7 +227,7 @@ class Problem:
         for p, x in enumerate(points):
             write_record(records[p : p + 1], self.terms, self._term_values(x))
         offsets = np.stack(
-            [np.zeros(S.STATE_SIZE) if track else self._initial_offset(points[p], run) for p, run, track in requests]
+            [np.zeros(S.MOTION_SIZE) if track else self._initial_offset(points[p], run) for p, run, track in requests]
         )
         tasks = Tasks.build(
             record=[p for p, _, _ in requests],

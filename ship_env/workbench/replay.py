@@ -81,7 +81,7 @@ class PackedRuns:
 
 
 def initial_state(log: Log, window: float = INITIAL_WINDOW) -> np.ndarray:
-    """The run's state at its first sample, estimated from its first ``window`` seconds.
+    """The run's motion (``state.MOTION_STATES``) at its first sample, estimated from its first ``window`` seconds.
 
     Less noisy than the first sample alone, and unbiased where the ship already accelerates:
     the heading is the intercept of a parabola fitted over the window, the rate of turn that of a
@@ -97,7 +97,7 @@ def initial_state(log: Log, window: float = INITIAL_WINDOW) -> np.ndarray:
         coefficients = np.polynomial.polynomial.polyfit(elapsed, values[inside], degree) if degree > 0 else values[:1]
         return np.pad(coefficients, (0, 3 - len(coefficients)))
 
-    state = np.zeros(S.STATE_SIZE)
+    state = np.zeros(S.MOTION_SIZE)
     state[S.TIME] = log.time[0]
     heading = polynomial(log.heading, 2)
     state[S.HEADING] = heading[0]
@@ -124,34 +124,42 @@ def _conditions(log: Log, model: ShipModel) -> np.ndarray:
 
 
 def pack_runs(logs: Sequence[Log], model: ShipModel, window: float = INITIAL_WINDOW) -> PackedRuns:
-    """Concatenate the logs' inputs and outputs; ``model`` supplies the default service speed."""
+    """Concatenate the logs' inputs and outputs; ``model`` supplies the default service speed, its
+    state's layout and its effects' own states' initial values at each run's first sample."""
+    conditions = [_conditions(log, model) for log in logs]
+    initial_states = np.zeros((len(logs), model.state_size))
+    initial_states[:, : S.MOTION_SIZE] = [initial_state(log, window) for log in logs]
+    model.start_states(initial_states, np.stack([rows[0] for rows in conditions]))
     return PackedRuns(
         offsets=np.concatenate([[0], np.cumsum([log.samples for log in logs])]).astype(np.int64),
         time=np.concatenate([log.time for log in logs]),
         rudder=np.concatenate([log.rudder for log in logs]),
-        conditions=np.concatenate([_conditions(log, model) for log in logs]),
+        conditions=np.concatenate(conditions),
         heading=np.concatenate([log.heading for log in logs]),
         rate_of_turn=np.concatenate(
             [np.gradient(log.heading, log.time) if log.rate_of_turn is None else log.rate_of_turn for log in logs]
         ),
-        initial_states=np.stack([initial_state(log, window) for log in logs]),
+        initial_states=initial_states,
     )
 
 
 @kernel
 def _track_step(state, first, conditions, time, heading, rate, params, slope, stage, white_noise):
-    """Advance north, east and the speed loss over one interval with the measured heading imposed (Heun)."""
+    """Advance north, east, the speed loss and the effects' own states over one interval with the measured
+    heading imposed (Heun)."""
     p = params[0]
     dt = time[first + 1] - time[first]
     state[S.HEADING] = heading[first]
     state[S.RATE_OF_TURN] = rate[first]
     derivatives(state, state[S.RUDDER], conditions, white_noise, 0.0, p, slope[0])
-    for j in range(S.STATE_SIZE):
+    for j in range(state.shape[0]):
         stage[j] = state[j] + dt * slope[0, j]
     stage[S.HEADING] = heading[first + 1]
     stage[S.RATE_OF_TURN] = rate[first + 1]
     derivatives(stage, state[S.RUDDER], conditions, white_noise, 0.0, p, slope[1])
     for j in (S.TIME, S.NORTH, S.EAST, S.SPEED_LOSS):
+        state[j] += 0.5 * dt * (slope[0, j] + slope[1, j])
+    for j in range(S.MOTION_SIZE, state.shape[0]):
         state[j] += 0.5 * dt * (slope[0, j] + slope[1, j])
     state[S.HEADING] = heading[first + 1]
     state[S.RATE_OF_TURN] = rate[first + 1]
@@ -189,11 +197,12 @@ def _replay(
     held at the last valid state, so that a fitter sees a large but finite error.
     """
     waves = np.zeros((3, 0))
+    size = task_initial.shape[1]
     for task in prange(task_record.shape[0]):
-        work = new_workspace()
-        slope = np.zeros((2, S.STATE_SIZE))
-        stage = np.zeros(S.STATE_SIZE)
-        white_noise = np.zeros(S.NOISE_SIZE)
+        work = new_workspace(size)
+        slope = np.zeros((2, size))
+        stage = np.zeros(size)
+        white_noise = np.zeros(size)
         row = np.zeros(S.CONDITION_SIZE)
         params = records[task_record[task] : task_record[task] + 1]
         first = offsets[task_run[task]]
@@ -230,7 +239,7 @@ class Tasks:
         record: index into the records array.
         run: index of the run in the packed runs.
         track: True for a track replay (measured heading imposed), False for a free one.
-        initial_offset: (tasks, STATE_SIZE) added to the run's estimated initial state.
+        initial_offset: (tasks, MOTION_SIZE) added to the motion of the run's estimated initial state.
         current: (tasks, 2) the current's north and east velocity, m/s.
     """
 
@@ -254,7 +263,7 @@ class Tasks:
             record=np.asarray(record, dtype=np.int64),
             run=np.asarray(run, dtype=np.int64),
             track=np.asarray(track, dtype=np.bool_),
-            initial_offset=np.zeros((count, S.STATE_SIZE)) if initial_offset is None else initial_offset,
+            initial_offset=np.zeros((count, S.MOTION_SIZE)) if initial_offset is None else initial_offset,
             current=np.zeros((count, 2)) if current is None else current,
         )
 
@@ -275,7 +284,8 @@ def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndar
     count = len(tasks.record)
     outputs = np.zeros((count, runs.longest, OUTPUT_SIZE))
     valid = np.ones(count, dtype=np.bool_)
-    initial = runs.initial_states[tasks.run] + tasks.initial_offset
+    initial = runs.initial_states[tasks.run]
+    initial[:, : S.MOTION_SIZE] += tasks.initial_offset
     _replay(
         records,
         tasks.record,

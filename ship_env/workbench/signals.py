@@ -244,8 +244,8 @@ class ResidualSignals:
 def _yaw_accelerations(states, rudders, conditions, params, out):
     """The model's dr/dt at each measured state (no disturbance states, no sea)."""
     p = params[0]
-    slope = np.zeros(S.STATE_SIZE)
-    white_noise = np.zeros(S.NOISE_SIZE)
+    slope = np.zeros(states.shape[1])
+    white_noise = np.zeros(states.shape[1])
     for i in range(states.shape[0]):
         derivatives(states[i], rudders[i], conditions[i], white_noise, 0.0, p, slope)
         out[i] = slope[S.RATE_OF_TURN]
@@ -272,7 +272,7 @@ def _log_samples(setup: ReplayModel, log: Log) -> tuple[np.ndarray, dict[str, np
         speed = _smoothed(np.maximum(log.speed, 0.0), log.time)
     propeller = np.zeros(log.samples) if log.propeller_rate is None else _smoothed(log.propeller_rate, log.time)
     rudder = _smoothed(log.rudder, log.time)
-    states = np.zeros((log.samples, S.STATE_SIZE))
+    states = np.zeros((log.samples, model.state_size))
     states[:, S.TIME] = log.time
     states[:, S.HEADING] = _smoothed(log.heading, log.time)
     states[:, S.RATE_OF_TURN] = rate_smooth
@@ -287,6 +287,7 @@ def _log_samples(setup: ReplayModel, log: Log) -> tuple[np.ndarray, dict[str, np
         conditions[:, S.WIND_SPEED] = wind_speed
         conditions[:, S.WIND_DIRECTION] = log.wind_direction
         wind_angle = log.wind_direction - states[:, S.HEADING]
+    model.start_states(states, conditions)  # an effect's own state where its declaration starts it
     modelled = np.zeros(log.samples)
     _yaw_accelerations(states, rudder, conditions, model.record, modelled)
     scheduling = np.maximum(speed, model.parameter("minimum_speed"))

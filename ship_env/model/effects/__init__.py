@@ -2,9 +2,11 @@
 
 Each module declares its ``EFFECT`` (:class:`~ship_env.model.declarations.Effect`), its
 ``CONTRIBUTIONS`` to the state derivative (:class:`~ship_env.model.contributions.Contribution`) and
-the ``STATES`` it owns, if any. ``EFFECTS`` maps every registered effect's name to its declaration:
-these built-ins, then the effects registered from outside ``ship_env`` (see ``registry``). A ship
-model is a choice of these effects plus a ship preset; see :class:`ship_env.model.ShipModel`.
+the ``STATES`` it owns, if any (:class:`~ship_env.model.contributions.State`): they follow the
+motion's states in this order (``state.LIBRARY_STATES``). ``EFFECTS`` maps every registered
+effect's name to its declaration: these built-ins, then the effects registered from outside
+``ship_env`` (see ``registry``). A ship model is a choice of these effects plus a ship preset; see
+:class:`ship_env.model.ShipModel`.
 
 The contributions to one quantity are applied in this order (the asymmetry's part of H(r*) before
 Norrbin's).
@@ -31,7 +33,8 @@ from ship_env.model.effects import (
     wind_moment,
     yaw,
 )
-from ship_env.model.registry import EFFECTS, register_module
+from ship_env.model.registry import EFFECTS, register_module, state_layout
+from ship_env.model.state import LIBRARY_STATES
 
 #: The built-in effects' modules, in the order they register.
 LIBRARY = (
@@ -49,12 +52,14 @@ LIBRARY = (
     wind_moment,
     wind_drift,
     crossflow_yaw,
-    gusts,
     wave_filter,
+    gusts,
     wave_spectrum,
 )
 for _module in LIBRARY:
     register_module(_module, "ship_env")
+if state_layout([EFFECTS.entry(module.EFFECT.name) for module in LIBRARY]) != LIBRARY_STATES:
+    raise ImportError("ship_env.model.effects: the library's states are not where state.LIBRARY_STATES puts them")
 
 #: Effects every model has.
 REQUIRED_EFFECTS: tuple[str, ...] = tuple(module.EFFECT.name for module in LIBRARY if module.EFFECT.required)

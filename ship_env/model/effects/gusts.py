@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 
-from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, State, kernel
 
 EFFECT = Effect(
     "gusts",
@@ -24,9 +24,15 @@ EFFECT = Effect(
 
 
 @kernel
+def noise_intensity(wind_speed, intensity, time_constant):
+    """sigma_g sqrt(2 / T_g): the intensity of the white noise in dg/dt, 0 in calm air."""
+    return intensity * wind_speed * math.sqrt(2.0 / time_constant)
+
+
+@kernel
 def rate(gust, wind_speed, gust_white_noise, intensity, time_constant):
     """dg/dt of the Gauss-Markov gust process."""
-    return -gust / time_constant + intensity * wind_speed * math.sqrt(2.0 / time_constant) * gust_white_noise
+    return -gust / time_constant + noise_intensity(wind_speed, intensity, time_constant) * gust_white_noise
 
 
 @kernel
@@ -36,4 +42,6 @@ def gusty_wind(relative_wind_speed, gust):
 
 
 CONTRIBUTIONS = (Contribution("relative_wind_speed", gusty_wind), Contribution("gust_derivative", rate))
-STATES = ("gust",)
+STATES = (
+    State("gust", "m/s", "g, the random component on the apparent wind speed (2.5.3)", white_noise=noise_intensity),
+)

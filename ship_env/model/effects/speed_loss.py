@@ -14,7 +14,7 @@ normalised gain, beta3 cubic coefficient.
 
 from __future__ import annotations
 
-from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, State, kernel
 
 EFFECT = Effect(
     "speed_loss",
@@ -34,4 +34,5 @@ def rate(scheduling_speed, normalised_rate, speed_loss, gain, time_constant, cub
 
 
 CONTRIBUTIONS = (Contribution("speed_loss_derivative", rate),)
-STATES = ("speed_loss",)
+#: The effect governs the rate of the motion's speed loss u* (it stays 0, u = U0, where the effect is off).
+STATES = (State("speed_loss", "-", "u* = dU / U0, the relative loss of forward speed (2.41)"),)

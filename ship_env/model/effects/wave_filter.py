@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, State, kernel
 
 EFFECT = Effect(
     "wave_filter",
@@ -29,13 +29,18 @@ EFFECT = Effect(
 
 
 @kernel
-def acceleration(wave_heading, wave_rate, wave_white_noise, natural_frequency, damping, rate_rms):
+def noise_gain(natural_frequency, damping, rate_rms):
+    """k = sigma_r sqrt(4 zeta omega_n), the intensity of the white noise in d r_g / dt."""
+    return rate_rms * math.sqrt(4.0 * damping * natural_frequency)
+
+
+@kernel
+def acceleration(wave_heading, wave_rate, wave_rate_white_noise, natural_frequency, damping, rate_rms):
     """d r_g / dt of the shaping filter (Fig. 2.14)."""
-    noise_gain = rate_rms * math.sqrt(4.0 * damping * natural_frequency)
     return (
         -natural_frequency * natural_frequency * wave_heading
         - 2.0 * damping * natural_frequency * wave_rate
-        + noise_gain * wave_white_noise
+        + noise_gain(natural_frequency, damping, rate_rms) * wave_rate_white_noise
     )
 
 
@@ -49,4 +54,7 @@ CONTRIBUTIONS = (
     Contribution("wave_heading_derivative", heading_rate),
     Contribution("wave_rate_derivative", acceleration),
 )
-STATES = ("wave_heading", "wave_rate")
+STATES = (
+    State("wave_heading", "rad", "psi_g, the HF wave-induced heading on the compass (Fig. 2.13)"),
+    State("wave_rate", "rad/s", "r_g, the HF wave-induced rate of turn (Fig. 2.13)", white_noise=noise_gain),
+)

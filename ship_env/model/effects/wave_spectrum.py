@@ -28,7 +28,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ship_env.model.effect_api import Effect, Parameter, kernel
+from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
 
 GRAVITY = 9.81  # m/s^2
 
@@ -98,6 +98,6 @@ def yaw_acceleration(time, north, east, heading, wave_direction, waves, yaw_coef
     return yaw_coefficient * slope * math.sin(2.0 * (heading - travel_direction))
 
 
-#: The sea's excitation is evaluated once per step and held over it (``integrators``); the derivative
-#: receives it as the starting value of ``yaw_acceleration``.
-CONTRIBUTIONS = ()
+#: The sea's excitation is evaluated once per step, at mid-step, and held over it: a sum over many
+#: components is too costly for every Runge-Kutta stage.
+CONTRIBUTIONS = (Contribution("yaw_acceleration", yaw_acceleration, held=True),)

@@ -67,7 +67,7 @@ from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
 from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
 from ship_env.workbench.replay import Simulated
-from ship_env.workbench.signals import past_the_library
+from ship_env.workbench.signals import past_the_library, plot_signals
 from ship_env.workbench.tables import (
     diagnosis_table,
     envelope_line,
@@ -538,6 +538,8 @@ def run_compare(args: argparse.Namespace) -> int:
 
 def run_diagnose(args: argparse.Namespace) -> int:
     """``ship-env diagnose``: rank the effects the model lacks."""
+    if args.signals_plot is not None:
+        claim_file(args.signals_plot, args.force, "--plot")
     setup, options, runs = _workbench_start(args)
     logs = runs.logs
     print(_model_line(setup, logs))
@@ -555,6 +557,10 @@ def run_diagnose(args: argparse.Namespace) -> int:
     beyond = past_the_library(diagnosis)
     if beyond:
         print(f"\n{beyond}")
+    if args.signals_plot is not None and diagnosis.signals is not None:
+        plot_signals(diagnosis.signals, args.signals_plot)
+        words = diagnosis.signals.strongest.signal.words
+        print(f"\nthe missing yaw acceleration against {words}: {args.signals_plot}")
     return 0
 
 
@@ -809,6 +815,15 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
     )
     _add_workbench_arguments(parser)
     _add_candidate_arguments(parser)
+    parser.add_argument(
+        "--plot",
+        dest="signals_plot",  # a file, not the folder the other commands' --plot names
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="draw the missing yaw acceleration against the signal it follows most into FILE (PNG); "
+        "an existing FILE only with --force",
+    )
 
     parser = _workbench_parser(
         subcommands,

@@ -95,13 +95,20 @@ def test_compare_replays_a_fitted_model(log_folder, tmp_path, capsys):
     assert float(pooled[1]) < 1.0  # deg: the fitted offset model replays the runs closely
 
 
-def test_diagnose_names_the_missing_effect(log_folder, capsys):
-    assert main(["diagnose", str(log_folder), "--ship", SHIP, "--refit", "2"]) == 0
+def test_diagnose_names_the_missing_effect_and_draws_the_signals(log_folder, tmp_path, capsys):
+    plot = tmp_path / "signals.png"
+    assert main(["diagnose", str(log_folder), "--ship", SHIP, "--refit", "2", "--plot", str(plot)]) == 0
     out = capsys.readouterr().out
     table = out.split("missing effects, best first")[1]
     first = next(line for line in table.splitlines() if line.startswith("1 "))
     assert "rudder_offset" in first and "rudder offset (neutral rudder angle" in first
     assert "speed_loss" in table and "every log measures the speed" in table
+    assert "the missing yaw acceleration against " in out and str(plot) in out
+    assert plot.read_bytes().startswith(b"\x89PNG")
+    # A file that exists is the user's: refused before any work, left as it was.
+    plot.write_bytes(b"mine")
+    assert main(["diagnose", str(log_folder), "--ship", SHIP, "--plot", str(plot)]) == 1
+    assert "--plot: " in capsys.readouterr().err and plot.read_bytes() == b"mine"
 
 
 def test_improve_climbs_the_ladder_and_writes_the_report_with_every_figure(log_folder, tmp_path, capsys):

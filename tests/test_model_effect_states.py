@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import math
 
 import effect_with_state
 import gymnasium as gym
@@ -12,19 +11,9 @@ import pytest
 from test_model_registry import NEWER_EFFECTS, REFERENCE, _trajectory
 
 from ship_env.cli import main
-from ship_env.model import (
-    EFFECTS,
-    REQUIRED_EFFECTS,
-    Conditions,
-    Contribution,
-    Effect,
-    Parameter,
-    ShipModel,
-    Simulator,
-    State,
-    register_effect,
-)
+from ship_env.model import EFFECTS, REQUIRED_EFFECTS, Conditions, ShipModel, Simulator
 from ship_env.model import state as S
+from ship_env.model.effect_api import Contribution, Effect, Parameter, State, register_effect
 from ship_env.model.registry import register_module
 from ship_env.workbench import write_log
 from ship_env.workbench.replay import ReplayModel
@@ -164,22 +153,6 @@ def test_a_state_without_a_derivative_is_refused():
         register_effect(_effect(), [], [State("depth", "m", "a depth")])
     with pytest.raises(ValueError, match=r"state 'depth': unit: every state needs its SI unit"):
         register_effect(_effect(), [Contribution("depth_derivative", _rate)], [State("depth", "", "a depth")])
-
-
-def test_a_state_derivative_returning_nan_is_named_before_any_simulation():
-    def not_a_number(depth, size):
-        return math.log(depth - size)
-
-    register_effect(_effect(), [Contribution("depth_derivative", not_a_number)], [State("depth", "m", "a depth")])
-    try:
-        with pytest.raises(
-            ValueError,
-            match=r"effect 'bad_state' from module test_model_effect_states: its contribution to "
-            r"'depth_derivative' is nan",
-        ):
-            ShipModel(SHIP, [*REQUIRED_EFFECTS, "bad_state"])
-    finally:
-        EFFECTS.unregister("bad_state")
 
 
 def test_a_noise_driven_state_of_its_own_leaves_the_built_ins_noise_as_it_was():

@@ -18,6 +18,7 @@ from ship_env.model import (
     Parameter,
     ShipModel,
     Simulator,
+    State,
     register_effect,
 )
 from ship_env.model import state as S
@@ -149,16 +150,29 @@ def test_a_contribution_to_an_unknown_quantity_or_reading_nothing_is_refused():
         register_effect(_effect(), [Contribution("yaw_acceleration", reads_depth)])
 
 
-def test_a_contribution_returning_nan_is_named_before_any_simulation():
-    def not_a_number(effective_rudder, size):
-        return effective_rudder + math.log(size - 1.0)
+def _nan_rudder(effective_rudder, size):
+    return effective_rudder + math.log(size - 1.0)
 
-    register_effect(_effect(default=0.5), [Contribution("effective_rudder", not_a_number)])
+
+def _nan_depth_rate(depth, size):
+    return math.log(depth - size)
+
+
+@pytest.mark.parametrize(
+    ("contribution", "states"),
+    [
+        (Contribution("effective_rudder", _nan_rudder), ()),
+        (Contribution("depth_derivative", _nan_depth_rate), (State("depth", "m", "a depth of its own"),)),
+    ],
+)
+def test_a_contribution_returning_nan_is_named_before_any_simulation(contribution, states):
+    """A contribution to a quantity, or to the rate of a state of the effect's own."""
+    register_effect(_effect(default=0.5), [contribution], states)
     try:
         with pytest.raises(
             ValueError,
-            match=r"effect 'bad_effect' from module test_model_user_effects: its contribution to "
-            r"'effective_rudder' is nan",
+            match=rf"effect 'bad_effect' from module test_model_user_effects: its contribution to "
+            rf"'{contribution.quantity}' is nan",
         ):
             ShipModel(SHIP, [*REQUIRED_EFFECTS, "bad_effect"])
     finally:

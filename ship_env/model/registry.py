@@ -221,11 +221,8 @@ class EffectRegistry(Mapping[str, Effect]):
         names: set[str] = set()
         for state in states:
             label = f"{where}: state {getattr(state, 'name', state)!r}"
-            if not isinstance(state, State):
-                raise TypeError(f"{label}: expected State(name, unit, description, ...), got {state!r}")
-            if not state.name.isidentifier() or state.name in names:
-                raise ValueError(f"{label}: name: expected a Python identifier unique in the effect")
-            names.add(state.name)
+            _check_declaration(state, State, label, names, "the state holds")
+            assert isinstance(state, State)  # checked
             if state.name in others:
                 owner = others[state.name]
                 raise ValueError(
@@ -239,10 +236,6 @@ class EffectRegistry(Mapping[str, Effect]):
                 )
             if state.name in taken:
                 raise ValueError(f"{label}: name: {state.name!r} is already an input, quantity, condition or principal")
-            if not isinstance(state.unit, str) or not state.unit.strip():
-                raise ValueError(f"{label}: unit: every state needs its SI unit ('-' if dimensionless)")
-            if not state.description.strip():
-                raise ValueError(f"{label}: description: say what the state holds")
             if not callable(state.initial) and (
                 isinstance(state.initial, bool) or not isinstance(state.initial, (int, float))
             ):
@@ -364,18 +357,10 @@ class EffectRegistry(Mapping[str, Effect]):
 
 def _check_parameters(effect: Effect, where: str, builtin: bool) -> None:
     """Every parameter has a unit and a description; one outside ``ship_env`` also a finite range."""
-    names = set()
+    names: set[str] = set()
     for parameter in effect.parameters:
         label = f"{where}: parameter {getattr(parameter, 'name', parameter)!r}"
-        if not isinstance(parameter, Parameter):
-            raise TypeError(f"{label}: expected a Parameter, got {parameter!r}")
-        if not parameter.name.isidentifier() or parameter.name in names:
-            raise ValueError(f"{label}: name: expected a Python identifier unique in the effect")
-        names.add(parameter.name)
-        if not isinstance(parameter.unit, str) or not parameter.unit.strip():
-            raise ValueError(f"{label}: unit: every parameter needs its SI unit ('-' if dimensionless)")
-        if not parameter.description.strip():
-            raise ValueError(f"{label}: description: say what the number means")
+        _check_declaration(parameter, Parameter, label, names, "the number means")
         if not builtin and not (math.isfinite(parameter.minimum) and math.isfinite(parameter.maximum)):
             raise ValueError(
                 f"{label}: range: give a finite minimum and maximum (got [{parameter.minimum}, {parameter.maximum}]); "
@@ -387,6 +372,21 @@ def _check_parameters(effect: Effect, where: str, builtin: bool) -> None:
             parameter.convert(parameter.default, None, f"{label}: default")
             if not parameter.source.strip():
                 raise ValueError(f"{label}: source: a default needs its source (say 'assumed' and why if it is)")
+
+
+def _check_declaration(
+    item: object, kind: type[Parameter] | type[State], label: str, names: set[str], meaning: str
+) -> None:
+    """A Parameter or a State: of its class, named by an identifier unique in the effect, with a unit and words."""
+    if not isinstance(item, kind):
+        raise TypeError(f"{label}: expected a {kind.__name__}(name, unit, description, ...), got {item!r}")
+    if not item.name.isidentifier() or item.name in names:
+        raise ValueError(f"{label}: name: expected a Python identifier unique in the effect")
+    names.add(item.name)
+    if not isinstance(item.unit, str) or not item.unit.strip():
+        raise ValueError(f"{label}: unit: every {kind.__name__.lower()} needs its SI unit ('-' if dimensionless)")
+    if not item.description.strip():
+        raise ValueError(f"{label}: description: say what {meaning}")
 
 
 def _caller_module() -> str:

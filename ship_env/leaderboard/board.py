@@ -20,6 +20,7 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
+from ship_env.envs.track_follow_task import TrackFollowTask
 from ship_env.leaderboard.entrants import Entrant, classic_entrants, policy_entrants
 from ship_env.leaderboard.evaluation import evaluate, jobs_for
 from ship_env.leaderboard.plots import plot_aggregate, plot_course_changes, plot_scores, plot_tracks
@@ -180,6 +181,7 @@ def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list
         episode = suite.episodes[0]
         recorded = {e.name: sail_recorded(e, suite, episode) for e in board.entrants if e.env_id == TRACK_FOLLOW}
         task_sailed = next(iter(recorded.values()))[1]
+        assert isinstance(task_sailed, TrackFollowTask)  # the TrackFollow suite's
         runs = {name: states for name, (states, _) in recorded.items()}
         title = f"{suite.name}: {episode.label} (seed {episode.seed})"
         written.append(plot_tracks(runs, task_sailed, episode.options["track"], title, out / TRACK_PLOT))

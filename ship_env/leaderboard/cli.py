@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 from pathlib import Path
+from typing import Any
 
 from ship_env.command_line import add_command, number, whole_number
 from ship_env.envs.tracks import TRACK_IDS
@@ -28,7 +29,7 @@ def chosen_spec(args: argparse.Namespace) -> SuiteSpec:
         "course_change_disturbances": args.disturbances,
         "repetitions": args.repetitions,
     }
-    changes = {
+    changes: dict[str, Any] = {
         name: tuple(value) if isinstance(value, list) else value for name, value in choices.items() if value is not None
     }
     return dataclasses.replace(SUITE_SPECS[args.suite], **changes)

@@ -53,7 +53,7 @@ def jobs_for(suites: Sequence[Suite], entrants: Sequence[Entrant]) -> list[Job]:
     ]
 
 
-def run_job(job: Job, on_episode: Callable[[], None] | None = None) -> list[EpisodeResult]:
+def run_job(job: Job, on_episode: Callable[[], object] | None = None) -> list[EpisodeResult]:
     """Sail one job (in this process or a worker's)."""
     from ship_env.leaderboard.sailing import sail_suite
 

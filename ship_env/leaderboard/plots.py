@@ -16,7 +16,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure as Drawing
 
-from ship_env.envs.task import ShipTask
+from ship_env.envs.track_follow_task import TrackFollowTask
 from ship_env.leaderboard.statistics import REFERENCES, Estimate
 from ship_env.leaderboard.tables import Table
 from ship_env.model import state as S
@@ -103,7 +103,7 @@ def plot_course_changes(runs: Mapping[str, np.ndarray], title: str, course_chang
     return path
 
 
-def plot_tracks(runs: Mapping[str, np.ndarray], task: ShipTask, track: str, title: str, path: Path) -> Path:
+def plot_tracks(runs: Mapping[str, np.ndarray], task: TrackFollowTask, track: str, title: str, path: Path) -> Path:
     """Each controller's track over the ground beside the reference track ``track`` (north up,
     equal axes); returns ``path``."""
     drawing = Drawing(figsize=(8, 9), layout="constrained")

@@ -16,6 +16,7 @@ import numpy as np
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.baselines.controller import Controller
+from ship_env.envs.single_env import ShipEnv
 from ship_env.envs.task import ShipTask
 from ship_env.leaderboard.entrants import DesignedTask, Entrant
 from ship_env.leaderboard.suites import Episode, Suite
@@ -65,12 +66,20 @@ def sail(
     return {name: float(value) for name, value in info["metrics"].items()}, bool(terminated)
 
 
+def ship_task(env: gym.Env) -> ShipTask:
+    """The task of a ship environment made by ``gym.make`` (under its wrappers)."""
+    unwrapped = env.unwrapped
+    if not isinstance(unwrapped, ShipEnv):
+        raise TypeError(f"expected a ship_env environment, got {type(unwrapped).__name__}")
+    return unwrapped.task
+
+
 def suite_envs(suite: Suite, entrant: Entrant) -> tuple[gym.Env, ShipModel]:
     """The environment the suite sails (with its condition's ship, observed as ``entrant`` was
     trained to) and the nominal ship's model."""
     env_kwargs = {**suite.env_kwargs, **dict(entrant.observation_kwargs)}
     nominal = gym.make(suite.env_id, **env_kwargs)
-    model = nominal.unwrapped.task.model
+    model = ship_task(nominal).model
     if not suite.condition.scales:
         return nominal, model
     nominal.close()
@@ -86,14 +95,14 @@ def sail_recorded(entrant: Entrant, suite: Suite, episode: Episode) -> tuple[np.
     env, design_model = suite_envs(suite, entrant)
     states: list[np.ndarray] = []
     try:
-        sail(env, entrant.build(DesignedTask(env.unwrapped.task, design_model)), episode, states)
+        sail(env, entrant.build(DesignedTask(ship_task(env), design_model)), episode, states)
     finally:
         env.close()
-    return np.asarray(states), env.unwrapped.task
+    return np.asarray(states), ship_task(env)
 
 
 def sail_suite(
-    entrant: Entrant, suite: Suite, run: int = 0, on_episode: Callable[[], None] | None = None
+    entrant: Entrant, suite: Suite, run: int = 0, on_episode: Callable[[], object] | None = None
 ) -> list[EpisodeResult]:
     """Sail every episode of ``suite`` with ``entrant`` (a learned one's ``run``-th training seed);
     ``on_episode`` is called after each."""
@@ -102,7 +111,7 @@ def sail_suite(
     results = []
     try:
         for episode in suite.episodes:
-            controller = entrant.build(DesignedTask(env.unwrapped.task, design_model), run)
+            controller = entrant.build(DesignedTask(ship_task(env), design_model), run)
             metrics, finished = sail(env, controller, episode)
             results.append(
                 EpisodeResult(

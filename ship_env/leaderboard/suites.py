@@ -152,7 +152,9 @@ def track_env_kwargs(condition: Condition) -> dict[str, Any]:
     speed = condition.scales.get("service_speed", 1.0)
     if speed == 1.0:
         return {}
-    return {"max_episode_steps": math.ceil(gym.spec(TRACK_FOLLOW).max_episode_steps / speed)}
+    registered_steps = gym.spec(TRACK_FOLLOW).max_episode_steps
+    assert registered_steps is not None, f"{TRACK_FOLLOW} is registered with a time limit"
+    return {"max_episode_steps": math.ceil(registered_steps / speed)}
 
 
 def course_change_episodes(angles_deg: tuple[float, ...], repetitions: int) -> tuple[Episode, ...]:

@@ -32,6 +32,8 @@ class ScaledObservation(BaseFeaturesExtractor):
         scales: one factor per observation element.
     """
 
+    scales: torch.Tensor  # a buffer: moves with the module between devices, saved with it
+
     def __init__(self, observation_space: spaces.Box, scales: Sequence[float]) -> None:
         size = int(observation_space.shape[0])
         if len(observation_space.shape) != 1 or len(scales) != size:

@@ -33,6 +33,7 @@ from __future__ import annotations
 import hashlib
 import inspect
 import math
+import re
 import sys
 import warnings
 from collections.abc import Callable, Sequence
@@ -159,6 +160,16 @@ class _Writer:
         if self.checked:
             return f"finite({name}({arguments}), {entry.effect.name!r}, {what!r})"
         return f"{name}({arguments})"
+
+    def function(self, signature: str, returns: str = "") -> str:
+        """The source of a function of the lines written, after the preamble's lines they read."""
+        body = "\n".join(self.lines)
+        preamble: list[str] = []
+        for line in reversed(_PREAMBLE.rstrip("\n").split("\n")):
+            if re.search(rf"\b{line.split('=')[0].strip()}\b", body + "".join(preamble)):
+                preamble.insert(0, line)
+        returned = f"\n    return {returns}" if returns else ""
+        return f"def {signature}:\n" + "\n".join([*preamble, body]) + f"{returned}\n"
 
     def emit(self, line: str, depth: int = 1) -> None:
         self.lines.append("    " * depth + line)
@@ -303,19 +314,16 @@ class _Writer:
                 self.emit(f"out[{self.layout.index(state.name)}] = {quantity}", depth)
 
     def derivative(self) -> str:
-        self.lines.append(_PREAMBLE.rstrip("\n"))
         self.motion()
         done = {"sway_velocity", "ground_velocity", *WIND, *self.derivatives}
         for quantity in QUANTITIES:
             if quantity not in done:
                 self.quantity(quantity)
         self.state_rates()
-        body = "\n".join(self.lines)
-        return f"def derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):\n{body}\n"
+        return self.function("derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out)")
 
     def held(self) -> str:
         """The contributions held over the step, each on top of the last, with the time at mid-step."""
-        self.lines.append(_PREAMBLE.rstrip("\n"))
         self.emit("mid_step_time = state[0] + 0.5 * dt")
         self.overrides = {"time": "mid_step_time", "rudder": f"state[{S.RUDDER}]"}
         self.emit("held = 0.0")
@@ -332,8 +340,7 @@ class _Writer:
                     self.emit(f'if p["{entry.effect.flag_name}"]:')
                     self.emit(f"held = {update}", 2)
                 first = False
-        body = "\n".join(self.lines)
-        return f"def held_yaw_acceleration(state, conditions, waves, dt, p):\n{body}\n    return held\n"
+        return self.function("held_yaw_acceleration(state, conditions, waves, dt, p)", "held")
 
     def white_noise(self) -> str:
         """Unit white noise for the noise-driven states (over sqrt(dt)), drawn where an intensity is not 0.
@@ -341,7 +348,6 @@ class _Writer:
         Channel pair k of step j is drawn at counter j + k 2^40: the first pair's are the step's
         own counters whatever else is registered.
         """
-        self.lines.append(_PREAMBLE.rstrip("\n"))
         self.overrides = {"rudder": f"state[{S.RUDDER}]"}
         for channel in range(len(self.noise)):
             self.emit(f"out[{channel}] = 0.0")
@@ -361,20 +367,15 @@ class _Writer:
                 self.emit(f"out[{pair}] = first / math.sqrt(dt)", 2)
                 if pair + 1 < len(self.noise):
                     self.emit(f"out[{pair + 1}] = second / math.sqrt(dt)", 2)
-        body = "\n".join(self.lines)
-        return f"def draw_white_noise(state, conditions, noise_key, step_index, dt, p, out):\n{body}\n"
+        return self.function("draw_white_noise(state, conditions, noise_key, step_index, dt, p, out)")
 
     def rudder(self) -> str:
         """The actual rudder ``duration`` s into the step: the limited order, or where an actuator takes it."""
-        self.lines.append(_PREAMBLE.rstrip("\n"))
         self.quantity("actual_rudder", select=lambda entry, index: True)
-        body = "\n".join(self.lines)
-        signature = "actual_rudder(state, rudder, limited_order, duration, conditions, p)"
-        return f"def {signature}:\n{body}\n    return actual_rudder\n"
+        return self.function("actual_rudder(state, rudder, limited_order, duration, conditions, p)", "actual_rudder")
 
     def initial(self) -> str:
         """Write the effects' states' initial values into a state whose motion is set."""
-        self.lines.append(_PREAMBLE.rstrip("\n"))
         self.overrides = {"rudder": f"state[{S.RUDDER}]"}
         for entry in self.entries:
             for state in entry.new_states:
@@ -389,14 +390,11 @@ class _Writer:
                 else:
                     self.emit(f'if p["{entry.effect.flag_name}"]:')
                     self.emit(f"state[{index}] = {call}", 2)
-        body = "\n".join(self.lines)
-        return f"def start_states(state, conditions, p):\n{body}\n"
+        return self.function("start_states(state, conditions, p)")
 
     def sway(self) -> str:
-        self.lines.append(_PREAMBLE.rstrip("\n"))
         self.quantity("sway_velocity")
-        body = "\n".join(self.lines)
-        return f"def sway_velocity(state, conditions, p):\n{body}\n    return sway_velocity\n"
+        return self.function("sway_velocity(state, conditions, p)", "sway_velocity")
 
 
 _COMPOSER_SOURCE = _composer_source()
@@ -561,6 +559,19 @@ def _white_noise_overload(state, conditions, noise_key, step_index, dt, p, out):
 def _actual_rudder_overload(state, rudder, limited_order, duration, conditions, p):
     warnings.filterwarnings("ignore", r"variable 'actual_rudder_v\d+_", NumbaIRAssumptionWarning)
     return _implementation("rudder", p)
+
+
+def state_size(p):
+    """The number of state variables of a parameter record's layout: a constant of the compiled code,
+    so that the integrator's loops over the state have a fixed length (unrolled as with a literal)."""
+    return len(state_names(np.asarray(p)))
+
+
+@overload(state_size, jit_options=_JIT_OPTIONS, inline="always")
+def _state_size_overload(p):
+    effects, _ = record_effects(_field_names(p))
+    size = len(state_layout([EFFECTS.entry(name) for name in effects]))
+    return lambda p: size
 
 
 def check_contributions(model: Any) -> None:

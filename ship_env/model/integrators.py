@@ -29,7 +29,7 @@ from numba.extending import intrinsic
 from numba.np.arrayobj import make_array
 
 from ship_env.model import state as S
-from ship_env.model.dynamics import actual_rudder, derivatives, draw_white_noise, held_yaw_acceleration
+from ship_env.model.dynamics import actual_rudder, derivatives, draw_white_noise, held_yaw_acceleration, state_size
 from ship_env.model.kernel import kernel, parallel_kernel
 
 RK4 = 0
@@ -97,8 +97,10 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
         True while the model is valid: every state finite and the forward speed not negative
         (u* <= 1). False flags a ship the caller must not go on with.
     """
+    # Borrowed: passing the arrays on to the effects' composed pieces then costs no reference counting.
+    state, conditions, waves, work = borrowed((state, conditions, waves, work))
     p = params[0]
-    size = state.shape[0]
+    size = state_size(p)  # == state.shape[0]; a constant, so the loops below unroll
     order = limit_order(ordered_rudder, p["rudder_limit"])
     rudder = state[S.RUDDER]
     white_noise = work[WORK_NOISE]
@@ -129,13 +131,13 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
         for j in range(size):
             state[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
     state[S.RUDDER] = rudder_end
-    return is_valid(state)
+    return is_valid(state, size)
 
 
 @kernel
-def is_valid(state):
-    """Whether a state is inside the model's validity: finite, with forward speed u >= 0."""
-    for j in range(state.shape[0]):
+def is_valid(state, size):
+    """Whether a state of ``size`` variables is inside the model's validity: finite, with forward speed u >= 0."""
+    for j in range(size):
         if not math.isfinite(state[j]):
             return False
     return state[S.SPEED_LOSS] <= 1.0

@@ -112,11 +112,10 @@ def pull_out(
         time, rate_of_turn = run["time"].to_numpy(), turn * run["rate_of_turn"].to_numpy()
         steady_rates.append(value_at(time, rate_of_turn, release_time))
         residual_rates.append(float(rate_of_turn[-1]))
-    return PullOut(
-        ship=model.ship.name,
-        length=model.length,
-        approach_speed=settings.approach_speed(model),
-        time_series=series,
+    return PullOut.sailed(
+        model,
+        settings,
+        series,
         rudder_angle=rudder_angle,
         steady_rate_starboard=steady_rates[0],
         steady_rate_port=steady_rates[1],

@@ -12,11 +12,15 @@ import math
 import re
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 import pandas as pd
 
 from ship_env.model.declarations import UNIT_CONVERSIONS
+
+if TYPE_CHECKING:
+    from ship_env.manoeuvres.trial import TrialSettings
+    from ship_env.model import ShipModel
 
 #: One knot in m/s, for speeds shown in knots.
 KNOT: float = UNIT_CONVERSIONS["kn"][1]
@@ -63,6 +67,9 @@ class Figure:
         return fixed(self.value, self.digits)
 
 
+Result = TypeVar("Result", bound="ManoeuvreResult")
+
+
 @dataclass(frozen=True)
 class ManoeuvreResult(ABC):
     """Fields every manoeuvre result has.
@@ -81,6 +88,19 @@ class ManoeuvreResult(ABC):
     length: float
     approach_speed: float
     time_series: pd.DataFrame = field(compare=False, repr=False)
+
+    @classmethod
+    def sailed(
+        cls: type[Result], model: ShipModel, settings: TrialSettings, time_series: pd.DataFrame, **figures: Any
+    ) -> Result:
+        """The result of ``model`` sailed in ``settings``: the fields every result has, then ``figures``."""
+        return cls(
+            ship=model.ship.name,
+            length=model.length,
+            approach_speed=settings.approach_speed(model),
+            time_series=time_series,
+            **figures,
+        )
 
     @property
     @abstractmethod

@@ -172,11 +172,10 @@ def reversed_spiral(
 
     table = pd.concat([held_points.assign(hard_over=False), hard_over_points.assign(hard_over=True)], ignore_index=True)
     table = table.sort_values("rate_of_turn", ignore_index=True)[list(TABLE_COLUMNS)]
-    return SpiralTest(
-        ship=model.ship.name,
-        length=model.length,
-        approach_speed=settings.approach_speed(model),
-        time_series=pd.concat([hard_over_series, held_series], ignore_index=True),
+    return SpiralTest.sailed(
+        model,
+        settings,
+        pd.concat([hard_over_series, held_series], ignore_index=True),
         table=table,
         hard_over_rate_starboard=float(starboard_rate),
         hard_over_rate_port=float(-port_rate),

@@ -145,11 +145,10 @@ def turning_circle(
     else:
         steady_rate = steady_ground_speed = steady_speed = drift_angle = fitted_radius = math.nan
     approach_speed = settings.approach_speed(model)
-    return TurningCircle(
-        ship=model.ship.name,
-        length=model.length,
-        approach_speed=approach_speed,
-        time_series=series,
+    return TurningCircle.sailed(
+        model,
+        settings,
+        series,
         rudder_angle=rudder_angle,
         advance=value_at(time, north, time_to_90),
         transfer=value_at(time, across, time_to_90),

@@ -143,11 +143,10 @@ def zigzag(
     second_peak = first_crossing(time, rate_of_turn, 0.0, after=third)
     heading_change_reached = first_crossing(time, deviation, heading_change)
     track = distance_sailed(series["north"].to_numpy(), series["east"].to_numpy())
-    return ZigZag(
-        ship=model.ship.name,
-        length=model.length,
-        approach_speed=settings.approach_speed(model),
-        time_series=series,
+    return ZigZag.sailed(
+        model,
+        settings,
+        series,
         rudder_angle=rudder_angle,
         heading_change=heading_change,
         first_overshoot=value_at(time, deviation, first_peak) - heading_change,

@@ -269,3 +269,107 @@ def test_unknown_options_and_tracks_raise():
         env.reset(seed=0, options={"course_change_deg": 10.0})
     with pytest.raises(ValueError, match="track"):
         env.reset(seed=0, options={"track": "t1"})
+
+
+# -- training options: decision interval, starts before a turn, bounded reward --------------------
+
+
+def test_a_decision_interval_holds_the_order_and_sums_the_rewards_through_the_terminal_step():
+    """An env deciding every 5 steps sails exactly as the plain env given each order 5 times: the
+    same states and observations, the rewards summed per decision, and at the terminal decision
+    the record of the terminal step (score and metrics), not of the steps sailed after it."""
+    interval, seed = 5, 7
+    held = TrackFollowEnv(decision_interval=interval, start="before_turn")
+    plain = TrackFollowEnv(start="before_turn")
+    observation, info = held.reset(seed=seed)
+    plain_observation, plain_info = plain.reset(seed=seed)
+    assert info["scenario"] == plain_info["scenario"]
+    controller = TrackPD(held.task)
+    terminated = False
+    decisions = 0
+    while not terminated:
+        action = controller(observation)
+        observation, reward, terminated, _, info = held.step(action)
+        decisions += 1
+        summed = 0.0
+        for _ in range(interval):
+            plain_observation, plain_reward, plain_terminated, _, plain_info = plain.step(action)
+            summed += plain_reward
+            if plain_terminated:
+                break
+        assert terminated == plain_terminated
+        assert reward == pytest.approx(summed, rel=1e-12, abs=1e-12)
+        np.testing.assert_array_equal(observation, plain_observation)
+        assert info["metrics"] == plain_info["metrics"] and info["leg"] == plain_info["leg"]
+        assert decisions < 1000, "the PD should finish the track"
+    assert info["score"] == plain_info["score"]
+    assert info["state"][S.TIME] > plain_info["state"][S.TIME], "the ship ended within the interval"
+
+
+def test_vector_env_with_a_decision_interval_and_starts_before_turns_equals_single_envs():
+    num_envs, seed = 3, 2
+    options = {"decision_interval": 4, "start": "before_turn"}
+    vector = TrackFollowVectorEnv(num_envs=num_envs, **options)
+    singles = [TrackFollowEnv(**options) for _ in range(num_envs)]
+    controllers = [TrackPD(vector.task) for _ in range(num_envs)]
+
+    def policy(observations: np.ndarray) -> np.ndarray:
+        return np.stack(
+            [controller(observation) for controller, observation in zip(controllers, observations, strict=True)]
+        )
+
+    episodes, _ = assert_vector_equals_singles(vector, singles, policy, 700, seed, partial_reset_at=50)
+    assert episodes.min() >= 1, "every ship should have finished its track"
+
+
+def test_starts_before_a_turn_are_seeded_and_lie_1_to_1_6_nm_before_a_legs_end_on_its_course():
+    env = TrackFollowEnv(start="before_turn", sensor_noise_scale=0.0)
+    legs = set()
+    for seed in range(40):
+        observation, info = env.reset(seed=seed)
+        scenario = info["scenario"]
+        assert env.reset(seed=seed)[1]["scenario"] == scenario
+        track = env.task.tracks[scenario.track]
+        leg = info["leg"]
+        legs.add(leg)
+        assert leg < 5 and scenario.initial_heading == pytest.approx(track.courses[leg])
+        state = info["state"]
+        assert (state[S.NORTH], state[S.EAST]) == (scenario.initial_north, scenario.initial_east)
+        to_end = track.waypoints[leg + 1] - np.array([state[S.NORTH], state[S.EAST]])
+        along = to_end @ [math.cos(track.courses[leg]), math.sin(track.courses[leg])]
+        assert 1.0 <= along / NAUTICAL_MILE <= 1.6 and np.linalg.norm(to_end) == pytest.approx(along)
+        assert observation[OBS_WAYPOINT_DISTANCE] == pytest.approx(along / NAUTICAL_MILE, abs=1e-6)
+        assert observation[OBS_HEADING_ERROR] == 0.0 and abs(info["cross_track_error"]) < 1e-6
+    assert legs == {0, 1, 2, 3, 4}
+    first = TrackFollowEnv().reset(seed=0)[1]
+    assert first["scenario"].initial_north == 0.0 and first["leg"] == 0, "the default start stays the origin"
+
+
+def test_the_cross_track_reward_bound_caps_a_lost_ships_cost():
+    bounded, plain = TrackFollowEnv(cross_track_reward_bound=1.0), TrackFollowEnv()
+    bounded.reset(seed=5, options={"track": "T3"})
+    plain.reset(seed=5, options={"track": "T3"})
+    length = bounded.task.model.length
+    lost = False
+    for _ in range(400):  # hard to starboard: the ship circles off the first leg
+        _, reward, _, _, info = bounded.step(np.ones(1, dtype=np.float32))
+        _, plain_reward, _, _, _ = plain.step(np.ones(1, dtype=np.float32))
+        relative = abs(info["cross_track_error"]) / length
+        travel = plain_reward + relative**2  # the rudder travel's share, the same in both
+        assert reward == pytest.approx(travel - min(relative, 1.0) ** 2, abs=1e-9)
+        lost |= relative > 1.5
+    assert lost
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"decision_interval": 0}, "decision_interval: .* got 0"),
+        ({"decision_interval": 2.5}, "decision_interval: .* got 2.5"),
+        ({"start": "middle"}, "start: .* got 'middle'"),
+        ({"cross_track_reward_bound": -1.0}, r"cross_track_reward_bound: .* got -1.0"),
+    ],
+)
+def test_bad_training_options_raise_naming_the_key_and_value(options, message):
+    with pytest.raises(ValueError, match=message):
+        TrackFollowEnv(**options)

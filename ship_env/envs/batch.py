@@ -193,12 +193,65 @@ class ShipBatch:
 
     def update(self, restarted_only: bool = False) -> None:
         """Measure, observe and reward every ship, or only the restarted ones (one compiled call)."""
-        simulator = self.simulator
         if self.task.observation_history:
-            remembered = list(self.task.history_observations)
-            previous = self.episodes["observation"][:, remembered]
+            previous = self.episodes["observation"][:, list(self.task.history_observations)]
             restarted = self.episodes["restarted"].copy()
             stepped = np.zeros_like(restarted) if restarted_only else ~restarted
+        self._update_records(restarted_only)
+        if self.task.observation_history:
+            self._remember(previous, stepped, restarted)
+
+    def sail(
+        self,
+        orders: float | np.ndarray,
+        restarting: np.ndarray | None = None,
+        restart: Callable[[], None] | None = None,
+    ) -> None:
+        """Hold the ordered rudder ``orders`` (rad) for the task's ``decision_interval`` simulator steps,
+        updating every ship after each, and leave in the records the environment step's outcome.
+
+        Each ship's ``reward`` is the sum over the steps; a ship whose episode terminates within the
+        interval keeps the records (episode and metrics) of its terminal step (its simulator state
+        sails on until its restart). ``restart`` (the vector environment's autoreset) starts new
+        episodes for the ``restarting`` ships (a bool mask) after the last simulator step, before
+        the last update: those get their first observation and reward 0.
+        """
+        interval = self.task.decision_interval
+        if interval == 1:  # the plain step: nothing to hold or sum
+            self.simulator.step(orders)
+            if restart is not None:
+                restart()
+            self.update()
+            return
+        restarting = np.zeros(self.num_ships, dtype=np.bool_) if restarting is None else restarting
+        history = self.task.observation_history
+        if history:
+            previous = self.episodes["observation"][:, list(self.task.history_observations)]
+        total = np.zeros(self.num_ships)
+        ended = restarting.copy()  # ships whose records no longer change
+        held_episodes = self.episodes.copy()
+        held_metrics = self.metrics.copy()
+        for step in range(interval):
+            self.simulator.step(orders)
+            if restart is not None and step == interval - 1:
+                restart()
+            self._update_records(False)
+            sailing = ~ended
+            total[sailing] += self.episodes["reward"][sailing]
+            finished = sailing & self.episodes["terminated"]
+            held_episodes[finished] = self.episodes[finished]
+            held_metrics[finished] = self.metrics[finished]
+            ended |= finished
+        terminated = ended & ~restarting
+        self.episodes[terminated] = held_episodes[terminated]
+        self.metrics[terminated] = held_metrics[terminated]
+        self.episodes["reward"][~restarting] = total[~restarting]
+        if history:
+            self._remember(previous, ~restarting, restarting)
+
+    def _update_records(self, restarted_only: bool) -> None:
+        """The task's compiled update of every ship's records, or of the restarted ones only."""
+        simulator = self.simulator
         self._update(
             restarted_only,
             simulator.state,
@@ -209,8 +262,6 @@ class ShipBatch:
             self.metrics,
             *self.task.kernel_arguments,
         )
-        if self.task.observation_history:
-            self._remember(previous, stepped, restarted)
 
     def _remember(self, previous: np.ndarray, stepped: np.ndarray, restarted: np.ndarray) -> None:
         """Shift the ``stepped`` ships' remembered observations by one step (``previous`` the newest);

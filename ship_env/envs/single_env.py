@@ -17,7 +17,8 @@ class ShipEnv(Env[np.ndarray, Any]):
 
     ``reset`` draws a scenario from the environment's ``np_random`` (options pin parts of it) and
     returns the first observation with ``info`` (the batch's information plus ``scenario``);
-    ``step`` orders the rudder, advances the simulator one control step and returns the batch's
+    ``step`` orders the rudder, advances the simulator one control step (``decision_interval`` simulator
+    steps, the order held) and returns the batch's
     observation, reward and termination, never truncating (the registration's time limit does).
     The step that terminates an episode adds the batch's ``end_info``. Rendering draws the ship's
     track, hull and rudder, the disturbances and the task's guides (:meth:`render_guides`).
@@ -60,8 +61,7 @@ class ShipEnv(Env[np.ndarray, Any]):
     def step(self, action: Any) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
         self._ordered_rudder = self.task.rudder_order(action)
         batch = self.batch
-        batch.simulator.step(self._ordered_rudder)
-        batch.update()
+        batch.sail(self._ordered_rudder)
         if self.render_mode is not None:
             self._track.append(batch.simulator.position[0].copy())
         if self.render_mode == "human":

@@ -26,9 +26,10 @@ from ship_env.model import Conditions, ShipModel, load_ship
 
 #: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
 ACTION_TYPES = ("continuous", "discrete")
-#: The keywords that change what a policy observes (the tasks' observation options): a policy trained
-#: with them steers only an environment made with the same (a leaderboard sails it so).
-OBSERVATION_KEYWORDS = ("observation_history", "track_preview")
+#: The keywords that change what a policy observes or how often it acts (the tasks' observation options
+#: and decision interval): a policy trained with them steers only an environment made with the same (a
+#: leaderboard sails it so).
+OBSERVATION_KEYWORDS = ("observation_history", "track_preview", "decision_interval")
 
 
 def observation_keywords(env_kwargs: Mapping[str, Any]) -> dict[str, Any]:
@@ -79,6 +80,13 @@ class ShipTask:
         observation_history: how many past steps of the heading error, rate of turn and rudder
             observations (``history_observations``) follow the observation, newest first (0,
             default: none). A policy without memory can then tell how the ship answers its rudder.
+        decision_interval: how many simulator steps (of ``dt``) one environment step holds the ordered
+            rudder for (1, default: every step). The step's reward is the sum of the simulator steps'
+            rewards, its observation the last one's; a ship whose episode terminates within the
+            interval keeps the record of its terminal step. A policy then decides every
+            ``decision_interval * dt`` s: the episode has that many times fewer decisions (a shorter
+            horizon for its discount) and each decision's effect shows within the step.
+            ``max_episode_steps`` counts environment steps (decisions).
     """
 
     #: The observation's elements ``observation_history`` remembers (each task sets its own).
@@ -104,6 +112,7 @@ class ShipTask:
         rudder_levels: int = 7,
         ship_variation: bool | Mapping[str, Sequence[float]] | None = None,
         observation_history: int = 0,
+        decision_interval: int = 1,
     ) -> None:
         self.rudder_limit = math.radians(check_number("rudder_limit_deg", rudder_limit_deg, 1e-3, 90.0))
         self.dt = check_number("dt", dt, 1e-6)
@@ -113,6 +122,7 @@ class ShipTask:
         self.sensors = sensors_record(noise_scale, check_number("fix_interval", fix_interval, 0.0))
         self.variation = None if ship_variation in (None, False) else ShipVariation(ship_variation)
         self.observation_history = check_whole_number("observation_history", observation_history, 0)
+        self.decision_interval = check_whole_number("decision_interval", decision_interval, 1)
 
         preset = load_ship(ship)
         if effects is None:

@@ -77,15 +77,19 @@ class TrackFollowEnv(ShipEnv):
     ## Rewards
 
     Each step: ``-(cross_track_weight * (e / L)^2 + rudder_travel_weight * |d delta| / delta_max)``
-    with e the true cross-track error (e / L clipped to +-10, so a lost ship costs at most 100 a
-    step) and d delta the actual rudder's move over the step; weights 1 and 0.1 by default. Within
-    the clip, the cross-track part of the return is the sum of the squared errors whose root mean,
-    sampled every 2 s, is the score.
+    with e the true cross-track error (e / L clipped to +-``cross_track_reward_bound``, default 10,
+    so a lost ship costs at most 100 a step) and d delta the actual rudder's move over the step;
+    weights 1 and 0.1 by default. Within the clip, the cross-track part of the return is the sum of
+    the squared errors whose root mean, sampled every 2 s, is the score. With
+    ``decision_interval=k`` one environment step holds the rudder order for k simulator steps and
+    its reward is their sum.
 
     ## Starting State
 
     At the first waypoint (the origin) on the first leg's course, at service speed, rate of turn
-    0, rudder amidships. The track (if ``"random"``) and the simulator's seed (gusts, sensor
+    0, rudder amidships; with ``start="before_turn"`` on a random one of the first five legs, 1 to
+    1.6 nm before its end waypoint, on its course (a training curriculum: every episode meets a
+    turn within minutes). The track (if ``"random"``) and the simulator's seed (gusts, sensor
     noise) are drawn from the environment's ``np_random``. ``reset(options=...)`` may pin the
     ``track`` or give the ``conditions`` (a :class:`~ship_env.model.Conditions`, reported as
     disturbance ``"custom"``).
@@ -125,10 +129,11 @@ class TrackFollowEnv(ShipEnv):
     :class:`~ship_env.envs.track_follow_task.TrackFollowTask`): ``track`` (``"T1"`` ..
     ``"T6"``, ``"random"`` default), ``disturbance`` (``"thesis"`` default, ``"calm"``),
     ``rudder_limit_deg``, ``cross_track_weight``, ``rudder_travel_weight``, ``fix_interval``
-    (s); and those every task shares (:class:`~ship_env.envs.task.ShipTask`): ``ship``,
+    (s), ``track_preview``, ``line_of_sight_weight``, ``cross_track_reward_bound``, ``start``; and
+    those every task shares (:class:`~ship_env.envs.task.ShipTask`): ``ship``,
     ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``, ``action_type``,
-    ``rudder_levels``, and ``ship_variation`` (each episode's ship drawn around the preset's:
-    :mod:`ship_env.envs.variation`).
+    ``rudder_levels``, ``observation_history``, ``decision_interval`` and ``ship_variation`` (each
+    episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
 
     ## Version History
 

@@ -17,7 +17,7 @@ pushes the same way.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -75,6 +75,12 @@ THESIS_CONDITIONS = Conditions(
 #: Disturbance levels: the thesis's (Table 6.2) or still water and air.
 TRACK_DISTURBANCES = ("thesis", "calm")
 RANDOM_TRACK = "random"
+#: Where an episode starts: at the first waypoint (the thesis's run), or on a random leg before its
+#: end turn (:data:`BEFORE_TURN_NM`), so that every episode soon meets a turn.
+STARTS = ("first_waypoint", "before_turn")
+#: nm before the leg's end waypoint where a ``"before_turn"`` episode starts: the arc of the largest
+#: change (105 deg) begins 0.6 nm before it, and its wheel-over about 150 m earlier.
+BEFORE_TURN_NM = (1.0, 1.6)
 
 #: Keys ``reset(options=...)`` accepts.
 RESET_OPTIONS = frozenset({"track", "conditions"})
@@ -134,11 +140,15 @@ class TrackScenario(TaskScenario):
 
     Attributes (besides :class:`~ship_env.envs.task.TaskScenario`'s):
         track: ``"T1"`` .. ``"T6"``.
-        initial_heading: the first leg's course, rad: the ship starts on it at the first waypoint.
+        initial_heading: the course of the leg it starts on, rad.
+        initial_north, initial_east: where it starts, m (the first waypoint, the origin, unless
+            the task's ``start`` is ``"before_turn"``).
     """
 
     track: str
     initial_heading: float
+    initial_north: float = 0.0
+    initial_east: float = 0.0
 
 
 class TrackFollowTask(ShipTask):
@@ -161,6 +171,14 @@ class TrackFollowTask(ShipTask):
         line_of_sight_weight: reward shaping: per step for |wrap(bearing of that point - course over
             ground)| / pi, of the true position (0, default: none). Steering the ground track at a
             point on the track ahead puts the rudder over before the turn and holds the drift.
+        cross_track_reward_bound: the cross-track error's bound in the reward, ship lengths (default
+            ``CROSS_TRACK_BOUND``, 10: a lost ship costs at most 100 a step). A smaller bound keeps
+            a lost ship's returns from swamping the value function while training.
+        start: ``"first_waypoint"`` (default: the thesis's run of the whole track) or
+            ``"before_turn"``: each episode starts on a random leg with a turn at its end (uniform
+            over the track's first five), ``BEFORE_TURN_NM`` (1 to 1.6 nm, uniform) before that
+            end waypoint, on the leg's course, and sails on to the track's end. Training episodes
+            then meet a turn within minutes, every turn of the six tracks as often.
         **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`):
             ``ship``, ``ship_parameters``, ``effects``, ``dt``, ``sensor_noise_scale``,
             ``action_type``, ``rudder_levels``.
@@ -179,6 +197,8 @@ class TrackFollowTask(ShipTask):
         fix_interval: float = SCORE_INTERVAL,
         track_preview: bool = False,
         line_of_sight_weight: float = 0.0,
+        cross_track_reward_bound: float = CROSS_TRACK_BOUND,
+        start: str = "first_waypoint",
         **ship_options: Any,
     ) -> None:
         self.track = check_choice("track", track, (*TRACK_IDS, RANDOM_TRACK))
@@ -186,6 +206,8 @@ class TrackFollowTask(ShipTask):
         self.cross_track_weight = check_number("cross_track_weight", cross_track_weight, 0.0)
         self.rudder_travel_weight = check_number("rudder_travel_weight", rudder_travel_weight, 0.0)
         self.line_of_sight_weight = check_number("line_of_sight_weight", line_of_sight_weight, 0.0)
+        self.cross_track_reward_bound = check_number("cross_track_reward_bound", cross_track_reward_bound, 1e-3)
+        self.start = check_choice("start", start, STARTS)
         if not isinstance(track_preview, bool):
             raise TypeError(f"track_preview: expected true or false, got {track_preview!r}")
         self.track_preview = track_preview
@@ -202,6 +224,7 @@ class TrackFollowTask(ShipTask):
             cross_track_weight=self.cross_track_weight,
             rudder_travel_weight=self.rudder_travel_weight,
             line_of_sight_weight=self.line_of_sight_weight,
+            cross_track_reward_bound=self.cross_track_reward_bound,
             score_interval=SCORE_INTERVAL,
             track_preview=track_preview,
         )
@@ -217,7 +240,8 @@ class TrackFollowTask(ShipTask):
 
         ``options`` may pin the ``track`` or give the ``conditions`` (a
         :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``). Every draw
-        takes the same numbers from ``rng``, so one seed gives one sequence of episodes.
+        takes the same numbers from ``rng``, so one seed gives one sequence of episodes; a
+        ``"before_turn"`` start takes two more (the leg and the distance).
         """
         draw = float(rng.random())
         seed = int(rng.integers(2**31))
@@ -231,7 +255,21 @@ class TrackFollowTask(ShipTask):
         else:
             disturbance = self.disturbance
             conditions = THESIS_CONDITIONS if disturbance == "thesis" else CALM
-        return TrackScenario(disturbance, conditions, seed, track, float(self.tracks[track].courses[0]))
+        reference = self.tracks[track]
+        if self.start == "first_waypoint":
+            return TrackScenario(disturbance, conditions, seed, track, float(reference.courses[0]))
+        leg = int(rng.integers(len(reference.course_changes)))
+        before = float(rng.uniform(*BEFORE_TURN_NM)) * NAUTICAL_MILE
+        row = reference.legs[leg]
+        return TrackScenario(
+            disturbance,
+            conditions,
+            seed,
+            track,
+            float(row[LEG_COURSE]),
+            float(row[LEG_END_NORTH] - before * row[LEG_DIRECTION_NORTH]),
+            float(row[LEG_END_EAST] - before * row[LEG_DIRECTION_EAST]),
+        )
 
 
 @kernel
@@ -241,7 +279,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
     The leg advances when the true position crosses the bisector of the leg's end corner; the
     episode terminates when it crosses the perpendicular at the last waypoint. Reward:
     -(w_x (e / L)^2 + w_d |delta - delta_prev| / delta_max + w_s |wrap(beta - chi)| / pi) with e the
-    true cross-track error (e / L clipped to +-``CROSS_TRACK_BOUND``, as in the observation), beta
+    true cross-track error (e / L clipped to +-``cross_track_reward_bound``), beta
     the bearing of the track point ``LOOKAHEAD`` ship lengths ahead and chi the course over ground
     over the step, both of the true position (the last term only with ``line_of_sight_weight``).
     The observation comes from the measurements (the latest fix, compass, gyro, log).
@@ -267,7 +305,8 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
         episode["restarted"] = False
     else:
         rudder_move = abs(rudder - episode["rudder"])
-        relative = min(max(cross_track / p["length"], -CROSS_TRACK_BOUND), CROSS_TRACK_BOUND)
+        bound = p["cross_track_reward_bound"]
+        relative = min(max(cross_track / p["length"], -bound), bound)
         reward = -(
             p["cross_track_weight"] * relative * relative + p["rudder_travel_weight"] * rudder_move / p["rudder_limit"]
         )
@@ -334,6 +373,13 @@ class TrackFollowBatch(ShipBatch):
     metrics_dtype = TRACK_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
+
+    def restart(self, ships: np.ndarray, scenarios: Sequence[Any]) -> None:
+        """Start new episodes for ``ships``, each where its scenario starts it."""
+        super().restart(ships, scenarios)
+        state = self.simulator.state
+        state[ships, S.NORTH] = [scenario.initial_north for scenario in scenarios]
+        state[ships, S.EAST] = [scenario.initial_east for scenario in scenarios]
 
     def start_episode(self, episode: np.void, scenario: TrackScenario) -> None:
         episode["track"] = TRACK_IDS.index(scenario.track)

@@ -120,12 +120,18 @@ class ShipVectorEnv(VectorEnv):
         return self.batch.observations, self._info(ships, scenarios, mask)
 
     def step(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
-        """Step every ship; restart those whose episode ended at the previous step (NEXT_STEP)."""
-        self.batch.simulator.step(self.task.rudder_orders(actions, self.num_envs, self._orders))
+        """Step every ship (``decision_interval`` simulator steps); restart those whose episode ended at
+        the previous step (NEXT_STEP)."""
+        orders = self.task.rudder_orders(actions, self.num_envs, self._orders)
         self._elapsed_steps += 1
         ships = np.flatnonzero(self._autoreset)
-        scenarios = self._restart(ships, {}) if ships.size else []
-        self.batch.update()
+        scenarios: list[Any] = []
+
+        def restart() -> None:
+            if ships.size:
+                scenarios.extend(self._restart(ships, {}))
+
+        self.batch.sail(orders, self._autoreset.copy(), restart)
         observations, rewards, terminated = self.batch.outcomes()
         truncated = self._elapsed_steps >= self.max_episode_steps
         self._autoreset = terminated | truncated

@@ -18,7 +18,9 @@ COURSE_CHANGE = "ship_env/CourseChange-v0"
 TRACK_FOLLOW = "ship_env/TrackFollow-v0"
 
 
-@pytest.mark.parametrize("algo, env_id", [("ppo", COURSE_CHANGE), ("sac", COURSE_CHANGE), ("ppo", TRACK_FOLLOW)])
+@pytest.mark.parametrize(
+    "algo, env_id", [("ppo", COURSE_CHANGE), ("sac", COURSE_CHANGE), ("ppo", TRACK_FOLLOW), ("ppo_lstm", COURSE_CHANGE)]
+)
 def test_shipped_agent_configs_have_an_entry_per_shipped_task(algo, env_id):
     config = load_agent_config(algo, env_id)
     assert config.env_id == env_id and config.n_envs >= 1 and config.n_timesteps > 0
@@ -188,3 +190,52 @@ def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id):
     _, again, _ = load_from_zip_file(tmp_path / "run" / "model.zip", device="cpu", load_data=False)
     assert shipped["policy"].keys() == again["policy"].keys()
     assert all(torch.equal(shipped["policy"][key], again["policy"][key]) for key in shipped["policy"])
+
+
+def test_recurrent_ppo_trains_and_its_policy_steers_with_its_memory(tmp_path):
+    """``--algo ppo_lstm`` (sb3-contrib's RecurrentPPO, rl-zoo3's name) trains with an agent config,
+    and the policy file rebuilds the LSTM policy the leaderboard's controller steers with, carrying
+    its hidden state from step to step and restarting it with each episode."""
+    import gymnasium as gym
+    import numpy as np
+
+    from ship_env.baselines.controller import SB3Controller
+    from ship_env.rl.features import ScaledObservationLstmPolicy
+
+    config = tmp_path / "ppo_lstm.yaml"
+    entry = {
+        "n_envs": 2,
+        "policy": "ship_env.rl.features.ScaledObservationLstmPolicy",
+        "env_kwargs": {"ship_variation": True},
+        "n_steps": 32,
+        "batch_size": 32,
+        "n_epochs": 1,
+        "policy_kwargs": {
+            "lstm_hidden_size": 8,
+            "net_arch": [8],
+            "features_extractor_kwargs": {"scales": [50, 5, 1, 1, 1]},
+        },
+    }
+    config.write_text(yaml.safe_dump({COURSE_CHANGE: entry}))
+    out = tmp_path / "lstm"
+    argv = ["train", "--algo", "ppo_lstm", "--steps", "64", "--config", str(config), "--out", str(out)]
+    assert main([*argv, "--no-progress"]) == 0
+    policy_file = read_policy_file(out)
+    assert policy_file.algo == "PPO_LSTM" and policy_file.metadata.env_kwargs == {"ship_variation": True}
+    policy = policy_file.policy()
+    assert isinstance(policy, ScaledObservationLstmPolicy)
+    controller = SB3Controller(policy)
+    env = gym.make(COURSE_CHANGE)
+    actions = []
+    for _ in range(2):
+        observation, info = env.reset(seed=4)
+        controller.reset(observation, info)
+        episode = []
+        for _ in range(5):
+            action = controller.act(observation, info)
+            episode.append(action)
+            observation, _, _, _, info = env.step(action)
+        actions.append(np.concatenate(episode))
+    np.testing.assert_array_equal(actions[0], actions[1])  # the memory restarts with the episode
+    hidden, _ = controller._hidden_state  # the policy LSTM's (hidden, cell) after the last step
+    assert hidden.shape == (1, 1, 8) and np.any(hidden != 0.0)

@@ -19,6 +19,7 @@ TRACK_FOLLOW = "ship_env/TrackFollow-v0"
 SHORT_RUNS = {
     ("ppo", COURSE_CHANGE): ["n_envs:2", "n_steps:64", "batch_size:64", "n_epochs:1"],
     ("ppo", TRACK_FOLLOW): ["n_envs:2", "n_steps:64", "batch_size:64", "n_epochs:1"],
+    ("ppo_lstm", COURSE_CHANGE): ["n_envs:2", "n_steps:64", "batch_size:64", "n_epochs:1"],
     ("sac", COURSE_CHANGE): ["n_envs:1", "learning_starts:64", "batch_size:32", "train_freq:16", "gradient_steps:1"],
 }
 

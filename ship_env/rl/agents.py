@@ -43,8 +43,11 @@ if TYPE_CHECKING:
     from stable_baselines3.common.base_class import BaseAlgorithm
     from stable_baselines3.common.callbacks import BaseCallback
 
-#: The algorithms ``ship-env train`` offers: ``--algo`` name -> stable-baselines3 class name.
-ALGORITHMS: dict[str, str] = {"ppo": "PPO", "sac": "SAC"}
+#: The algorithms ``ship-env train`` offers: ``--algo`` name (rl-zoo3's) -> the stable-baselines3 class
+#: name, or the sb3-contrib one (:data:`CONTRIB_ALGORITHMS`).
+ALGORITHMS: dict[str, str] = {"ppo": "PPO", "sac": "SAC", "ppo_lstm": "RecurrentPPO"}
+#: The ``--algo`` names whose class is sb3-contrib's: PPO with an LSTM in its policy and value networks.
+CONTRIB_ALGORITHMS = frozenset({"ppo_lstm"})
 #: Torch's intra-op threads during training unless told otherwise: on the 2-core machines this
 #: project targets, 2 threads collapse under other load (design notes 9).
 DEFAULT_TORCH_THREADS = 1
@@ -100,7 +103,12 @@ class AgentConfig:
 
 
 def algorithm_class(algo: str) -> type[BaseAlgorithm]:
-    """The stable-baselines3 class of an ``--algo`` name (imported on first use: it brings torch)."""
+    """The stable-baselines3 (or sb3-contrib) class of an ``--algo`` name (imported on first use: it
+    brings torch)."""
+    if algo in CONTRIB_ALGORITHMS:
+        import sb3_contrib
+
+        return getattr(sb3_contrib, ALGORITHMS[algo])
     import stable_baselines3
 
     return getattr(stable_baselines3, ALGORITHMS[algo])

@@ -109,10 +109,11 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
     parser = add_command(
         subcommands,
         "train",
-        help="train a PPO or SAC policy on an environment",
+        help="train a PPO, recurrent PPO (ppo_lstm) or SAC policy on an environment",
         description=(
-            "Train a stable-baselines3 agent on the native vector environment with the hyper-parameters\n"
-            "of configs/agents/<algo>.yaml (one entry per environment id, as rl-zoo3 keeps them), and\n"
+            "Train a stable-baselines3 agent (or sb3-contrib's RecurrentPPO: --algo ppo_lstm) on the native\n"
+            "vector environment with the hyper-parameters of configs/agents/<algo>.yaml (one entry per\n"
+            "environment id, as rl-zoo3 keeps them), and\n"
             "save model.zip with metadata.json (environment and its kwargs, config, seed, steps, wall\n"
             "time, package versions, the command that reproduces the run). --seeds trains several seeds,\n"
             "one after another or as Ray tasks (--backend ray), each the same run as its own --seed command.\n"

@@ -7,7 +7,8 @@ observation). :class:`ScaledObservation` multiplies each observation by a fixed 
 policy's and value's layers, so their weights start on the scale the task needs. The factors are
 saved with the policy (a buffer of the module), so a policy file carries them.
 
-:class:`ScaledObservationPolicy` is PPO's ``MlpPolicy`` with that extractor in front, named in an
+:class:`ScaledObservationPolicy` is PPO's ``MlpPolicy`` with that extractor in front
+(:class:`ScaledObservationLstmPolicy` RecurrentPPO's ``MlpLstmPolicy``), named in an
 agent config as ``policy: ship_env.rl.features.ScaledObservationPolicy`` with the factors in
 ``policy_kwargs: "dict(features_extractor_kwargs=dict(scales=[50, 5, 1, 1, 1]))"`` (rl-zoo3
 evaluates ``policy_kwargs`` without this package in scope, so the class is named by ``policy``).
@@ -20,6 +21,7 @@ from typing import Any
 
 import torch
 from gymnasium import spaces
+from sb3_contrib.common.recurrent.policies import RecurrentActorCriticPolicy
 from stable_baselines3.common.policies import ActorCriticPolicy
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 
@@ -51,6 +53,15 @@ class ScaledObservation(BaseFeaturesExtractor):
 class ScaledObservationPolicy(ActorCriticPolicy):
     """PPO's (and A2C's) ``MlpPolicy`` whose features extractor is :class:`ScaledObservation`
     (``features_extractor_kwargs={"scales": [...]}`` gives the factors)."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        kwargs.setdefault("features_extractor_class", ScaledObservation)
+        super().__init__(*args, **kwargs)
+
+
+class ScaledObservationLstmPolicy(RecurrentActorCriticPolicy):
+    """sb3-contrib's ``MlpLstmPolicy`` (RecurrentPPO, ``--algo ppo_lstm``) whose features extractor is
+    :class:`ScaledObservation`: the scaled observation feeds the LSTMs of the policy and the value."""
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         kwargs.setdefault("features_extractor_class", ScaledObservation)

@@ -1,62 +1,22 @@
 """The workbench's tables, written as aligned text for the terminal or as Markdown for reports.
 
-Every table is built once as a header and rows of strings (:class:`Table`), then rendered.
+Every table is built once as a header and rows of strings (:class:`~ship_env.text_table.Table`),
+then rendered.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 from ship_env.model.declarations import Envelope
+from ship_env.text_table import Table
 from ship_env.workbench.diagnose import Diagnosis
 from ship_env.workbench.envelope import EnvelopeCheck
 from ship_env.workbench.errors import ErrorScales, RunErrors
 from ship_env.workbench.improve import Ladder
 from ship_env.workbench.logs import Log
 from ship_env.workbench.validation import CrossValidation
-
-
-@dataclass(frozen=True)
-class Table:
-    """A header and rows of cells; the first column is left-aligned, the others right-aligned."""
-
-    header: tuple[str, ...]
-    rows: tuple[tuple[str, ...], ...]
-
-    def text(self) -> str:
-        widths = [max(len(row[i]) for row in (self.header, *self.rows)) for i in range(len(self.header))]
-
-        def line(cells: Sequence[str]) -> str:
-            first, *rest = cells
-            return "  ".join(
-                [first.ljust(widths[0]), *(cell.rjust(w) for cell, w in zip(rest, widths[1:], strict=True))]
-            ).rstrip()
-
-        rule = "  ".join("-" * width for width in widths).rstrip()
-        return "\n".join([line(self.header), rule, *(line(row) for row in self.rows)])
-
-    def markdown(self) -> str:
-        """A Markdown table: columns of numbers right-aligned, columns of words left-aligned."""
-
-        def line(cells: Sequence[str]) -> str:
-            return "| " + " | ".join(cell.replace("|", "\\|") for cell in cells) + " |"
-
-        def numeric(column: int) -> bool:
-            cells = [row[column].rstrip("%") for row in self.rows if row[column] not in ("", "-")]
-            return bool(cells) and all(_is_number(cell) for cell in cells)
-
-        rule = "|" + "|".join("---:" if numeric(i) else "---" for i in range(len(self.header))) + "|"
-        return "\n".join([line(self.header), rule, *(line(row) for row in self.rows)])
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 def number(value: float, digits: int = 2) -> str:

@@ -43,6 +43,7 @@ from ship_env.baselines.online_estimators.scenarios import (
     random_walk_ekf,
     random_walk_least_squares,
 )
+from ship_env.text_table import Table
 
 #: The relative drift densities (1/s) of the random walks in the adaptation comparison: slow and fast adaptation.
 ADAPTATION_DRIFTS = (1e-5, 1e-4)
@@ -131,43 +132,56 @@ def _seconds(value: float | None) -> str:
 
 
 def comparison_table(runs: Sequence[EstimatorRun]) -> str:
-    """The comparison as text: one row per scenario and estimator."""
-    header = (
-        f"{'scenario':<20} {'estimator':<42} {'final |error| %':<40} {'within 10 % after (s)':<44} "
-        f"{'J_p (s)':>9} {'us/step':>8}"
-    )
-    lines = [header, "-" * len(header)]
+    """The comparison as text: one row per scenario and estimator, then why each diverged run failed."""
+    rows = []
     for run in runs:
         if run.failure is not None:
-            lines.append(f"{run.scenario:<20} {run.estimator:<42} diverged: {run.failure[:120]}")
+            rows.append((run.scenario, run.estimator, "diverged", "", "", ""))
             continue
         assert run.final is not None and run.settling is not None  # a run that did not diverge has its figures
         final = " ".join(f"{name} {100.0 * error:.1f}" for name, error in run.final.items())
         settled = " ".join(f"{name} {_seconds(value)}" for name, value in run.settling.items())
-        lines.append(
-            f"{run.scenario:<20} {run.estimator:<42} {final:<40} {settled:<44} {run.criterion:>9.3g} "
-            f"{run.microseconds_per_step:>8.0f}"
+        rows.append(
+            (run.scenario, run.estimator, final, settled, f"{run.criterion:.3g}", f"{run.microseconds_per_step:.0f}")
         )
-    return "\n".join(lines)
+    header = ("scenario", "estimator", "final |error| %", "within 10 % after (s)", "J_p (s)", "us/step")
+    failures = [f"{run.scenario}, {run.estimator} diverged: {run.failure}" for run in runs if run.failure is not None]
+    return "\n".join([Table(header, tuple(rows), words=4).text(), *failures])
 
 
 def adaptation_table(rows: Sequence[AdaptationRow]) -> str:
     """Stelling 5 as text: the matched lambda, both noises, both J_p after the change, both recoveries."""
-    header = (
-        f"{'pair':<14} {'drift 1/s':>9} {'lambda':>9} {'noise RW':>9} {'noise FF':>9} {'J_p RW':>8} {'J_p FF':>9} "
-        f"{'recover RW':>10} {'recover FF':>10}  better (* noise not matched)"
-    )
-    lines = [header, "-" * len(header)]
+    cells = []
     for row in rows:
         c = row.comparison
         better = ("random walk" if c.random_walk_tracks_better else "forgetting") + ("" if c.noise_matched else " *")
-        lines.append(
-            f"{row.pair:<14} {row.drift:>9.0e} {c.forgetting_factor:>9.5f} {c.random_walk.steady_noise:>9.2e} "
-            f"{c.forgetting.steady_noise:>9.2e} {c.random_walk.tracking_criterion:>8.3g} "
-            f"{c.forgetting.tracking_criterion:>9.3g} {_seconds(c.random_walk.recovery_time):>10} "
-            f"{_seconds(c.forgetting.recovery_time):>10}  {better}"
+        cells.append(
+            (
+                row.pair,
+                f"{row.drift:.0e}",
+                f"{c.forgetting_factor:.5f}",
+                f"{c.random_walk.steady_noise:.2e}",
+                f"{c.forgetting.steady_noise:.2e}",
+                f"{c.random_walk.tracking_criterion:.3g}",
+                f"{c.forgetting.tracking_criterion:.3g}",
+                _seconds(c.random_walk.recovery_time),
+                _seconds(c.forgetting.recovery_time),
+                better,
+            )
         )
-    return "\n".join(lines)
+    header = (
+        "pair",
+        "drift 1/s",
+        "lambda",
+        "noise RW",
+        "noise FF",
+        "J_p RW",
+        "J_p FF",
+        "recover RW",
+        "recover FF",
+        "better (* noise not matched)",
+    )
+    return Table(header, tuple(cells)).text()
 
 
 def plot_scenario(trial: Trial, runs: Sequence[EstimatorRun], path: Path) -> Path:

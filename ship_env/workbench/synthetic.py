@@ -199,6 +199,21 @@ def sail_all(
     return [sail(truth, manoeuvre, seed + i, settings) for i, manoeuvre in enumerate(manoeuvres)]
 
 
+# fmt: off
+#: The runs of :func:`model_test_programme`: rudder and zig-zag switch angle (deg; a turn never
+#: switches), start and final speed (m/s), propeller rate (rps), mean wind (m/s) and where it comes from (deg).
+_PROGRAMME = (
+    # name            kind      rudder  switch  start  final     n  wind  from
+    ("zigzag_20_n12",  "zigzag",   20,     20,  0.08,  0.35, 12.0,  1.8,  280),
+    ("zigzag_m20_n16", "zigzag",  -20,     20,  0.15,  0.45, 16.0,  1.8,  250),
+    ("zigzag_10_n10",  "zigzag",   10,     10,  0.30,  0.30, 10.0,  1.8,  320),
+    ("turn_35_n10",    "turn",     35,     20,  0.30,  0.30, 10.0,  1.8,  300),
+    ("turn_m35_n14",   "turn",    -35,     20,  0.40,  0.40, 14.0,  2.2,  260),
+    ("turn_m25_n8",    "turn",    -25,     20,  0.12,  0.28,  8.0,  1.4,  200),
+)
+# fmt: on
+
+
 def model_test_programme(duration: float = 90.0) -> list[Manoeuvre]:
     """Six runs like a free-running model test at 3 m scale: three zig-zags and three turns.
 
@@ -207,64 +222,20 @@ def model_test_programme(duration: float = 90.0) -> list[Manoeuvre]:
     differ between runs so that no effect hides behind another, and every kind of run (steady or
     accelerating, zig-zag or turn) appears twice, so a fit that leaves one run out still sees its like.
     """
-    deg = math.radians
     return [
         Manoeuvre(
-            "zigzag_20_n12", "zigzag", deg(20), duration, start_speed=0.08, final_speed=0.35, propeller_rate=12.0
-        ),
-        Manoeuvre(
-            "zigzag_m20_n16",
-            "zigzag",
-            -deg(20),
+            name,
+            kind,
+            math.radians(rudder),
             duration,
-            start_speed=0.15,
-            final_speed=0.45,
-            propeller_rate=16.0,
-            wind_direction=deg(250),
-        ),
-        Manoeuvre(
-            "zigzag_10_n10",
-            "zigzag",
-            deg(10),
-            duration,
-            zigzag_angle=deg(10),
-            start_speed=0.3,
-            final_speed=0.3,
-            propeller_rate=10.0,
-            wind_direction=deg(320),
-        ),
-        Manoeuvre(
-            "turn_35_n10",
-            "turn",
-            deg(35),
-            duration,
-            start_speed=0.3,
-            final_speed=0.3,
-            propeller_rate=10.0,
-            wind_direction=deg(300),
-        ),
-        Manoeuvre(
-            "turn_m35_n14",
-            "turn",
-            -deg(35),
-            duration,
-            start_speed=0.4,
-            final_speed=0.4,
-            propeller_rate=14.0,
-            wind_direction=deg(260),
-            wind_speed=2.2,
-        ),
-        Manoeuvre(
-            "turn_m25_n8",
-            "turn",
-            -deg(25),
-            duration,
-            start_speed=0.12,
-            final_speed=0.28,
-            propeller_rate=8.0,
-            wind_direction=deg(200),
-            wind_speed=1.4,
-        ),
+            zigzag_angle=math.radians(switch),
+            start_speed=start_speed,
+            final_speed=final_speed,
+            propeller_rate=propeller_rate,
+            wind_speed=wind_speed,
+            wind_direction=math.radians(wind_from),
+        )
+        for name, kind, rudder, switch, start_speed, final_speed, propeller_rate, wind_speed, wind_from in _PROGRAMME
     ]
 
 

@@ -36,14 +36,22 @@ from ship_env.model import ShipModel, Simulator
 from ship_env.model import state as S
 
 ENV_ID = "ship_env/TrackFollow-v0"
-#: The thesis's Table 6.1.b written out in degrees, as the brief lists it.
-THESIS_TABLE_6_1_B = {
-    "T1": (75, 45, 30, 105, 15),
-    "T2": (15, 75, 105, 30, 45),
-    "T3": (45, 15, 105, 75, 30),
-    "T4": (105, 30, 75, 15, 45),
-    "T5": (30, 15, 45, 75, 105),
-    "T6": (45, 105, 15, 30, 75),
+#: The thesis's Tables 6.1.a (the course changes) and 6.1.b (each track's changes in order) as it prints them.
+THESIS_TABLE_6_1_A = "C1: 15 degrees, C2: 30 degrees, C3: 45 degrees, C4: 75 degrees, C5: 105 degrees"
+THESIS_TABLE_6_1_B = """
+T1: C4 C3 C2 C5 C1
+T2: C1 C4 C5 C2 C3
+T3: C3 C1 C5 C4 C2
+T4: C5 C2 C4 C1 C3
+T5: C2 C1 C3 C4 C5
+T6: C3 C5 C1 C2 C4
+"""
+CHANGE_DEG = {
+    name: float(text.split()[0]) for name, text in (item.split(": ") for item in THESIS_TABLE_6_1_A.split(", "))
+}
+THESIS_TRACK_CHANGES_DEG = {
+    track_id: [CHANGE_DEG[name] for name in changes.split()]
+    for track_id, changes in (line.split(": ") for line in THESIS_TABLE_6_1_B.strip().splitlines())
 }
 WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")
 NO_WIND_EFFECTS = [name for name in ShipModel("container_226m").effects if name not in WIND_EFFECTS]
@@ -91,7 +99,7 @@ def test_reference_tracks_have_the_thesis_course_changes_in_order_and_legs_of_2_
     legs = np.diff(track.waypoints, axis=0)
     courses = np.arctan2(legs[:, 1], legs[:, 0])
     changes = np.degrees((np.diff(courses) + math.pi) % (2.0 * math.pi) - math.pi)
-    np.testing.assert_allclose(np.abs(changes), THESIS_TABLE_6_1_B[track_id], atol=1e-9)
+    np.testing.assert_allclose(np.abs(changes), THESIS_TRACK_CHANGES_DEG[track_id], atol=1e-9)
     np.testing.assert_array_equal(np.sign(changes), [1, -1, 1, -1, 1])  # alternating, starboard first
     lengths_nm = np.hypot(legs[:, 0], legs[:, 1]) / NAUTICAL_MILE
     assert lengths_nm.shape == (6,) and np.all((lengths_nm >= 2.0 - 1e-12) & (lengths_nm <= 2.5 + 1e-12))

@@ -16,6 +16,7 @@ from ship_env.workbench import (
     fit,
     simulate,
 )
+from ship_env.workbench.fit import DIFFERENCE_STEP, Problem
 from ship_env.workbench.synthetic import (
     LogSettings,
     Manoeuvre,
@@ -119,3 +120,30 @@ def test_fit_set_up_errors(terms, message):
         fit(ShipModel(SHIP, REQUIRED_EFFECTS), logs, terms)
     with pytest.raises(FitError, match="unknown nuisance terms"):
         FitOptions(nuisance=("yaw",))
+
+
+def test_the_batched_jacobian_is_the_derivative_of_the_residual():
+    """Each column of ``Problem.jacobian`` (forward differences, every perturbation in one batch,
+    replays a term cannot move skipped after the first call) against central differences of the
+    residual itself. A forward difference with step h errs by h/2 times the second derivative, which
+    the same three points estimate: the two must agree within that (and the rounding of the residual
+    over h), not within a tolerance chosen to pass."""
+    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "rudder_offset", "current"]), 0.02, -0.01)
+    logs = sail_all(truth, short_programme(), seed=6)
+    setup = ReplayModel(truth.model.with_effects())
+    keys = ["yaw.gain", "yaw.time_constant", "rudder_offset.angle", "current.north", "current.east"]
+    problem = Problem(setup, logs, keys, FitOptions(nuisance=("heading",)))
+    x = problem.start() + 0.1
+    first, again = problem.jacobian(x), problem.jacobian(x)
+    np.testing.assert_array_equal(again, first)  # the skipped replays were exactly zero
+    h = DIFFERENCE_STEP
+    base = problem.residual(x)
+    rounding = 4.0 * np.finfo(float).eps * (np.abs(base) + 1.0) / h
+    for j in range(problem.size):
+        step = np.zeros(problem.size)
+        step[j] = h
+        ahead, behind = problem.residual(x + step), problem.residual(x - step)
+        central = (ahead - behind) / (2.0 * h)
+        curvature = np.abs(ahead - 2.0 * base + behind) / h**2
+        assert np.all(np.abs(first[:, j] - central) <= 0.5 * h * curvature + rounding), keys[j : j + 1] or j
+        assert np.any(first[:, j] != 0.0)

@@ -551,7 +551,8 @@ def run_diagnose(args: argparse.Namespace) -> int:
     diagnosis = diagnose(validation, logs, options, args.candidates, args.refit)
     print(
         "\nmissing effects, best first "
-        "(corr, var. expl.: residual evidence; score: held out after adding and refitting)"
+        "(corr, var. expl.: residual evidence; score: held out after adding and refitting, "
+        "(screened): after a brief refit only)"
     )
     print(diagnosis_table(diagnosis).text())
     beyond = past_the_library(diagnosis)

@@ -21,10 +21,13 @@ optimistic; the spread of the leave-one-run-out estimates (:mod:`.validation`) i
 
 from __future__ import annotations
 
+import functools
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import ParamSpec, TypeVar
 
+import numba
 import numpy as np
 from scipy.optimize import least_squares
 from threadpoolctl import threadpool_limits
@@ -70,10 +73,29 @@ DIFFERENCE_STEP = 1e-4
 #: A replay of a batch: (point, run, track replay?).
 Request = tuple[int, int, bool]
 
-#: Decorator for the workbench's entry points: their linear algebra is on tall, thin matrices
-#: (samples x terms), which one BLAS thread does fastest; more threads spin waiting for each other
-#: (on 2 cores, four times the CPU time of ``improve``).
-one_blas_thread = threadpool_limits.wrap(limits=1, user_api="blas")
+Arguments = ParamSpec("Arguments")
+Returned = TypeVar("Returned")
+
+
+def one_thread(function: Callable[Arguments, Returned]) -> Callable[Arguments, Returned]:
+    """Decorator for the workbench's entry points: one BLAS thread, one thread for the compiled replays.
+
+    Their linear algebra is on tall, thin matrices (samples x terms) and their replay batches are
+    small and many: more threads spend more time waiting for each other than working (on 2 cores,
+    ``improve`` took four times the CPU time with OpenBLAS's threads, three times with numba's).
+    """
+
+    @functools.wraps(function)
+    def single_threaded(*args: Arguments.args, **kwargs: Arguments.kwargs) -> Returned:
+        threads = numba.get_num_threads()
+        numba.set_num_threads(1)
+        try:
+            with threadpool_limits(limits=1, user_api="blas"):
+                return function(*args, **kwargs)
+        finally:
+            numba.set_num_threads(threads)
+
+    return single_threaded
 
 
 class FitError(ValueError):
@@ -420,7 +442,7 @@ def as_setup(model: ShipModel | ReplayModel) -> ReplayModel:
     return model if isinstance(model, ReplayModel) else ReplayModel(model)
 
 
-@one_blas_thread
+@one_thread
 def fit(
     model: ShipModel | ReplayModel,
     logs: Sequence[Log],
@@ -440,7 +462,7 @@ def fit(
     return Problem(setup, logs, keys, options or FitOptions()).solve()
 
 
-@one_blas_thread
+@one_thread
 def fit_each_run(
     model: ShipModel | ReplayModel,
     logs: Sequence[Log],

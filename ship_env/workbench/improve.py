@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from ship_env.model import ShipModel
 from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in_words, pairs
 from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.fit import FitOptions, as_setup, one_blas_thread
+from ship_env.workbench.fit import FitOptions, as_setup, one_thread
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.validation import CrossValidation, cross_validate
@@ -87,7 +87,7 @@ class Ladder:
         return self.rungs[-1].validation
 
 
-@one_blas_thread
+@one_thread
 def improve(
     model: ShipModel | ReplayModel,
     logs: Sequence[Log],
@@ -139,7 +139,8 @@ def improve(
             best = _best_paying(tried_pairs, validation, scales, rules)
         rungs.append(Rung(added, validation, diagnosis, tuple(tried_pairs)))
         if best is None:
-            leading = sorted(tried + tried_pairs, key=lambda c: c.refitted.score(scales))
+            refitted = [c for c in tried + tried_pairs if c.cross_validation is not None]
+            leading = sorted(refitted, key=lambda c: c.refitted.score(scales))
             if not leading:
                 return Ladder(tuple(rungs), scales, "no effect left to add")
             first = leading[0]

@@ -11,7 +11,7 @@ from collections.abc import Sequence
 
 from ship_env.model.declarations import Envelope
 from ship_env.text_table import Table
-from ship_env.workbench.diagnose import Diagnosis
+from ship_env.workbench.diagnose import CandidateResult, Diagnosis
 from ship_env.workbench.envelope import EnvelopeCheck
 from ship_env.workbench.errors import ErrorScales, RunErrors
 from ship_env.workbench.improve import Ladder
@@ -68,6 +68,11 @@ def estimate_table(validation: CrossValidation) -> Table:
     return Table(("term", "value", "std. error (Jacobian)", "std. error (jackknife)", "unit", ""), rows)
 
 
+def _screened_mark(candidate: CandidateResult) -> str:
+    """'(screened) ' for a candidate whose score is its screening's (a brief refit), else ''."""
+    return "(screened) " if candidate.screened is not None and candidate.cross_validation is None else ""
+
+
 def diagnosis_table(diagnosis: Diagnosis) -> Table:
     """The missing effects, best first: evidence, held-out score and its change, and the effect in words."""
     scales = diagnosis.scales
@@ -101,7 +106,7 @@ def diagnosis_table(diagnosis: Diagnosis) -> Table:
                 number(held_out.track) if held_out else "-",
                 number(score),
                 f"{100.0 * (score / baseline - 1.0):+.0f}%" if held_out else "-",
-                candidate.skipped or candidate.title,
+                candidate.skipped or _screened_mark(candidate) + candidate.title,
             )
         )
     return Table(

@@ -28,7 +28,7 @@ import numpy as np
 
 from ship_env.model import ShipModel
 from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
-from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup, one_blas_thread
+from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup, one_thread
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel, Simulated, simulate
 from ship_env.workbench.terms import default_terms, with_values
@@ -157,7 +157,7 @@ def _linearised_fold(problem: Problem, fitted: FitResult, left_out: Sequence[int
     return np.clip(fitted.solution + step, lower, upper)
 
 
-@one_blas_thread
+@one_thread
 def cross_validate(
     model: ShipModel | ReplayModel,
     logs: Sequence[Log],

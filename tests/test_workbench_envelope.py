@@ -152,7 +152,7 @@ def test_crossflow_yaw_damping_adds_minus_c_r_abs_r_at_any_speed(speed):
     slopes = []
     for model in (without, with_it):
         out = np.zeros(without.state_size)
-        derivatives(state, 0.1, conditions, np.zeros(without.state_size), 0.0, model.record[0], out)
+        derivatives(state, 0.1, conditions, np.zeros(without.state_size), np.zeros(0), 0.0, model.record[0], out)
         slopes.append(out[S.RATE_OF_TURN])
     rate = state[S.RATE_OF_TURN]
     expected = -with_it.parameter("crossflow_yaw.coefficient") * abs(rate) * rate
@@ -182,7 +182,7 @@ def test_a_propeller_astern_takes_the_rudder_inflow_and_walks_the_stern(propelle
     slopes = []
     for model in (without, base):
         out = np.zeros(without.state_size)
-        derivatives(state, rudder, conditions, np.zeros(without.state_size), 0.0, model.record[0], out)
+        derivatives(state, rudder, conditions, np.zeros(without.state_size), np.zeros(0), 0.0, model.record[0], out)
         slopes.append(out[S.RATE_OF_TURN])
     gain, time_constant = base.parameter("yaw.gain"), base.parameter("yaw.time_constant")
     induced = (propeller_rate * base.parameter("propeller_slipstream.propeller_diameter")) ** 2

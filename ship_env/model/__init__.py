@@ -1,6 +1,6 @@
 """The ship as equations: one module per physical effect, composed by :class:`ShipModel`."""
 
-from ship_env.model.contributions import Contribution, State
+from ship_env.model.contributions import Contribution, Draw, State
 from ship_env.model.declarations import Effect, Parameter
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
 from ship_env.model.registry import register_effect
@@ -14,6 +14,7 @@ __all__ = [
     "REQUIRED_EFFECTS",
     "Conditions",
     "Contribution",
+    "Draw",
     "Effect",
     "Parameter",
     "Ship",

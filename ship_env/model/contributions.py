@@ -18,6 +18,7 @@ An argument may name:
 - a state variable (``heading``, ``speed_loss``, an effect's own state...; see ``state.MOTION_STATES``
   and the effects' :class:`State` s), with ``rudder`` the actual rudder at the instant;
 - ``<state>_white_noise`` for a state of the effect driven by white noise (:attr:`State.white_noise`);
+- one of the effect's own :class:`Draw` s by its name: the random numbers it drew where the ship started;
 - a condition (``propeller_rate``, ``wind_speed``...; see ``state.CONDITION_NAMES``);
 - a principal particular (``length``, ``draught``...);
 - one of the effect's own parameters by its name (``gain``), or any effect's parameter by its
@@ -26,6 +27,9 @@ An argument may name:
 Two quantities belong to the step rather than to the derivative (the integrator evaluates them,
 :data:`STEP_QUANTITIES`): a contribution ``held`` over the step (the sea's yaw excitation) and the
 actual rudder a rudder actuator reaches (the steering machine).
+
+An effect may also draw random numbers for each ship where it starts and hold them for the run
+(:class:`Draw`: the sea's wave components, a bank's profile, gusts' phases).
 """
 
 from __future__ import annotations
@@ -81,9 +85,8 @@ STEP_QUANTITIES: dict[str, tuple[str, str]] = {
 #: The inputs only a step quantity's contributions may read.
 STEP_INPUTS: dict[str, tuple[str, ...]] = {"actual_rudder": ("limited_order", "duration")}
 
-#: Contributions ``held`` over a step may add to these quantities only, and read these inputs too.
+#: Contributions ``held`` over a step may add to these quantities only.
 HELD_QUANTITIES = ("yaw_acceleration",)
-HELD_INPUTS = ("waves",)
 
 
 def derivative_quantity(state: str) -> str:
@@ -109,8 +112,7 @@ class Contribution:
             amount it adds (a pair for ``ground_velocity``).
         held: evaluated once per step and held over it (an excitation that would be costly to
             evaluate at every stage, as the sea's): with the time at mid-step, the other states
-            at the step's start; it may read ``waves``, the sea the ship meets (3, components).
-            Only for :data:`HELD_QUANTITIES`.
+            at the step's start. Only for :data:`HELD_QUANTITIES`.
     """
 
     quantity: str
@@ -144,3 +146,34 @@ class State:
     description: str
     initial: float | Callable[..., float] = 0.0
     white_noise: Callable[..., float] | None = None
+
+
+@dataclass(frozen=True)
+class Draw:
+    """Random numbers an effect draws for each ship where it starts (a reset) and holds for the run.
+
+    The simulator draws ``uniforms``, samples uniform in (0, 1) from the ship's seed (so a seed
+    repeats them, and a ship of a batch draws what a single run with its seed does), and hands
+    them to ``function``; the effect's contributions read the result by the draw's ``name``, an
+    array of ``shape`` (the sea's components: frequency, amplitude and phase of each).
+
+    Attributes:
+        name: the argument the effect's contributions read it by, unique among the names they read.
+        unit: the SI unit of its values.
+        description: what it holds.
+        shape: its shape for one ship: whole numbers, or names of the effect's whole-number
+            parameters (``(3, "components")``).
+        function: the numbers from the uniforms, for all ships being started at once: its argument
+            ``uniforms`` is an array ``(ships, *uniforms)``; other arguments name a condition (an array,
+            one value per ship: those of ``state.CONDITION_NAMES`` and ``state.START_CONDITION_NAMES``),
+            a principal particular or a parameter, as a contribution's do. It returns
+            ``(ships, *shape)`` finite numbers.
+        uniforms: the shape of the uniform samples one ship's draw takes (as ``shape``); None: ``shape``.
+    """
+
+    name: str
+    unit: str
+    description: str
+    shape: tuple[int | str, ...]
+    function: Callable[..., Any]
+    uniforms: tuple[int | str, ...] | None = None

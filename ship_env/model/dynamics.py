@@ -45,10 +45,9 @@ from numba import types
 from numba.core.errors import NumbaIRAssumptionWarning
 from numba.extending import overload
 
-from ship_env.model import contributions, noise
+from ship_env.model import contributions, draws, noise
 from ship_env.model import state as S
 from ship_env.model.contributions import (
-    HELD_INPUTS,
     INPUTS,
     QUANTITIES,
     STEP_INPUTS,
@@ -77,7 +76,8 @@ _PREAMBLE = f"""    length = p["length"]
 
 def _composer_source() -> str:
     """The source of what writes the composed code: this module, the quantities and the state layout."""
-    return "".join(inspect.getsource(module) for module in (sys.modules[__name__], contributions, S, noise))
+    modules = (sys.modules[__name__], contributions, draws, S, noise)
+    return "".join(inspect.getsource(module) for module in modules)
 
 
 def fingerprint(effects: Sequence[str]) -> str:
@@ -127,12 +127,15 @@ class _Writer:
         own = {parameter.name for parameter in entry.effect.parameters}
         if argument in self.overrides:
             return self.overrides[argument]
+        for draw in entry.draws:
+            if argument == draw.name:
+                return self.draw(entry, draw)
         channels = [white_noise_input(state.name) for _, state in self.noise]
         if argument in channels:
             return f"white_noise[{channels.index(argument)}]"
         if argument in QUANTITIES or argument in INPUTS or argument in self.derivatives:
             return argument
-        if argument in STEP_QUANTITIES or argument in HELD_INPUTS or any(argument in n for n in STEP_INPUTS.values()):
+        if argument in STEP_QUANTITIES or any(argument in n for n in STEP_INPUTS.values()):
             return argument
         if argument == "rudder":
             return "rudder"
@@ -148,6 +151,15 @@ class _Writer:
             f"effect {entry.effect.name!r} from {entry.origin}: argument {argument!r} of its contribution names "
             "nothing the model has: no input, quantity, state, condition, principal particular or parameter"
         )
+
+    def draw(self, entry: RegisteredEffect, draw: contributions.Draw) -> str:
+        """The code that reads one of an effect's draws: its slice of the ship's row, in its shape."""
+        start = f'p["{draws.start_field(entry.effect.name, draw)}"]'
+        sizes = [
+            f'int(p["{entry.effect.field_name(size)}"])' if isinstance(size, str) else str(size) for size in draw.shape
+        ]
+        view = f"draws[{start} : {start} + {' * '.join(sizes)}]"
+        return view if len(sizes) == 1 else f"{view}.reshape(({', '.join(sizes)}))"
 
     def call(self, entry: RegisteredEffect, index: int) -> str:
         contribution = entry.contributions[index]
@@ -320,7 +332,9 @@ class _Writer:
             if quantity not in done:
                 self.quantity(quantity)
         self.state_rates()
-        return self.function("derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out)")
+        return self.function(
+            "derivatives(state, rudder, conditions, white_noise, draws, held_yaw_acceleration, p, out)"
+        )
 
     def held(self) -> str:
         """The contributions held over the step, each on top of the last, with the time at mid-step."""
@@ -340,7 +354,7 @@ class _Writer:
                     self.emit(f'if p["{entry.effect.flag_name}"]:')
                     self.emit(f"held = {update}", 2)
                 first = False
-        return self.function("held_yaw_acceleration(state, conditions, waves, dt, p)", "held")
+        return self.function("held_yaw_acceleration(state, conditions, draws, dt, p)", "held")
 
     def white_noise(self) -> str:
         """Unit white noise for the noise-driven states (over sqrt(dt)), drawn where an intensity is not 0.
@@ -480,7 +494,7 @@ def start_states(states: np.ndarray, conditions: np.ndarray, record: np.ndarray)
         function(state, row, record[0])
 
 
-def derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):
+def derivatives(state, rudder, conditions, white_noise, draws, held_yaw_acceleration, p, out):
     """Write d(state)/dt into ``out`` for one ship.
 
     Args:
@@ -488,12 +502,13 @@ def derivatives(state, rudder, conditions, white_noise, held_yaw_acceleration, p
         rudder: the actual rudder angle at this instant, rad.
         conditions: the ship's conditions (service speed, propeller rate, current, wind, waves).
         white_noise: the white-noise inputs held over the step (already scaled by 1/sqrt(dt)).
+        draws: the ship's row of draws (``ShipModel.draw``), the random numbers drawn where it started.
         held_yaw_acceleration: a yaw acceleration held over the step, rad/s^2 (the wave
             spectrum's excitation, 2.91).
         p: the model's parameter record (see ``ShipModel.record``).
         out: array of the state's size receiving the derivative.
     """
-    _implementation("derivatives", p)(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out)
+    _implementation("derivatives", p)(state, rudder, conditions, white_noise, draws, held_yaw_acceleration, p, out)
 
 
 def sway_velocity(state, conditions, p):
@@ -505,7 +520,7 @@ _JIT_OPTIONS = {"fastmath": False, "error_model": "numpy"}
 
 
 @overload(derivatives, jit_options=_JIT_OPTIONS, inline="always")
-def _derivatives_overload(state, rudder, conditions, white_noise, held_yaw_acceleration, p, out):
+def _derivatives_overload(state, rudder, conditions, white_noise, draws, held_yaw_acceleration, p, out):
     # The composed derivative is inlined into its compiled callers: called, a batch of minimal ships
     # steps 3-7 % slower than with the hand-written derivative; inlined, some 10 % faster (one thread,
     # benchmarks/bench_simulator.py). numba's pedantic SSA check
@@ -521,12 +536,12 @@ def _sway_velocity_overload(state, conditions, p):
     return _implementation("sway", p)
 
 
-def held_yaw_acceleration(state, conditions, waves, dt, p):
+def held_yaw_acceleration(state, conditions, draws, dt, p):
     """The yaw acceleration the contributions ``held`` over a step give, rad/s^2 (the sea's, 2.91).
 
     Evaluated once per step, with the time at mid-step and the other states at the step's start.
     """
-    return _implementation("held", p)(state, conditions, waves, dt, p)
+    return _implementation("held", p)(state, conditions, draws, dt, p)
 
 
 def draw_white_noise(state, conditions, noise_key, step_index, dt, p, out):
@@ -545,7 +560,7 @@ def actual_rudder(state, rudder, limited_order, duration, conditions, p):
 
 
 @overload(held_yaw_acceleration, jit_options=_JIT_OPTIONS, inline="always")
-def _held_overload(state, conditions, waves, dt, p):
+def _held_overload(state, conditions, draws, dt, p):
     return _implementation("held", p)
 
 
@@ -578,8 +593,9 @@ def check_contributions(model: Any) -> None:
     """Evaluate the contributions of a model's effects from outside ``ship_env`` at a few states.
 
     A contribution that gives a NaN or an infinity where the ship sails normally (at service
-    speed, turning either way, in wind, current and a propeller's slipstream) raises a ValueError
-    naming the effect, where it comes from and the quantity, before any simulation runs.
+    speed, turning either way, in wind, current, waves and a propeller's slipstream) raises a
+    ValueError naming the effect, where it comes from and the quantity, before any simulation
+    runs; so does a draw of numbers of another shape than declared, or not finite.
     """
     if all(EFFECTS.entry(name).builtin for name in model.effects):
         return
@@ -592,6 +608,8 @@ def check_contributions(model: Any) -> None:
     conditions[S.CURRENT_SPEED] = 0.3
     conditions[S.WIND_SPEED] = 10.0
     conditions[S.WIND_DIRECTION] = math.radians(45.0)
+    sea = {"wave_height": np.array([2.0]), "wave_period": np.array([8.0])}
+    drawn = model.draw(noise.keys_from_seeds(np.zeros(1)), conditions[np.newaxis], sea)[0]
     size = len(state_names(model.record))
     out = np.zeros(size)
     for sign in (1.0, -1.0):
@@ -608,4 +626,4 @@ def check_contributions(model: Any) -> None:
                     f"effect {owner!r} from {EFFECTS.entry(owner).origin}: the initial value of its state "
                     f"{where!r} is {value!r}"
                 )
-        composed(state, state[S.RUDDER], conditions, np.ones(size), 0.0, record, out)
+        composed(state, state[S.RUDDER], conditions, np.ones(size), drawn, 0.0, record, out)

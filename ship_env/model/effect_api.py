@@ -13,7 +13,10 @@ An effect is a module (or a notebook cell) that declares
   (:data:`QUANTITIES`, in the order they are computed), functions of floats whose argument names
   say what they read (see ``ship_env.model.contributions``), compiled with :func:`kernel`;
 - ``STATES``: the state variables it owns, if any: :class:`State` s (unit, words, initial value,
-  whether white noise drives it), each with a contribution to its rate ``<name>_derivative``.
+  whether white noise drives it), each with a contribution to its rate ``<name>_derivative``;
+- ``DRAWS``: the random numbers it draws for each ship where the ship starts, if any: :class:`Draw` s
+  (unit, words, shape, a function of uniform samples from the ship's seed and of the conditions),
+  which its contributions read by name (``wave_spectrum``'s sea).
 
 ``ship_env/model/effects/norrbin.py`` is the shortest built-in, ``examples/rudder_stall.py`` an
 effect written outside ``ship_env``. The built-ins are listed in ``ship_env.model.effects``; an
@@ -21,9 +24,19 @@ effect written outside ``ship_env`` registers with :func:`register_effect` or an
 ``ship_env.model.registry``).
 """
 
-from ship_env.model.contributions import QUANTITIES, Contribution, State
+from ship_env.model.contributions import QUANTITIES, Contribution, Draw, State
 from ship_env.model.declarations import Effect, Envelope, Parameter
 from ship_env.model.kernel import kernel
 from ship_env.model.registry import register_effect
 
-__all__ = ["QUANTITIES", "Contribution", "Effect", "Envelope", "Parameter", "State", "kernel", "register_effect"]
+__all__ = [
+    "QUANTITIES",
+    "Contribution",
+    "Draw",
+    "Effect",
+    "Envelope",
+    "Parameter",
+    "State",
+    "kernel",
+    "register_effect",
+]

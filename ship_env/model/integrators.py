@@ -78,7 +78,7 @@ def limit_order(ordered_rudder, rudder_limit):
 
 
 @kernel
-def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, params, dt, method, work):
+def step_ship(state, ordered_rudder, conditions, noise_key, step_index, draws, params, dt, method, work):
     """Advance one ship's ``state`` in place by ``dt`` seconds.
 
     Args:
@@ -87,7 +87,7 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
         conditions: (CONDITION_SIZE,) the conditions held over the step.
         noise_key: the ship's random key (uint64, see ``noise``).
         step_index: how many steps the ship has taken since reset (numbers its noise samples).
-        waves: (3, count) wave components of the sea the ship meets (for the held contributions).
+        draws: the ship's row of draws (``ShipModel.draw``): the random numbers its effects drew where it started.
         params: the model's one-element parameter record array.
         dt: the step, s.
         method: ``RK4`` or ``EULER``.
@@ -98,17 +98,19 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
         (u* <= 1). False flags a ship the caller must not go on with.
     """
     # Borrowed: passing the arrays on to the effects' composed pieces then costs no reference counting.
-    state, conditions, waves, work = borrowed((state, conditions, waves, work))
+    state, conditions, draws, work = borrowed((state, conditions, draws, work))
     p = params[0]
     size = state_size(p)  # == state.shape[0]; a constant, so the loops below unroll
     order = limit_order(ordered_rudder, p["rudder_limit"])
     rudder = state[S.RUDDER]
     white_noise = work[WORK_NOISE]
     draw_white_noise(state, conditions, noise_key, step_index, dt, p, white_noise)
-    held = held_yaw_acceleration(state, conditions, waves, dt, p)
+    held = held_yaw_acceleration(state, conditions, draws, dt, p)
     rudder_end = actual_rudder(state, rudder, order, dt, conditions, p)
     k1 = work[0]
-    derivatives(state, actual_rudder(state, rudder, order, 0.0, conditions, p), conditions, white_noise, held, p, k1)
+    derivatives(
+        state, actual_rudder(state, rudder, order, 0.0, conditions, p), conditions, white_noise, draws, held, p, k1
+    )
     if method == EULER:
         for j in range(size):
             state[j] += dt * k1[j]
@@ -121,13 +123,13 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, waves, p
         rudder_half = actual_rudder(state, rudder, order, half, conditions, p)
         for j in range(size):
             stage[j] = state[j] + half * k1[j]
-        derivatives(stage, rudder_half, conditions, white_noise, held, p, k2)
+        derivatives(stage, rudder_half, conditions, white_noise, draws, held, p, k2)
         for j in range(size):
             stage[j] = state[j] + half * k2[j]
-        derivatives(stage, rudder_half, conditions, white_noise, held, p, k3)
+        derivatives(stage, rudder_half, conditions, white_noise, draws, held, p, k3)
         for j in range(size):
             stage[j] = state[j] + dt * k3[j]
-        derivatives(stage, rudder_end, conditions, white_noise, held, p, k4)
+        derivatives(stage, rudder_end, conditions, white_noise, draws, held, p, k4)
         for j in range(size):
             state[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
     state[S.RUDDER] = rudder_end
@@ -145,14 +147,14 @@ def is_valid(state, size):
 
 @kernel
 def _step_rows(
-    first, stop, work, states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid
+    first, stop, work, states, ordered_rudder, conditions, noise_keys, step_index, draws, params, dt, method, valid
 ):
     """Step ships ``first`` to ``stop - 1`` of a batch with the scratch space ``work``.
 
     ``work`` is an argument, not allocated here, because only arguments may be borrowed: numba
     frees a local array after its last use, which a borrowed view does not count.
     """
-    work, states, conditions, waves, params = borrowed((work, states, conditions, waves, params))
+    work, states, conditions, draws, params = borrowed((work, states, conditions, draws, params))
     for i in range(first, stop):
         valid[i] = step_ship(
             states[i],
@@ -160,7 +162,7 @@ def _step_rows(
             conditions[i],
             noise_keys[i],
             step_index[i],
-            waves[i],
+            draws[i],
             params,
             dt,
             method,
@@ -171,29 +173,29 @@ def _step_rows(
 
 @kernel
 def _step_range(
-    first, stop, states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid
+    first, stop, states, ordered_rudder, conditions, noise_keys, step_index, draws, params, dt, method, valid
 ):
     """Step ships ``first`` to ``stop - 1`` of a batch with a scratch space of their own (``step_ships``)."""
     work = new_workspace(states.shape[1])
     _step_rows(
-        first, stop, work, states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid
+        first, stop, work, states, ordered_rudder, conditions, noise_keys, step_index, draws, params, dt, method, valid
     )
 
 
 @kernel
-def step_ships(states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid):
+def step_ships(states, ordered_rudder, conditions, noise_keys, step_index, draws, params, dt, method, valid):
     """Advance a batch of ships in place, in one thread: row i of each array is ship i.
 
     Each ship is stepped by ``step_ship``; ``valid[i]`` receives its verdict and ``step_index[i]``
     counts the step.
     """
     _step_range(
-        0, states.shape[0], states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid
+        0, states.shape[0], states, ordered_rudder, conditions, noise_keys, step_index, draws, params, dt, method, valid
     )
 
 
 @parallel_kernel
-def step_ships_parallel(states, ordered_rudder, conditions, noise_keys, step_index, waves, params, dt, method, valid):
+def step_ships_parallel(states, ordered_rudder, conditions, noise_keys, step_index, draws, params, dt, method, valid):
     """``step_ships`` on all cores: the batch in chunks, the same numbers."""
     count = states.shape[0]
     chunks = min(count, 64)
@@ -206,7 +208,7 @@ def step_ships_parallel(states, ordered_rudder, conditions, noise_keys, step_ind
             conditions,
             noise_keys,
             step_index,
-            waves,
+            draws,
             params,
             dt,
             method,

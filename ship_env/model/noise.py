@@ -29,7 +29,10 @@ _TWO_TO_MINUS_53 = 1.0 / 9007199254740992.0
 # Counter domains, so that the numbers drawn for different purposes never coincide. The step noise
 # (``dynamics.draw_white_noise``) uses the counters from 0, one a step for each pair of channels,
 # the k-th pair's from k 2^40.
-WAVE_DOMAIN = np.uint64(0x5A5A5A5A00000000)  # the sea drawn at reset (``wave_spectrum``)
+# The numbers effects draw where a ship starts (``contributions.Draw``): the k-th draw of the
+# registered effects (in registration order) from DRAW_DOMAIN + k DRAW_STRIDE on.
+DRAW_DOMAIN = np.uint64(0x5A5A5A5A00000000)
+DRAW_STRIDE = 1 << 32
 MEASUREMENT_DOMAIN = np.uint64(0x1234567800000000)  # sensor noise of the environments' instruments
 
 

@@ -5,8 +5,9 @@ An effect is an :class:`~ship_env.model.declarations.Effect` declaration with it
 register themselves (``effects/__init__.py``); an effect of your own registers
 
 - from an installed package, through the entry-point group ``ship_env.effects``: the entry point
-  names a module that holds ``EFFECT``, ``CONTRIBUTIONS`` and, if it owns states, ``STATES`` (as the
-  modules under ``effects/`` do), e.g. in ``pyproject.toml``::
+  names a module that holds ``EFFECT``, ``CONTRIBUTIONS`` and, if it owns states or draws random
+  numbers where a ship starts, ``STATES`` and ``DRAWS`` (as the modules under ``effects/`` do), e.g.
+  in ``pyproject.toml``::
 
       [project.entry-points."ship_env.effects"]
       shallow_water = "my_ships.shallow_water"
@@ -35,7 +36,6 @@ import numba
 
 from ship_env.model import state as S
 from ship_env.model.contributions import (
-    HELD_INPUTS,
     HELD_QUANTITIES,
     INPUTS,
     QUANTITIES,
@@ -43,6 +43,7 @@ from ship_env.model.contributions import (
     STEP_QUANTITIES,
     WIND,
     Contribution,
+    Draw,
     State,
     derivative_quantity,
     white_noise_input,
@@ -65,12 +66,14 @@ class RegisteredEffect:
         contributions: its terms in the state derivative.
         states: the state variables it owns (their rate acts only where it is on).
         origin: where it comes from: ``ship_env`` for the built-ins, else the module or entry point.
+        draws: the random numbers it draws for each ship where the ship starts.
     """
 
     effect: Effect
     contributions: tuple[Contribution, ...]
     states: tuple[State, ...]
     origin: str
+    draws: tuple[Draw, ...] = ()
 
     @property
     def builtin(self) -> bool:
@@ -82,7 +85,7 @@ class RegisteredEffect:
         return tuple(state for state in self.states if state.name not in S.MOTION_STATES)
 
     def arguments(self, contribution: Contribution | Callable[..., Any]) -> tuple[str, ...]:
-        """The names a contribution's function (or a state's initial value or noise intensity) reads, in order."""
+        """The names a contribution's function (or a state's or draw's function) reads, in order."""
         function = contribution.function if isinstance(contribution, Contribution) else contribution
         return _arguments(function)
 
@@ -165,6 +168,7 @@ class EffectRegistry(Mapping[str, Effect]):
         contributions: Sequence[Contribution],
         states: Sequence[State] = (),
         origin: str | None = None,
+        draws: Sequence[Draw] = (),
     ) -> RegisteredEffect:
         """Check an effect and add it (see :func:`register_effect`)."""
         origin = origin or _caller_module()
@@ -184,7 +188,8 @@ class EffectRegistry(Mapping[str, Effect]):
             raise ValueError(f"{where}: required: only the built-in effects can be required")
         _check_parameters(effect, where, builtin)
         states = self._check_states(effect, tuple(states), where)
-        checked = tuple(self._check_contribution(effect, c, states, where, builtin) for c in contributions)
+        draws = _check_draws(effect, tuple(draws), states, where)
+        checked = tuple(self._check_contribution(effect, c, states, draws, where, builtin) for c in contributions)
         for state in states:
             if not any(c.quantity == derivative_quantity(state.name) for c in checked):
                 raise ValueError(
@@ -197,11 +202,13 @@ class EffectRegistry(Mapping[str, Effect]):
                     self._check_arguments(
                         effect, _arguments(function), states, set(), f"{where}: state {state.name!r}: {label}", builtin
                     )
+        for draw in draws:
+            self._check_draw_arguments(effect, draw, f"{where}: draw {draw.name!r}")
         states = tuple(
             state if state.white_noise is None else dataclasses.replace(state, white_noise=_compiled(state.white_noise))
             for state in states
         )
-        entry = RegisteredEffect(effect, checked, states, origin)
+        entry = RegisteredEffect(effect, checked, states, origin, draws)
         self._entries[effect.name] = entry
         self._fingerprints.pop(effect.name, None)
         return entry
@@ -247,7 +254,13 @@ class EffectRegistry(Mapping[str, Effect]):
         return states  # type: ignore[return-value]  # every item checked to be a State
 
     def _check_contribution(
-        self, effect: Effect, contribution: object, states: tuple[State, ...], where: str, origin_builtin: bool
+        self,
+        effect: Effect,
+        contribution: object,
+        states: tuple[State, ...],
+        draws: tuple[Draw, ...],
+        where: str,
+        origin_builtin: bool,
     ) -> Contribution:
         if not isinstance(contribution, Contribution):
             raise TypeError(f"{where}: contributions: expected Contribution(quantity, function), got {contribution!r}")
@@ -274,7 +287,7 @@ class EffectRegistry(Mapping[str, Effect]):
         if quantity in STEP_QUANTITIES:
             earlier = {quantity, *STEP_INPUTS[quantity]}
         elif contribution.held:
-            earlier = set(HELD_INPUTS)
+            earlier = set()
         elif quantity in QUANTITIES:
             order = list(QUANTITIES)
             earlier = set(order[: order.index(quantity) + 1]) | set(WIND)
@@ -282,7 +295,7 @@ class EffectRegistry(Mapping[str, Effect]):
             earlier = set(QUANTITIES) | {quantity}
         arguments = _arguments(contribution.function)
         label = f"{where}: contribution to {quantity!r}"
-        self._check_arguments(effect, arguments, states, earlier, label, origin_builtin)
+        self._check_arguments(effect, arguments, states, earlier | {draw.name for draw in draws}, label, origin_builtin)
         return Contribution(quantity, _compiled(contribution.function), contribution.held)
 
     def _check_arguments(
@@ -313,6 +326,20 @@ class EffectRegistry(Mapping[str, Effect]):
                 f"another effect's parameter as its record field (e.g. 'yaw_gain')"
             )
 
+    def _check_draw_arguments(self, effect: Effect, draw: Draw, label: str) -> None:
+        """Every argument of a draw's function names something known where a ship starts."""
+        own = {parameter.name for parameter in effect.parameters}
+        fields = {f"{e.name}_{p.name}" for e in self.declarations() for p in e.parameters}
+        conditions = (*S.CONDITION_NAMES, *S.START_CONDITION_NAMES)
+        known = {"uniforms", *conditions, *PRINCIPAL_NAMES, *own, *fields}
+        for argument in _arguments(draw.function):
+            if argument not in known:
+                raise ValueError(
+                    f"{label}: function: argument {argument!r} names nothing known where a ship starts: use "
+                    f"'uniforms', a condition ({', '.join(conditions)}), a principal particular, one of the effect's "
+                    f"parameters ({', '.join(sorted(own)) or 'none'}) or another effect's parameter as its record field"
+                )
+
     def _owner(self, state: str) -> bool:
         return any(state == s.name for entry in self._entries.values() for s in entry.states)
 
@@ -332,6 +359,7 @@ class EffectRegistry(Mapping[str, Effect]):
                     functions = [f for f in (state.initial, state.white_noise) if callable(f)]
                     initial = "" if callable(state.initial) else repr(float(state.initial))
                     sources.append(f"{state.name}:{initial}:{''.join(_source(f) for f in functions)}")
+                sources.extend(f"draw {draw.name}:{draw.shape}" for draw in entry.draws)
                 self._fingerprints[name] = hashlib.sha256("\n".join(sources).encode()).hexdigest()
             digest.update(f"{name}={self._fingerprints[name]};".encode())
         return digest.hexdigest()[:16]
@@ -374,10 +402,45 @@ def _check_parameters(effect: Effect, where: str, builtin: bool) -> None:
                 raise ValueError(f"{label}: source: a default needs its source (say 'assumed' and why if it is)")
 
 
+def _check_draws(effect: Effect, draws: tuple[object, ...], states: tuple[State, ...], where: str) -> tuple[Draw, ...]:
+    """Each a Draw with a unit and words, a name its contributions can read it by, and shapes of whole numbers."""
+    counts = {parameter.name for parameter in effect.parameters if parameter.integer}
+    taken = set(INPUTS) | set(QUANTITIES) | set(S.CONDITION_NAMES) | set(PRINCIPAL_NAMES) | set(S.MOTION_STATES)
+    taken |= {parameter.name for parameter in effect.parameters} | {state.name for state in states}
+    names: set[str] = set()
+    for draw in draws:
+        label = f"{where}: draw {getattr(draw, 'name', draw)!r}"
+        _check_declaration(draw, Draw, label, names, "the numbers are")
+        assert isinstance(draw, Draw)  # checked
+        if draw.name in taken:
+            raise ValueError(
+                f"{label}: name: {draw.name!r} is already an input, quantity, condition, principal, state or "
+                "parameter; choose another name"
+            )
+        for field, shape in (("shape", draw.shape), ("uniforms", draw.uniforms)):
+            if shape is None and field == "uniforms":
+                continue
+            if not isinstance(shape, tuple) or not shape:
+                raise TypeError(f"{label}: {field}: expected a tuple of sizes, got {shape!r}")
+            for size in shape:
+                if isinstance(size, str) and size in counts:
+                    continue
+                if isinstance(size, bool) or not isinstance(size, int) or size < 1:
+                    raise ValueError(
+                        f"{label}: {field}: {size!r} is not a positive whole number nor one of the effect's "
+                        f"whole-number parameters ({', '.join(sorted(counts)) or 'none'})"
+                    )
+        if not callable(draw.function):
+            raise TypeError(f"{label}: function: expected a function of the uniforms, got {draw.function!r}")
+        if "uniforms" not in _arguments(draw.function):
+            raise ValueError(f"{label}: function: it must read its argument 'uniforms' (the samples it draws from)")
+    return draws  # type: ignore[return-value]  # every item checked to be a Draw
+
+
 def _check_declaration(
-    item: object, kind: type[Parameter] | type[State], label: str, names: set[str], meaning: str
+    item: object, kind: type[Parameter] | type[State] | type[Draw], label: str, names: set[str], meaning: str
 ) -> None:
-    """A Parameter or a State: of its class, named by an identifier unique in the effect, with a unit and words."""
+    """A Parameter, State or Draw: of its class, named by an identifier unique in the effect, with a unit and words."""
     if not isinstance(item, kind):
         raise TypeError(f"{label}: expected a {kind.__name__}(name, unit, description, ...), got {item!r}")
     if not item.name.isidentifier() or item.name in names:
@@ -405,7 +468,7 @@ EFFECTS = EffectRegistry()
 
 
 def register_effect(
-    effect: Effect, contributions: Sequence[Contribution], states: Sequence[State] = ()
+    effect: Effect, contributions: Sequence[Contribution], states: Sequence[State] = (), draws: Sequence[Draw] = ()
 ) -> RegisteredEffect:
     """Register an effect written outside ``ship_env`` (from a notebook or a script).
 
@@ -415,6 +478,8 @@ def register_effect(
         contributions: its terms in the state derivative (see ``ship_env.model.contributions``).
         states: the state variables it owns (:class:`~ship_env.model.contributions.State`), each with its
             rate among the contributions (``<name>_derivative``); usually none.
+        draws: the random numbers it draws for each ship where the ship starts
+            (:class:`~ship_env.model.contributions.Draw`), which its contributions read; usually none.
 
     Registering again under the same name replaces an effect from outside ``ship_env`` (a cell run
     again); a built-in's name is refused. Models built afterwards use it.
@@ -422,11 +487,11 @@ def register_effect(
     Raises:
         ValueError, TypeError: naming the effect, where it comes from and the field at fault.
     """
-    return EFFECTS.register(effect, contributions, states)
+    return EFFECTS.register(effect, contributions, states, draws=draws)
 
 
 def register_module(module: ModuleType | Any, origin: str) -> RegisteredEffect:
-    """Register the effect of a module with ``EFFECT``, ``CONTRIBUTIONS`` and optionally ``STATES``."""
+    """Register the effect of a module with ``EFFECT``, ``CONTRIBUTIONS`` and optionally ``STATES`` and ``DRAWS``."""
     effect = getattr(module, "EFFECT", None)
     contributions = getattr(module, "CONTRIBUTIONS", None)
     if effect is None or contributions is None:
@@ -434,4 +499,6 @@ def register_module(module: ModuleType | Any, origin: str) -> RegisteredEffect:
             f"effect from {origin}: {getattr(module, '__name__', module)!r} has no EFFECT and CONTRIBUTIONS "
             f"(an effect module declares both, as the modules in ship_env/model/effects do)"
         )
-    return EFFECTS.register(effect, contributions, getattr(module, "STATES", ()), origin)
+    return EFFECTS.register(
+        effect, contributions, getattr(module, "STATES", ()), origin, draws=getattr(module, "DRAWS", ())
+    )

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 import yaml
 
-from ship_env.model import dynamics
+from ship_env.model import draws, dynamics
 from ship_env.model import state as S
 from ship_env.model.declarations import ENVELOPE_LIMITS, Envelope, Parameter
 from ship_env.model.dynamics import FINGERPRINT_PREFIX, check_contributions, fingerprint
@@ -51,9 +51,10 @@ _PRINCIPAL_BY_NAME = {parameter.name: parameter for parameter in PRINCIPAL}
 def record_dtype() -> np.dtype:
     """The layout of the compiled parameter record for the effects registered now.
 
-    Principal particulars, then per effect its flag and parameters (``yaw_on``, ``yaw_gain``, ...),
-    then a flag ``equations_<hash>`` naming the version of the effects' equations. The same for
-    every model while the registry does not change, so the kernels compile once per set of effects.
+    Principal particulars, then per effect its flag and parameters (``yaw_on``, ``yaw_gain``, ...)
+    and where its draws start in a ship's row of draws (``wave_spectrum_waves_start``), then a flag
+    ``equations_<hash>`` naming the version of the effects' equations. The same for every model
+    while the registry does not change, so the kernels compile once per set of effects.
     """
     names = list(EFFECTS)
     return _record_dtype(tuple(names), fingerprint(names))
@@ -66,6 +67,7 @@ def _record_dtype(names: tuple[str, ...], fingerprint: str) -> np.dtype:
         effect = EFFECTS[name]
         fields.append((effect.flag_name, np.bool_))
         fields.extend((effect.field_name(parameter.name), np.float64) for parameter in effect.parameters)
+        fields.extend((draws.start_field(name, draw), np.int64) for draw in EFFECTS.entry(name).draws)
     fields.append((f"{FINGERPRINT_PREFIX}{fingerprint}", np.bool_))
     return np.dtype(fields)
 
@@ -269,6 +271,10 @@ class ShipModel:
         for key, value in (parameters or {}).items():
             self._set(key, value)
         self.record = self._build_record()
+        #: The random numbers the effects that are on draw for each ship where it starts (``draws``).
+        self.draw_layout = draws.layout(list(EFFECTS), self.record[0])
+        for placed in self.draw_layout:
+            self.record[0][draws.start_field(placed.entry.effect.name, placed.draw)] = placed.start
         #: The layout of the model's state: the motion's states, then the registered effects' own.
         self.state_names: tuple[str, ...] = dynamics.state_names(self.record)
         #: Whether every effect's own state starts at 0 (a reset has nothing more to set).
@@ -375,6 +381,15 @@ class ShipModel:
     def state_size(self) -> int:
         """The number of state variables a ship of this model has (``state_names``)."""
         return len(self.state_names)
+
+    @property
+    def draw_size(self) -> int:
+        """The number of random numbers the effects draw for a ship where it starts (``draws``)."""
+        return sum(placed.size for placed in self.draw_layout)
+
+    def draw(self, keys: np.ndarray, conditions: np.ndarray, start_conditions: Mapping[str, np.ndarray]) -> np.ndarray:
+        """The ships' rows of draws, (len(keys), ``draw_size``): see :func:`ship_env.model.draws.draw`."""
+        return draws.draw(self.draw_layout, self.record[0], keys, conditions, start_conditions)
 
     def start_states(self, states: np.ndarray, conditions: np.ndarray) -> None:
         """Set the effects' own states to their initial values in rows of ``states`` whose motion is set.

@@ -1,11 +1,11 @@
 """The simulator: N ships of one model, stepped together, reproducible from a seed.
 
 :class:`Simulator` holds the batch's state ``(N, model.state_size)``, the conditions each ship sails in,
-the sea each one meets and a random generator per ship. ``step`` advances all ships in one compiled
-call, a large batch on all cores where that is faster (:class:`Cores`); with ``N = 1`` it takes a
-lighter path. Ship ``i`` of a batch seeded with ``seed`` draws its
-randomness from ``seed + i`` (as Gymnasium's vector environments do), so a batch gives the same
-numbers as single runs with those seeds (see ``noise``).
+the random numbers its effects drew where it started (the sea it meets) and a random generator per
+ship. ``step`` advances all ships in one compiled call, a large batch on all cores where that is
+faster (:class:`Cores`); with ``N = 1`` it takes a lighter path. Ship ``i`` of a batch seeded with
+``seed`` draws its randomness from ``seed + i`` (as Gymnasium's vector environments do), so a batch
+gives the same numbers as single runs with those seeds (see ``noise``).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from numpy.typing import ArrayLike
 from ship_env.model import noise
 from ship_env.model import state as S
 from ship_env.model.dynamics import sway_velocity
-from ship_env.model.effects import EFFECTS, wave_spectrum
+from ship_env.model.effects import EFFECTS
 from ship_env.model.integrators import METHODS, new_workspace, step_ship, step_ships, step_ships_parallel
 from ship_env.model.ship import ShipModel
 
@@ -185,11 +185,11 @@ class Simulator:
         self.dt = float(dt)
         self.method = method
         self._method_code = METHODS[method]
-        self._wave_count = int(model.parameter("wave_spectrum.components")) if model.has("wave_spectrum") else 0
         # The arrays are allocated once and written in place, so views of them stay valid.
         self.state = np.zeros((self.num_ships, model.state_size))
         self.conditions = np.zeros((self.num_ships, S.CONDITION_SIZE))
-        self.waves = np.zeros((self.num_ships, 3, self._wave_count))
+        #: Each ship's row of draws (``ShipModel.draw``): the random numbers its effects drew at its reset.
+        self.draws = np.zeros((self.num_ships, model.draw_size))
         self.seeds = np.zeros(self.num_ships, dtype=np.int64)
         self.noise_keys = np.zeros(self.num_ships, dtype=np.uint64)
         self.step_index = np.zeros(self.num_ships, dtype=np.int64)
@@ -199,7 +199,7 @@ class Simulator:
         self._step_ships = batch_loop(self.num_ships, step_ships, step_ships_parallel)
         self._state0 = self.state[0]
         self._conditions0 = self.conditions[0]
-        self._waves0 = self.waves[0]
+        self._draws0 = self.draws[0]
         self.reset()
 
     # -- starting ------------------------------------------------------------------------------
@@ -242,13 +242,11 @@ class Simulator:
             started = self.state[rows]
             self.model.start_states(started, self.conditions[rows])
             self.state[rows] = started
-        if self._wave_count:
-            uniforms = noise.uniform_table(self.noise_keys[rows], noise.WAVE_DOMAIN, 2 * self._wave_count)
-            self.waves[rows] = wave_spectrum.components(
-                [c.wave_height for c in per_ship],
-                [c.wave_period for c in per_ship],
-                uniforms.reshape(count, 2, self._wave_count),
-            )
+        if self.model.draw_layout:
+            start = {
+                name: np.array([getattr(c, name) for c in per_ship], dtype=float) for name in S.START_CONDITION_NAMES
+            }
+            self.draws[rows] = self.model.draw(self.noise_keys[rows], self.conditions[rows], start)
 
     def _rows(self, ships: Sequence[int] | np.ndarray) -> np.ndarray:
         rows = np.asarray(ships)
@@ -326,7 +324,7 @@ class Simulator:
                 self._conditions0,
                 self.noise_keys[0],
                 self.step_index[0],
-                self._waves0,
+                self._draws0,
                 self.model.record,
                 self.dt,
                 self._method_code,
@@ -351,7 +349,7 @@ class Simulator:
             self.conditions,
             self.noise_keys,
             self.step_index,
-            self.waves,
+            self.draws,
             self.model.record,
             self.dt,
             self._method_code,
@@ -367,14 +365,21 @@ class Simulator:
             for name, value in zip(self.model.state_names, state, strict=True)
             if not math.isfinite(value)
         ]
+        speed_loss = self.model.state_names[S.SPEED_LOSS]
         if not bad:
-            bad = [f"speed_loss u* = {state[S.SPEED_LOSS]:.3f} > 1 (forward speed negative)"]
+            bad = [f"{speed_loss} u* = {state[S.SPEED_LOSS]:.3f} > 1 (forward speed negative)"]
+        # The first parameter of the effect that governs u* (its gain): a tight turn slows the ship by it.
+        governing = [
+            f" (e.g. {name}.{EFFECTS[name].parameters[0].name} for a turn this tight)"
+            for name in self.model.effects
+            if EFFECTS[name].parameters and any(s.name == speed_loss for s in EFFECTS.entry(name).states)
+        ]
         outside = [
             f"{name} ({EFFECTS.entry(name).origin})" for name in self.model.effects if not EFFECTS.entry(name).builtin
         ]
         raise FloatingPointError(
             f"ship {ship} left the model's validity at t = {state[S.TIME]:.1f} s: {', '.join(bad)}; "
-            f"check the model's coefficients (e.g. speed_loss.gain for a turn this tight) and the step dt = {self.dt}"
+            f"check the model's coefficients{''.join(governing[:1])} and the step dt = {self.dt}"
             + (f"; effects from outside ship_env in the model: {', '.join(outside)}" if outside else "")
         )
 

@@ -57,3 +57,7 @@ CONDITION_NAMES = (
     "yaw_gain_change",
     "yaw_time_constant_change",
 )
+
+# Conditions a ship starts a run in that the row does not hold (``Conditions``): the sea state,
+# which the ship meets through the components drawn where it starts (``contributions.Draw``).
+START_CONDITION_NAMES = ("wave_height", "wave_period")

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import prange
 
-from ship_env.model import ShipModel
+from ship_env.model import ShipModel, draws
 from ship_env.model import state as S
 from ship_env.model.dynamics import derivatives
 from ship_env.model.integrators import RK4, new_workspace, step_ship
@@ -144,19 +144,19 @@ def pack_runs(logs: Sequence[Log], model: ShipModel, window: float = INITIAL_WIN
 
 
 @kernel
-def _track_step(state, first, conditions, time, heading, rate, params, slope, stage, white_noise):
+def _track_step(state, first, conditions, time, heading, rate, params, slope, stage, white_noise, draws):
     """Advance north, east, the speed loss and the effects' own states over one interval with the measured
     heading imposed (Heun)."""
     p = params[0]
     dt = time[first + 1] - time[first]
     state[S.HEADING] = heading[first]
     state[S.RATE_OF_TURN] = rate[first]
-    derivatives(state, state[S.RUDDER], conditions, white_noise, 0.0, p, slope[0])
+    derivatives(state, state[S.RUDDER], conditions, white_noise, draws, 0.0, p, slope[0])
     for j in range(state.shape[0]):
         stage[j] = state[j] + dt * slope[0, j]
     stage[S.HEADING] = heading[first + 1]
     stage[S.RATE_OF_TURN] = rate[first + 1]
-    derivatives(stage, state[S.RUDDER], conditions, white_noise, 0.0, p, slope[1])
+    derivatives(stage, state[S.RUDDER], conditions, white_noise, draws, 0.0, p, slope[1])
     for j in (S.TIME, S.NORTH, S.EAST, S.SPEED_LOSS):
         state[j] += 0.5 * dt * (slope[0, j] + slope[1, j])
     for j in range(S.MOTION_SIZE, state.shape[0]):
@@ -188,15 +188,16 @@ def _replay(
     conditions,
     heading,
     rate,
+    no_draws,
     out,
     valid,
 ):
     """Replay every task (one run with one record) into ``out[task, sample, column]``.
 
     A task whose state leaves the model's validity is flagged in ``valid`` and its outputs are
-    held at the last valid state, so that a fitter sees a large but finite error.
+    held at the last valid state, so that a fitter sees a large but finite error. A replayed log
+    meets no random numbers: its effects' draws (a random sea) are ``no_draws``, zeros.
     """
-    waves = np.zeros((3, 0))
     size = task_initial.shape[1]
     for task in prange(task_record.shape[0]):
         work = new_workspace(size)
@@ -219,10 +220,12 @@ def _replay(
             row[S.CURRENT_DIRECTION] = current_direction
             if valid[task]:
                 if task_track[task]:
-                    valid[task] = _track_step(state, i, row, time, heading, rate, params, slope, stage, white_noise)
+                    valid[task] = _track_step(
+                        state, i, row, time, heading, rate, params, slope, stage, white_noise, no_draws
+                    )
                 else:
                     valid[task] = step_ship(
-                        state, rudder[i], row, np.uint64(0), 0, waves, params, time[i + 1] - time[i], RK4, work
+                        state, rudder[i], row, np.uint64(0), 0, no_draws, params, time[i + 1] - time[i], RK4, work
                     )
             if valid[task]:
                 _record(out, task, k + 1, state)
@@ -299,6 +302,7 @@ def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndar
         runs.conditions,
         runs.heading,
         runs.rate_of_turn,
+        np.zeros(draws.row_size(records)),
         outputs,
         valid,
     )

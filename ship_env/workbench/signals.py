@@ -241,13 +241,13 @@ class ResidualSignals:
 
 
 @kernel
-def _yaw_accelerations(states, rudders, conditions, params, out):
-    """The model's dr/dt at each measured state (no disturbance states, no sea)."""
+def _yaw_accelerations(states, rudders, conditions, no_draws, params, out):
+    """The model's dr/dt at each measured state (no disturbance states, no sea: ``no_draws`` are zeros)."""
     p = params[0]
     slope = np.zeros(states.shape[1])
     white_noise = np.zeros(states.shape[1])
     for i in range(states.shape[0]):
-        derivatives(states[i], rudders[i], conditions[i], white_noise, 0.0, p, slope)
+        derivatives(states[i], rudders[i], conditions[i], white_noise, no_draws, 0.0, p, slope)
         out[i] = slope[S.RATE_OF_TURN]
 
 
@@ -289,7 +289,7 @@ def _log_samples(setup: ReplayModel, log: Log) -> tuple[np.ndarray, dict[str, np
         wind_angle = log.wind_direction - states[:, S.HEADING]
     model.start_states(states, conditions)  # an effect's own state where its declaration starts it
     modelled = np.zeros(log.samples)
-    _yaw_accelerations(states, rudder, conditions, model.record, modelled)
+    _yaw_accelerations(states, rudder, conditions, np.zeros(model.draw_size), model.record, modelled)
     scheduling = np.maximum(speed, model.parameter("minimum_speed"))
     columns = {
         "speed": speed,

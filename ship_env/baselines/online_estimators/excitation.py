@@ -269,7 +269,7 @@ def sail(
 def _continue_in(simulator: Simulator, model: ShipModel) -> Simulator:
     """A simulator of ``model`` that carries on from ``simulator``'s state, conditions and noise streams."""
     successor = Simulator(model, num_ships=simulator.num_ships, dt=simulator.dt, method=simulator.method)
-    for name in ("state", "conditions", "seeds", "noise_keys", "step_index", "waves"):
+    for name in ("state", "conditions", "seeds", "noise_keys", "step_index", "draws"):
         if getattr(successor, name).shape == getattr(simulator, name).shape:
             getattr(successor, name)[...] = getattr(simulator, name)
     return successor

@@ -19,6 +19,10 @@ without it being imposed. Its yaw excitation is
 with H_g taken proportional to the wave slope k_i a_i: dr/dt += c_g sum_i k_i a_i
 cos(omega_i t - k_i (x0 cos beta + y0 sin beta) + phi_i) sin(2 gamma_w), beta the direction the
 waves travel towards and gamma_w = psi - beta. Unlike ``wave_filter`` it moves the track a little.
+
+Each ship draws its sea where it starts (``DRAWS``): the components' frequencies and phases from its
+seed, their amplitudes from the spectrum of the sea state it starts in (``Conditions.wave_height``
+and ``wave_period``).
 """
 
 from __future__ import annotations
@@ -28,7 +32,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
+from ship_env.model.effect_api import Contribution, Draw, Effect, Parameter, kernel
 
 GRAVITY = 9.81  # m/s^2
 
@@ -51,7 +55,7 @@ def spectral_density(
     return a * frequency**-5.0 * np.exp(-b * frequency**-4.0)
 
 
-def components(significant_height: ArrayLike, peak_period: ArrayLike, uniforms: np.ndarray) -> np.ndarray:
+def components(wave_height: ArrayLike, wave_period: ArrayLike, uniforms: np.ndarray) -> np.ndarray:
     """Regular wave components of Pierson-Moskowitz seas, one per pair of uniform samples.
 
     Frequencies lie in equal bands from 0.6 to 3 times the peak frequency, each placed at random
@@ -59,16 +63,16 @@ def components(significant_height: ArrayLike, peak_period: ArrayLike, uniforms: 
     for a batch of seas at once (leading dimensions broadcast).
 
     Args:
-        significant_height: H_s, m (a number, or an array of the batch's shape).
-        peak_period: T_p, s (likewise).
+        wave_height: H_s, the significant wave height, m (a number, or an array of the batch's shape).
+        wave_period: T_p, the peak period, s (likewise).
         uniforms: (..., 2, count) samples in (0, 1): the places in the bands and the phases.
 
     Returns:
         array of shape (..., 3, count): frequency (rad/s), amplitude (m), phase (rad).
     """
     count = uniforms.shape[-1]
-    height = np.asarray(significant_height, dtype=float)[..., np.newaxis]
-    period = np.asarray(peak_period, dtype=float)[..., np.newaxis]
+    height = np.asarray(wave_height, dtype=float)[..., np.newaxis]
+    period = np.asarray(wave_period, dtype=float)[..., np.newaxis]
     peak_frequency = 2.0 * math.pi / period
     band = 2.4 * peak_frequency / count
     frequency = 0.6 * peak_frequency + band * (np.arange(count) + uniforms[..., 0, :])
@@ -101,3 +105,13 @@ def yaw_acceleration(time, north, east, heading, wave_direction, waves, yaw_coef
 #: The sea's excitation is evaluated once per step, at mid-step, and held over it: a sum over many
 #: components is too costly for every Runge-Kutta stage.
 CONTRIBUTIONS = (Contribution("yaw_acceleration", yaw_acceleration, held=True),)
+DRAWS = (
+    Draw(
+        "waves",
+        "rad/s, m, rad",
+        "the sea the ship meets: frequency, amplitude and phase of each regular component",
+        (3, "components"),
+        components,
+        uniforms=(2, "components"),
+    ),
+)

@@ -55,6 +55,8 @@ ENTRY_POINT_GROUP = "ship_env.effects"
 
 #: The principal particulars' names (``ship.PRINCIPAL``; here to keep the import order simple).
 PRINCIPAL_NAMES = ("length", "breadth", "draught", "service_speed", "rudder_limit", "minimum_speed")
+#: Names an effect's state or draw cannot take: what a contribution reads by these names already.
+_RESERVED_NAMES = frozenset({*INPUTS, *QUANTITIES, *S.CONDITION_NAMES, *PRINCIPAL_NAMES})
 
 
 @dataclass(frozen=True)
@@ -224,7 +226,6 @@ class EffectRegistry(Mapping[str, Effect]):
     def _check_states(self, effect: Effect, states: tuple[object, ...], where: str) -> tuple[State, ...]:
         """Each a State with a unit and words, its name free (or a motion state whose rate no other effect governs)."""
         others = {state.name: e for e in self._entries.values() if e.effect.name != effect.name for state in e.states}
-        taken = set(INPUTS) | set(QUANTITIES) | set(S.CONDITION_NAMES) | set(PRINCIPAL_NAMES)
         names: set[str] = set()
         for state in states:
             label = f"{where}: state {getattr(state, 'name', state)!r}"
@@ -241,7 +242,7 @@ class EffectRegistry(Mapping[str, Effect]):
                     f"{label}: name: {state.name!r} is a state of the ship's motion, whose rate the model gives; "
                     "choose another name"
                 )
-            if state.name in taken:
+            if state.name in _RESERVED_NAMES:
                 raise ValueError(f"{label}: name: {state.name!r} is already an input, quantity, condition or principal")
             if not callable(state.initial) and (
                 isinstance(state.initial, bool) or not isinstance(state.initial, (int, float))
@@ -405,8 +406,7 @@ def _check_parameters(effect: Effect, where: str, builtin: bool) -> None:
 def _check_draws(effect: Effect, draws: tuple[object, ...], states: tuple[State, ...], where: str) -> tuple[Draw, ...]:
     """Each a Draw with a unit and words, a name its contributions can read it by, and shapes of whole numbers."""
     counts = {parameter.name for parameter in effect.parameters if parameter.integer}
-    taken = set(INPUTS) | set(QUANTITIES) | set(S.CONDITION_NAMES) | set(PRINCIPAL_NAMES) | set(S.MOTION_STATES)
-    taken |= {parameter.name for parameter in effect.parameters} | {state.name for state in states}
+    taken = _RESERVED_NAMES | set(S.MOTION_STATES) | {p.name for p in effect.parameters} | {s.name for s in states}
     names: set[str] = set()
     for draw in draws:
         label = f"{where}: draw {getattr(draw, 'name', draw)!r}"

@@ -250,3 +250,17 @@ def test_shipped_ppo_beats_the_best_classic_baseline_on_the_full_suite(disturban
     (comparison,) = [c for c in comparisons(table) if c.learned == SHIPPED_PPO]
     print(comparison)
     assert comparison.beats
+
+
+@pytest.mark.slow
+def test_shipped_track_follow_ppo_sails_t1_to_t6_nearer_than_the_thesis_navigators():
+    """Five training seeds x T1..T6 on the nominal ship: every run reaches its track's end, and the
+    IQM of the RMS cross-track error, its whole 95 % interval, lies below the track-predictor
+    navigators' 33 m (Table 6.4), the best of the thesis's simulator experiment."""
+    assert len(seed_models(shipped_folder("ship_env/TrackFollow-v0", "ppo"))) == 5
+    spec = SuiteSpec(course_changes_deg=(), conditions=(NOMINAL,), course_change_disturbances=())
+    table = run_leaderboard(spec, progress=False).table("TrackFollow | nominal")
+    standing = table.standing(SHIPPED_PPO)
+    print(standing)
+    assert standing.sample == "5 seeds x 6 episodes" and standing.completed == 30
+    assert standing.score.high is not None and standing.score.high < 33.0

@@ -12,6 +12,7 @@ from stable_baselines3 import PPO
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.cli import main
+from ship_env.envs.task import observation_keywords
 from ship_env.leaderboard.entrants import policy_entrants
 from ship_env.rl.metadata import METADATA_FILE, PolicyMetadata, package_versions
 from ship_env.rl.policy_file import PolicyFileError, read_policy_file
@@ -55,7 +56,7 @@ def test_shipped_policies_load_with_their_metadata_and_steer():
         policy_file = read_policy_file(path)
         assert policy_file.metadata is not None and policy_file.metadata.command.startswith("ship-env train ")
         Version(policy_file.metadata.versions["ship-env"])  # the package version that trained it
-        env = gym.make(policy_file.env_id)
+        env = gym.make(policy_file.env_id, **observation_keywords(policy_file.metadata.env_kwargs))
         policy_file.check(policy_file.env_id, env.observation_space, env.action_space)
         observation, _ = env.reset(seed=0)
         action, _ = policy_file.policy().predict(observation, deterministic=True)

@@ -14,14 +14,16 @@ For each effect the model lacks (and the logs can show, see :func:`~.terms.why_n
    iterations (``SCREENING_EVALUATIONS``) from the current fit with the new terms at their
    linearised estimates -- and its leave-one-run-out error computed: a held-out score to rank the
    candidates by at a fraction of a full fit's cost.
-3. **Held-out error**: the ``CONFIRMED`` candidates with the best screened score are refitted in
-   full, carrying their screening's fit on to the optimum (a warm start: fits started afresh from
-   the ship preset's values, or with the new terms at their null values, end at the same optimum
-   on the Esso Osaka runs, at two to four times the cost), and cross-validated. The refitted
+3. **Held-out error**: the ``CONFIRMED`` candidates with the best screened score, and the one
+   with the most evidence, are refitted in full and cross-validated. The refit starts three
+   times -- from the screening's fit, from the current fit with the new terms at their null
+   values, and afresh from the ship preset's values (output-error fits have local minima; a new
+   effect can move the others far) -- and keeps the fit with the lowest cost. The refitted
    candidates are ranked by the held-out error: the error that matters is on runs the fit did
    not see.
 4. **Pairs** (:func:`pairs`): some effects only pay together, each hidden behind the other's
-   absence; the strongest candidates are also added two at a time.
+   absence; the strongest candidates are also added two at a time, screened, and the
+   ``CONFIRMED_PAIRS`` best refitted.
 """
 
 from __future__ import annotations
@@ -33,7 +35,7 @@ from itertools import combinations
 
 import numpy as np
 
-from ship_env.model import EFFECTS
+from ship_env.model import EFFECTS, ShipModel
 from ship_env.workbench.errors import ErrorScales, RunErrors
 from ship_env.workbench.fit import FitOptions, Problem, one_thread
 from ship_env.workbench.logs import Log
@@ -43,6 +45,7 @@ from ship_env.workbench.terms import (
     Term,
     effect_terms,
     make_term,
+    value_of,
     why_not_fitted,
     with_values,
 )
@@ -52,6 +55,9 @@ from ship_env.workbench.validation import CrossValidation, cross_validate
 SCREENING_EVALUATIONS = 6
 #: Candidates refitted in full after screening: those with the best screened held-out score.
 CONFIRMED = 2
+#: Pairs refitted in full after screening: two sets of new terms at their linearised estimates
+#: screen less faithfully (on the berthing segments the pair that paid was screened third).
+CONFIRMED_PAIRS = 3
 
 
 @dataclass(frozen=True)
@@ -180,6 +186,12 @@ def with_effect_at_null(setup: ReplayModel, *effects: str) -> tuple[ReplayModel,
     return with_values(added, nulls), terms
 
 
+def preset_values(setup: ReplayModel, keys: Sequence[str]) -> dict[str, float]:
+    """The terms' values in the ship's preset (no current): a fresh start away from the current fit."""
+    fresh = ReplayModel(ShipModel(setup.model.ship, setup.model.effects))
+    return {key: value_of(fresh, key) for key in keys}
+
+
 def evidence(current: CrossValidation, logs: Sequence[Log], effect: str, options: FitOptions) -> Evidence:
     """The score-test evidence for adding ``effect`` to the current fit (see the module docstring)."""
     fitted = current.fit
@@ -269,17 +281,27 @@ def screen(
 
 
 def refit(
-    current: CrossValidation, logs: Sequence[Log], screened: CandidateResult, options: FitOptions
+    current: CrossValidation,
+    logs: Sequence[Log],
+    screened: CandidateResult,
+    options: FitOptions,
 ) -> CandidateResult:
-    """The screened candidate's fit carried on to the optimum and cross-validated, with the validation runs."""
+    """The screened candidate refitted and cross-validated, with the validation runs.
+
+    The fit starts from the screening's fit, from the current fit with the new terms at their null
+    values and from the ship preset's values; the fit with the lowest cost is kept.
+    """
     fitted = screened.refitted_briefly
     keys = [estimate.term.key for estimate in fitted.fit.estimates]
+    added, _ = with_effect_at_null(current.fit.setup, *screened.effects)
+    starts = ({key: value_of(added, key) for key in keys}, preset_values(added, keys))
     try:
         validation = cross_validate(
             fitted.fit.setup,
             logs,
             keys,
             options,
+            starts=starts,
             groups=current.groups or None,
             validate_on=current.validation_logs,
         )
@@ -289,11 +311,20 @@ def refit(
 
 
 def screen_and_confirm(
-    current: CrossValidation, logs: Sequence[Log], founds: Sequence[Mapping[str, Evidence]], options: FitOptions
+    current: CrossValidation,
+    logs: Sequence[Log],
+    founds: Sequence[Mapping[str, Evidence]],
+    options: FitOptions,
+    confirmed: int = CONFIRMED,
 ) -> list[CandidateResult]:
-    """Screen each set of effects; refit the ``CONFIRMED`` best in full (see the module docstring)."""
+    """Screen each set of effects; refit in full the ``confirmed`` best and the first (most evidence).
+
+    A few evaluations can leave a candidate whose terms must move far well short of its optimum:
+    the one the residuals point to most is refitted whatever its screening says.
+    """
     screened = [screen(current, logs, found, options) for found in founds]
-    best = _by_screened_score([c for c in screened if c.screened], options.scales)[:CONFIRMED]
+    best = _by_screened_score([c for c in screened if c.screened], options.scales)[:confirmed]
+    best += [c for c in screened[:1] if c.screened]
     return [refit(current, logs, c, options) if any(c is b for b in best) else c for c in screened]
 
 
@@ -317,6 +348,7 @@ def pairs(
         key=lambda named: -named[1].variance_explained,
     )[:width]
     founds = [dict(pair) for pair in combinations(strongest, 2)]
-    results = screen_and_confirm(diagnosis.baseline, logs, founds, options)
+    results = screen_and_confirm(diagnosis.baseline, logs, founds, options, CONFIRMED_PAIRS)
     refitted = sorted((c for c in results if c.cross_validation), key=lambda c: c.refitted.score(diagnosis.scales))
-    return refitted + _by_screened_score([c for c in results if c.screened], diagnosis.scales)
+    screened = [c for c in results if c.screened and not c.cross_validation]
+    return refitted + _by_screened_score(screened, diagnosis.scales)

@@ -33,7 +33,6 @@ CURRENT_TERMS = ("current.north", "current.east")
 DEFAULT_TERMS: dict[str, tuple[str, ...]] = {
     "yaw": ("yaw.gain", "yaw.time_constant"),
     "norrbin": ("norrbin.cubic", "norrbin.odd_quadratic"),
-    "crossflow_yaw": ("crossflow_yaw.coefficient",),
     "propeller_astern": ("propeller_astern.rudder_inflow", "propeller_astern.walk"),
     "asymmetry": ("asymmetry.side_force", "asymmetry.quadratic"),
     "speed_loss": ("speed_loss.gain", "speed_loss.time_constant"),
@@ -70,7 +69,6 @@ _RULES: dict[str, TermRule] = {
     "yaw.gain": TermRule(0.01, 50.0),
     "yaw.time_constant": TermRule(0.01, 100.0),
     "yaw.linear": TermRule(-5.0, 5.0),
-    "crossflow_yaw.coefficient": TermRule(0.0, 1000.0, 0.0, 0.1),
     "propeller_astern.rudder_inflow": TermRule(0.0, 10.0, 0.0, 0.05),
     "propeller_astern.walk": TermRule(-1.0, 1.0, 0.0, 0.001),
     "asymmetry.side_force": TermRule(-1.0, 1.0, 0.0, 0.001),

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 from ship_env.model.effects import (
     asymmetry,
-    crossflow_yaw,
     current,
     gusts,
     kinematics,
@@ -51,7 +50,6 @@ LIBRARY = (
     current,
     wind_moment,
     wind_drift,
-    crossflow_yaw,
     wave_filter,
     gusts,
     wave_spectrum,

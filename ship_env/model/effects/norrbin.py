@@ -5,7 +5,10 @@
 They bend the spiral characteristic: large rudder angles give less rate of turn than the linear
 model, and a negative linear term (see ``yaw``) with alpha3 > 0 describes a course-unstable ship.
 Steady turn: r* + alpha2' |r*| r* + alpha3 r*^3 = K* delta (2.26). The |r*| r* term is Norrbin's
-quadratic form of the hull's non-linear yaw damping; a negative alpha2' with alpha3 > 0 flattens
+quadratic form of the hull's non-linear yaw damping. In (2.54) it adds -(alpha2' / tau*) |r| r to
+dr/dt whatever the speed (the (u/L)^2 of (2.54) cancels the (L/u)^2 of r*^2): the hull's cross-flow
+drag against turning of strip theory, -1/2 rho T C_D |x r| x r per unit length integrated over the
+hull, which still damps the yaw of a ship nearly at rest; a negative alpha2' with alpha3 > 0 flattens
 the spiral at moderate rates of turn, as in a full-form tanker that is only just course-stable
 (the slope dH/dr* dips towards zero between small and large turns). With alpha2' = alpha3 = 0
 the effect vanishes.

@@ -11,7 +11,8 @@ A fold's fit starts from the all-run fit, which already is nearly its optimum: b
 the left-out rows removed from its Jacobian, the classic one-step approximation of leave-one-out
 (no replay needed); ``"refit"`` runs a full least-squares fit per fold instead. Where the one step
 moves a term by more than ``FOLD_STEP_LIMIT`` of its scale (a term the other runs hardly determine:
-the linearisation no longer holds), that fold is refitted in full. The held-out replays of every
+the linearisation no longer holds) or past a term's bound (a bound the step would meet makes the
+step of the bounded fit another one), that fold is refitted in full. The held-out replays of every
 fold run in one compiled batch.
 
 Runs of another kind (``validate_on``: fit on zig-zags, score on turning runs) are replayed by the
@@ -142,7 +143,8 @@ FOLD_STEP_LIMIT = 0.5
 def _linearised_fold(problem: Problem, fitted: FitResult, left_out: Sequence[int]) -> np.ndarray | None:
     """One Gauss-Newton step from the all-run fit with the left-out runs' rows removed (in scale units).
 
-    None where the step moves a term by more than ``FOLD_STEP_LIMIT`` scales: refit that fold instead.
+    None where the step moves a term by more than ``FOLD_STEP_LIMIT`` scales, or past its bounds (the
+    unconstrained step, clipped, is not the bounded fit's step): refit that fold instead.
     """
     lengths = [problem.residual_length(run) for run in range(len(problem.logs))]
     edges = np.concatenate([[0], np.cumsum(lengths)])
@@ -154,7 +156,10 @@ def _linearised_fold(problem: Problem, fitted: FitResult, left_out: Sequence[int
     if np.any(np.abs(step[: len(problem.terms)]) > FOLD_STEP_LIMIT):
         return None
     lower, upper = problem.bounds()
-    return np.clip(fitted.solution + step, lower, upper)
+    point = fitted.solution + step
+    if np.any(point < lower) or np.any(point > upper):
+        return None
+    return point
 
 
 @one_thread

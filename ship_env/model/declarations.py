@@ -6,7 +6,7 @@ The numbers themselves live in one place only: the ship's YAML file in ``configs
 
 An :class:`Envelope` states the conditions a model is valid for (speed, propeller ahead or astern,
 drift angle, rate of turn): a ship preset gives the base model's, and an effect that models what the
-base model leaves out (propeller astern, low-speed cross-flow) widens it when it is on.
+base model leaves out (e.g. propeller astern) widens it when it is on.
 """
 
 from __future__ import annotations

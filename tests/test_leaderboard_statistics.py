@@ -3,6 +3,9 @@ intervals that repeat to the last digit, "beats" only when the interval excludes
 
 from __future__ import annotations
 
+import dataclasses
+import math
+
 import numpy as np
 import pytest
 from rliable import metrics
@@ -10,7 +13,7 @@ from rliable import metrics
 from ship_env.leaderboard.sailing import EpisodeResult
 from ship_env.leaderboard.statistics import PARITY
 from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, Suite, course_change_episodes
-from ship_env.leaderboard.tables import comparisons, markdown, rank, score_matrix
+from ship_env.leaderboard.tables import comparisons, first_place_markdown, markdown, rank, score_matrix
 
 REFERENCE = "PD, fixed gains"
 #: Ten course changes (15..105 deg both ways) in calm water.
@@ -137,3 +140,43 @@ def test_one_seed_and_one_episode_get_no_interval():
     assert comparison.improvement.value == 1.0 and not comparison.beats
     text = markdown(table)
     assert "150.0 (no interval)" in text and "no verdict (no interval: a single score)" in text
+
+
+def _unsettled(results, training_seed, label):
+    """``results`` with the episode ``label`` of ``training_seed`` never settled."""
+    return [
+        dataclasses.replace(r, metrics={**r.metrics, "settling_time": math.inf})
+        if (r.training_seed, r.episode) == (training_seed, label)
+        else r
+        for r in results
+    ]
+
+
+def test_first_place_needs_the_rank_or_the_firsts_interval_the_travel_and_the_settling():
+    """Against an adaptive autopilot 5 % better than the reference with a spread: 4 % better is
+    inside its interval, 10 % worse is not; first with twice its rudder travel, or first with one
+    seed that never settles a course change the autopilots settle, does not hold first place; the
+    verdicts do not depend on the other learned entrants."""
+    spread = np.random.default_rng(3).normal(0.0, 0.05, len(CLASSIC_SCORES))
+    adaptive = _results("MRAC", "classic", CLASSIC_SCORES * 0.95 * (1.0 + spread), travel=150.0)
+    learned = {
+        "close": _learned("PPO (close)", 0.96, 0.002),
+        "worse": _learned("PPO (worse)", 1.10, 0.002),
+        "busy": _results("PPO (busy)", "learned", CLASSIC_SCORES * 0.5, (0,), travel=300.0),
+        "unsettled": _unsettled(_learned("PPO (unsettled)", 0.5, 0.002), 3, "+45 deg"),
+        "first": _learned("PPO (first)", 0.5, 0.002),
+    }
+    table = rank(SUITE, _results(REFERENCE, "classic", CLASSIC_SCORES) + adaptive + sum(learned.values(), []))
+    verdicts = {c.learned.split("(")[1][:-1]: c for c in comparisons(table)}
+    mrac = table.standing("MRAC").normalised
+    assert mrac.low < table.standing("PPO (close)").normalised.value < mrac.high
+    assert table.standing("PPO (close)").rank > table.standing("MRAC").rank
+    assert {name for name, c in verdicts.items() if c.within_first} == {"close", "busy", "unsettled", "first"}
+    assert verdicts["busy"].travel_ratio == 2.0 and verdicts["close"].travel_ratio == pytest.approx(200.0 / 150.0)
+    assert not verdicts["unsettled"].settles and table.standing("PPO (unsettled)").completed == 49
+    assert {name for name, c in verdicts.items() if c.holds_first} == {"close", "first"}
+    text = first_place_markdown([table])
+    assert "PPO (first) holds first place on 1 of the 1 ship_env/CourseChange-v0 suites." in text
+    assert "PPO (worse) holds first place on 0 of the 1" in text
+    alone = rank(SUITE, _results(REFERENCE, "classic", CLASSIC_SCORES) + adaptive + learned["close"])
+    assert [c.holds_first for c in comparisons(alone)] == [True]

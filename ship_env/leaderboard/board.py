@@ -29,6 +29,7 @@ from ship_env.leaderboard.statistics import REFERENCES, Estimate
 from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, TRACK_FOLLOW, Suite, SuiteSpec
 from ship_env.leaderboard.tables import (
     Table,
+    first_place_markdown,
     grouped_estimates,
     markdown,
     rank,
@@ -117,8 +118,9 @@ class Leaderboard:
         return "\n".join(lines)
 
     def markdown(self) -> str:
-        """The headline and every table in markdown."""
-        return "\n\n".join(filter(None, [self.headline_markdown(), *(markdown(table) for table in self.tables)]))
+        """The headline, the learned entrants' first places and every table in markdown."""
+        sections = [self.headline_markdown(), first_place_markdown(self.tables), *(markdown(t) for t in self.tables)]
+        return "\n\n".join(filter(None, sections))
 
 
 def run_leaderboard(

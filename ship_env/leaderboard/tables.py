@@ -9,9 +9,12 @@ The other metrics are plain aggregates over all its episodes. Rows are ranked by
 
 A learned entrant *beats* the best classic autopilot only when the probability of improvement's
 interval lies above parity (0.5) and its rudder travel is at most :data:`TRAVEL_ALLOWANCE` times the
-autopilot's. On the nominal TrackFollow suite the thesis's navigators (Table 6.4: 117 m with
-parallel indexing, 95 m with the ground-speed vector, 33 m with the track predictor) are ranked
-beside them as human rows.
+autopilot's. It *holds first place* when it ranks above every classic autopilot or its normalised
+IQM lies inside the best one's interval (no higher than its top), with at most
+:data:`TRAVEL_ALLOWANCE` times that autopilot's rudder travel, completing (every training seed) each
+episode that a classic autopilot completes. Other learned entrants do not change the verdict.
+On the nominal TrackFollow suite the thesis's navigators (Table 6.4: 117 m with parallel indexing,
+95 m with the ground-speed vector, 33 m with the track predictor) are ranked beside them as human rows.
 """
 
 from __future__ import annotations
@@ -57,6 +60,7 @@ class Standing:
         seeds: the training seeds sailed (1 for a classic autopilot, 0 for a human row).
         episodes: the episodes sailed per seed.
         completed: the episodes completed, all seeds together (:data:`~ship_env.leaderboard.suites.COMPLETION`).
+        missed: the episodes (label, seed) that some training seed did not complete.
     """
 
     rank: int
@@ -69,6 +73,7 @@ class Standing:
     seeds: int
     episodes: int
     completed: int
+    missed: frozenset[tuple[str, int]] = frozenset()
 
     @property
     def sample(self) -> str:
@@ -108,6 +113,10 @@ class Comparison:
         improvement: the learned entrant's probability of improvement over the classic one.
         score_ratio: learned / classic IQM of the ranking metric.
         travel_ratio: learned / classic rudder travel (means over the episodes).
+        within_first: ranked above every classic autopilot, or its normalised IQM no higher than the top
+            of the best one's interval (first among the classic autopilots and itself, or inside the
+            first's interval).
+        settles: completed, with every training seed, each episode a classic autopilot completed.
     """
 
     learned: str
@@ -115,12 +124,21 @@ class Comparison:
     improvement: Estimate
     score_ratio: float
     travel_ratio: float
+    within_first: bool
+    settles: bool
 
     @property
     def beats(self) -> bool:
         """The probability of improvement's interval above parity, with at most
         :data:`TRAVEL_ALLOWANCE` times the rudder travel."""
         return self.improvement.above(PARITY) and self.travel_ratio <= TRAVEL_ALLOWANCE
+
+    @property
+    def holds_first(self) -> bool:
+        """First (among the classic autopilots and itself) or inside the first's interval, with at most
+        :data:`TRAVEL_ALLOWANCE` times the best classic autopilot's rudder travel, completing every
+        episode a classic autopilot completes."""
+        return self.within_first and self.travel_ratio <= TRAVEL_ALLOWANCE and self.settles
 
 
 def _aggregate(metric: Metric, values: list[float]) -> float:
@@ -204,6 +222,7 @@ def rank(suite: Suite, results: Sequence[EpisodeResult]) -> Table:
             matrices[name].shape[0],
             len(suite.episodes),
             sum(_completed(e) for e in episodes),
+            frozenset((e.episode, e.seed) for e in episodes if not _completed(e)),
         )
         for name, episodes in by_entrant.items()
     ]
@@ -225,6 +244,8 @@ def comparisons(table: Table) -> list[Comparison]:
     best = best_classic(table)
     if best is None:
         return []
+    classics_missed = [s.missed for s in table.standings if s.kind == "classic"]
+    missed_by_all = frozenset.intersection(*classics_missed)
     return [
         Comparison(
             standing.entrant,
@@ -232,6 +253,8 @@ def comparisons(table: Table) -> list[Comparison]:
             standing.improvement if standing.improvement is not None else NO_ESTIMATE,
             standing.score.value / best.score.value,
             standing.values["rudder_travel"] / best.values["rudder_travel"],
+            standing.rank < best.rank or standing.normalised.value <= best.normalised.bounds[1],
+            standing.missed <= missed_by_all,
         )
         for standing in table.standings
         if standing.kind == "learned"
@@ -282,6 +305,48 @@ def markdown(table: Table) -> str:
             f"\n{c.learned} against the best classic autopilot, {c.classic}: P(improvement) {c.improvement.text(2)}, "
             f"IQM x{c.score_ratio:.3f}, rudder travel x{c.travel_ratio:.2f}: {verdict}."
         )
+    return "\n".join(lines)
+
+
+def first_place_markdown(tables: Sequence[Table]) -> str:
+    """Per learned entrant, the suites where it holds first place (:attr:`Comparison.holds_first`)
+    as a markdown table with their count per environment; empty without a learned entrant."""
+    rows: dict[str, list[str]] = {}
+    counts: dict[tuple[str, str], list[bool]] = {}
+    for table in tables:
+        best = best_classic(table)
+        for c in comparisons(table):
+            assert best is not None  # comparisons are made against it
+            learned = table.standing(c.learned)
+            settled = f"{learned.completed}/{learned.seeds * learned.episodes}"
+            rows.setdefault(c.learned, []).append(
+                f"| {table.suite.task} | {table.suite.condition.name} | {learned.normalised.text(3)} | "
+                f"{best.entrant} {best.normalised.text(3)} | "
+                f"{'yes' if c.within_first else 'no'} | x{c.travel_ratio:.2f} | {settled} | "
+                f"{'yes' if c.settles else 'no'} | {'**yes**' if c.holds_first else 'no'} |"
+            )
+            counts.setdefault((c.learned, table.suite.env_id), []).append(c.holds_first)
+    if not rows:
+        return ""
+    lines = [
+        "### Learned entrants: first, or inside the first's interval",
+        "",
+        "Normalised IQM [95 % CI] (1 = the reference autopilot, lower is better). A learned entrant holds first "
+        "place on a suite when it ranks above every classic autopilot or its normalised IQM is no higher than the "
+        f"top of the best one's interval, with at most x{TRAVEL_ALLOWANCE:g} that autopilot's rudder travel, "
+        "completing with every training seed each episode a classic autopilot completes.",
+    ]
+    for entrant, entrant_rows in rows.items():
+        lines += [
+            "",
+            f"| {entrant}: task | condition | normalised IQM | best classic | first or inside its interval | "
+            "rudder travel / best classic's | completed | where a classic does | holds first |",
+            "|---|---|---:|---|---|---:|---:|---|---|",
+            *entrant_rows,
+        ]
+        for (name, env_id), held in counts.items():
+            if name == entrant:
+                lines.append(f"\n{entrant} holds first place on {sum(held)} of the {len(held)} {env_id} suites.")
     return "\n".join(lines)
 
 

@@ -148,3 +148,20 @@ def test_compass_readings_on_any_branch_give_one_continuous_heading():
         )
         headings.append(yaw_filter.heading)
     assert headings[-1] > math.radians(360.0) and np.all(np.diff(headings) > 0.0)
+
+
+def test_take_sample_skips_the_sample_reset_read_then_steps_like_step():
+    """A control loop hands the filter every sample, the first included: reset has read that one already."""
+    first = Measurement(math.radians(30.0), math.radians(0.2), math.radians(5.0), 9.5)
+    later = [Measurement(math.radians(30.0 + 0.1 * k), math.radians(0.2), math.radians(5.0), 9.5) for k in (1, 2, 3)]
+    looped, stepped = YawFilter(225.87, SAMPLE_TIME, SHIP), YawFilter(225.87, SAMPLE_TIME, SHIP)
+    looped.reset(first)
+    stepped.reset(first)
+    assert looped.take_sample(first) is False
+    assert np.array_equal(looped.kalman.x, stepped.kalman.x)
+    for reading in later:
+        assert looped.take_sample(reading) is True
+        stepped.step(reading)
+        assert np.array_equal(looped.kalman.x, stepped.kalman.x) and np.array_equal(looped.kalman.P, stepped.kalman.P)
+    looped.reset(first)
+    assert looped.take_sample(later[0]) is False  # each reset starts on a new first sample

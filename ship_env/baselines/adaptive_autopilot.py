@@ -33,12 +33,10 @@ class IndirectAdaptiveAutopilot:
         self.design = design
         self.yaw_filter = yaw_filter
         self.ship = yaw_filter.initial_parameters
-        self._first_sample = True
 
     def reset(self, measurement: Measurement) -> None:
         self.yaw_filter.reset(measurement)
         self.ship = self.yaw_filter.initial_parameters
-        self._first_sample = True
 
     @property
     def prediction_model(self) -> NomotoParameters:
@@ -46,10 +44,7 @@ class IndirectAdaptiveAutopilot:
         return self.ship
 
     def order(self, setpoint: float, measurement: Measurement) -> float:
-        if self._first_sample:
-            self._first_sample = False
-        else:
-            self.yaw_filter.step(measurement)
+        self.yaw_filter.take_sample(measurement)
         self.ship = self.yaw_filter.parameters or self.ship
         gains = self.design.gains(self.ship, self.yaw_filter.length, measurement.speed)
         heading_error = wrap_angle(setpoint - self.yaw_filter.heading)

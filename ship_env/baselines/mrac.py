@@ -68,14 +68,12 @@ class ModelReferenceAutopilot:
         self.reference = reference
         self.compensation = 0.0
         self.reference_rate = 0.0
-        self._first_sample = True
 
     def reset(self, measurement: Measurement) -> None:
         self.yaw_filter.reset(measurement)
         self.reference = self.initial_reference
         self.compensation = 0.0
         self.reference_rate = self.yaw_filter.rate_of_turn
-        self._first_sample = True
 
     @property
     def prediction_model(self) -> NomotoParameters:
@@ -84,10 +82,7 @@ class ModelReferenceAutopilot:
 
     def order(self, setpoint: float, measurement: Measurement) -> float:
         yaw_filter = self.yaw_filter
-        if self._first_sample:
-            self._first_sample = False
-        else:
-            yaw_filter.step(measurement)
+        if yaw_filter.take_sample(measurement):
             self._advance_reference_model(yaw_filter.last_rudder)
         estimate = yaw_filter.parameters
         if estimate is not None:

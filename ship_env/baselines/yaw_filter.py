@@ -140,7 +140,8 @@ class YawFilter:
     """Filtered rate of turn and heading, and the ship's K*, tau* and offset, from gyro, compass, rudder and speed.
 
     See the module docstring for the model. Call :meth:`reset` with the first sample, then
-    :meth:`step` once per sample (every ``sample_time`` seconds).
+    :meth:`step` once per sample (every ``sample_time`` seconds); a control loop that hands every
+    sample, the first included, calls :meth:`take_sample` instead.
 
     Args:
         length: the ship's length L, m.
@@ -177,6 +178,7 @@ class YawFilter:
         self._rudder = 0.0
         self._adapting = True
         self._frozen_parameter_covariance = np.zeros((2, 2))
+        self._on_reset_sample = True
 
     # -- running --------------------------------------------------------------------------------
     def reset(self, measurement: Measurement, speed: float | None = None) -> None:
@@ -213,6 +215,7 @@ class YawFilter:
             self._hold_parameters()
         self._rudder = 0.0 if math.isnan(measurement.rudder) else measurement.rudder
         self.gate.outliers_in_a_row = 0
+        self._on_reset_sample = True
 
     def step(self, measurement: Measurement, speed: float | None = None) -> None:
         """Predict over the last sample with the previous rudder, then update with this sample's gyro and compass.
@@ -228,6 +231,15 @@ class YawFilter:
         if not math.isnan(measurement.rudder):
             self._rudder = measurement.rudder
         self._update(measurement.rate_of_turn, measurement.heading)
+
+    def take_sample(self, measurement: Measurement, speed: float | None = None) -> bool:
+        """:meth:`step` on ``measurement``, except on the first sample after :meth:`reset`, which reset
+        has already read; returns whether the filter stepped."""
+        if self._on_reset_sample:
+            self._on_reset_sample = False
+            return False
+        self.step(measurement, speed)
+        return True
 
     # -- parameter adaptation -------------------------------------------------------------------
     @property

@@ -27,10 +27,10 @@ import hashlib
 import importlib.metadata
 import inspect
 import math
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any
+from typing import Any, TypeVar
 
 import numba
 
@@ -226,11 +226,8 @@ class EffectRegistry(Mapping[str, Effect]):
     def _check_states(self, effect: Effect, states: tuple[object, ...], where: str) -> tuple[State, ...]:
         """Each a State with a unit and words, its name free (or a motion state whose rate no other effect governs)."""
         others = {state.name: e for e in self._entries.values() if e.effect.name != effect.name for state in e.states}
-        names: set[str] = set()
-        for state in states:
-            label = f"{where}: state {getattr(state, 'name', state)!r}"
-            _check_declaration(state, State, label, names, "the state holds")
-            assert isinstance(state, State)  # checked
+        checked = []
+        for state, label in _declarations(states, State, where, "the state holds"):
             if state.name in others:
                 owner = others[state.name]
                 raise ValueError(
@@ -252,7 +249,8 @@ class EffectRegistry(Mapping[str, Effect]):
                 raise ValueError(f"{label}: initial: must be finite, got {state.initial!r}")
             if state.white_noise is not None and not callable(state.white_noise):
                 raise TypeError(f"{label}: white_noise: expected None or a function, got {state.white_noise!r}")
-        return states  # type: ignore[return-value]  # every item checked to be a State
+            checked.append(state)
+        return tuple(checked)
 
     def _check_contribution(
         self,
@@ -386,10 +384,7 @@ class EffectRegistry(Mapping[str, Effect]):
 
 def _check_parameters(effect: Effect, where: str, builtin: bool) -> None:
     """Every parameter has a unit and a description; one outside ``ship_env`` also a finite range."""
-    names: set[str] = set()
-    for parameter in effect.parameters:
-        label = f"{where}: parameter {getattr(parameter, 'name', parameter)!r}"
-        _check_declaration(parameter, Parameter, label, names, "the number means")
+    for parameter, label in _declarations(effect.parameters, Parameter, where, "the number means"):
         if not builtin and not (math.isfinite(parameter.minimum) and math.isfinite(parameter.maximum)):
             raise ValueError(
                 f"{label}: range: give a finite minimum and maximum (got [{parameter.minimum}, {parameter.maximum}]); "
@@ -407,11 +402,8 @@ def _check_draws(effect: Effect, draws: tuple[object, ...], states: tuple[State,
     """Each a Draw with a unit and words, a name its contributions can read it by, and shapes of whole numbers."""
     counts = {parameter.name for parameter in effect.parameters if parameter.integer}
     taken = _RESERVED_NAMES | set(S.MOTION_STATES) | {p.name for p in effect.parameters} | {s.name for s in states}
-    names: set[str] = set()
-    for draw in draws:
-        label = f"{where}: draw {getattr(draw, 'name', draw)!r}"
-        _check_declaration(draw, Draw, label, names, "the numbers are")
-        assert isinstance(draw, Draw)  # checked
+    checked = []
+    for draw, label in _declarations(draws, Draw, where, "the numbers are"):
         if draw.name in taken:
             raise ValueError(
                 f"{label}: name: {draw.name!r} is already an input, quantity, condition, principal, state or "
@@ -434,22 +426,32 @@ def _check_draws(effect: Effect, draws: tuple[object, ...], states: tuple[State,
             raise TypeError(f"{label}: function: expected a function of the uniforms, got {draw.function!r}")
         if "uniforms" not in _arguments(draw.function):
             raise ValueError(f"{label}: function: it must read its argument 'uniforms' (the samples it draws from)")
-    return draws  # type: ignore[return-value]  # every item checked to be a Draw
+        checked.append(draw)
+    return tuple(checked)
 
 
-def _check_declaration(
-    item: object, kind: type[Parameter] | type[State] | type[Draw], label: str, names: set[str], meaning: str
-) -> None:
-    """A Parameter, State or Draw: of its class, named by an identifier unique in the effect, with a unit and words."""
-    if not isinstance(item, kind):
-        raise TypeError(f"{label}: expected a {kind.__name__}(name, unit, description, ...), got {item!r}")
-    if not item.name.isidentifier() or item.name in names:
-        raise ValueError(f"{label}: name: expected a Python identifier unique in the effect")
-    names.add(item.name)
-    if not isinstance(item.unit, str) or not item.unit.strip():
-        raise ValueError(f"{label}: unit: every {kind.__name__.lower()} needs its SI unit ('-' if dimensionless)")
-    if not item.description.strip():
-        raise ValueError(f"{label}: description: say what {meaning}")
+#: What an effect declares by name, unit and description.
+_Declaration = TypeVar("_Declaration", Parameter, State, Draw)
+
+
+def _declarations(
+    items: Iterable[object], kind: type[_Declaration], where: str, meaning: str
+) -> Iterator[tuple[_Declaration, str]]:
+    """Each item with its label for errors, once checked to be a ``kind`` named by an identifier
+    unique among ``items``, with a unit and a description (its error: "say what ``meaning``")."""
+    names: set[str] = set()
+    for item in items:
+        label = f"{where}: {kind.__name__.lower()} {getattr(item, 'name', item)!r}"
+        if not isinstance(item, kind):
+            raise TypeError(f"{label}: expected a {kind.__name__}(name, unit, description, ...), got {item!r}")
+        if not item.name.isidentifier() or item.name in names:
+            raise ValueError(f"{label}: name: expected a Python identifier unique in the effect")
+        names.add(item.name)
+        if not isinstance(item.unit, str) or not item.unit.strip():
+            raise ValueError(f"{label}: unit: every {kind.__name__.lower()} needs its SI unit ('-' if dimensionless)")
+        if not item.description.strip():
+            raise ValueError(f"{label}: description: say what {meaning}")
+        yield item, label
 
 
 def _caller_module() -> str:

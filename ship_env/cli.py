@@ -1,8 +1,10 @@
 """The ``ship-env`` command line.
 
 Each task is a subcommand (``ship-env manoeuvre``; the measurement workbench's ``fit``,
-``compare``, ``diagnose`` and ``improve``; ``train`` and ``leaderboard`` join the same way): a
-function adds its parser and names its handler, and :func:`main` dispatches. Invalid arguments end
+``compare``, ``diagnose`` and ``improve``; ``train``, ``leaderboard`` and ``identify-bench``):
+each declared as a :class:`~ship_env.command_line.Command` beside its code (the workbench's four
+added together, with their shared examples), :func:`build_parser` registers them and
+:func:`main` dispatches. Invalid arguments end
 with a message naming the argument and exit status 2, as argparse's own errors do; a simulation
 that leaves the model's validity, or a log that cannot be used, ends with status 1.
 """
@@ -22,9 +24,18 @@ from pathlib import Path
 from tqdm import tqdm
 
 # Learned policies: ``train`` and ``leaderboard`` live in their packages (ship_env.rl, ship_env.leaderboard).
-from ship_env.baselines.online_estimators.cli import add_parser as add_identify_bench_command
-from ship_env.command_line import UsageError, add_command, name_list, number, prepare_outputs, whole_number
-from ship_env.leaderboard.cli import add_parser as add_leaderboard_command
+from ship_env.baselines.online_estimators.cli import COMMAND as IDENTIFY_BENCH_COMMAND
+from ship_env.command_line import (
+    Command,
+    UsageError,
+    add_command,
+    add_output_arguments,
+    name_list,
+    number,
+    prepare_outputs,
+    whole_number,
+)
+from ship_env.leaderboard.cli import COMMAND as LEADERBOARD_COMMAND
 from ship_env.manoeuvres import (
     ManoeuvreResult,
     TrialSettings,
@@ -41,7 +52,7 @@ from ship_env.manoeuvres import (
 from ship_env.manoeuvres.results import KNOT
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
 from ship_env.ray_cluster import RayUnavailable
-from ship_env.rl.cli_train import add_parser as add_train_command
+from ship_env.rl.cli_train import COMMAND as TRAIN_COMMAND
 from ship_env.workbench import (
     ErrorScales,
     FitError,
@@ -202,25 +213,8 @@ def run_manoeuvres(args: argparse.Namespace) -> int:
     return 0
 
 
-def add_manoeuvre_command(subcommands: argparse._SubParsersAction) -> None:
-    """Register ``ship-env manoeuvre``."""
-    parser = add_command(
-        subcommands,
-        "manoeuvre",
-        help="sail the standard manoeuvres and print their IMO figures",
-        description=(
-            "Sail the standard manoeuvres of IMO MSC.137(76) from a steady straight approach in calm\n"
-            "water: turning circles, zig-zag tests, a pull-out test to both sides and a reversed\n"
-            "spiral (Bech). Prints advance, transfer, tactical diameter, overshoot angles, the spiral\n"
-            "characteristic and the MSC.137(76) 5.3 criteria with pass or fail."
-        ),
-        examples=(
-            "ship-env manoeuvre",
-            "ship-env manoeuvre --effects minimal --turn-angle 35 -35 20 --zigzag 10/10 -10/-10",
-            "ship-env manoeuvre --speed 15 --plot plots/ --json figures.json",
-        ),
-        handler=run_manoeuvres,
-    )
+def _manoeuvre_arguments(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``ship-env manoeuvre``."""
     # Read "-10/-10" (the mirrored zig-zag) as a value, not an option, as argparse does from
     # Python 3.13 on; before that only plain negative numbers such as "-35" were.
     parser._negative_number_matcher = re.compile(r"^-\.?\d")
@@ -271,10 +265,26 @@ def add_manoeuvre_command(subcommands: argparse._SubParsersAction) -> None:
         metavar="A/B",
         help="zig-zag tests as rudder/heading change in deg, -A/-B starts to port (default: 10/10 20/20)",
     )
-    parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write a PNG per manoeuvre into DIR")
-    parser.add_argument(
-        "--json", type=Path, default=None, metavar="FILE", help="write the figures and criteria to FILE as JSON"
-    )
+    add_output_arguments(parser, plots="a PNG per manoeuvre", json_content="the figures and criteria")
+
+
+MANOEUVRE_COMMAND = Command(
+    "manoeuvre",
+    help="sail the standard manoeuvres and print their IMO figures",
+    description=(
+        "Sail the standard manoeuvres of IMO MSC.137(76) from a steady straight approach in calm\n"
+        "water: turning circles, zig-zag tests, a pull-out test to both sides and a reversed\n"
+        "spiral (Bech). Prints advance, transfer, tactical diameter, overshoot angles, the spiral\n"
+        "characteristic and the MSC.137(76) 5.3 criteria with pass or fail."
+    ),
+    examples=(
+        "ship-env manoeuvre",
+        "ship-env manoeuvre --effects minimal --turn-angle 35 -35 20 --zigzag 10/10 -10/-10",
+        "ship-env manoeuvre --speed 15 --plot plots/ --json figures.json",
+    ),
+    handler=run_manoeuvres,
+    arguments=_manoeuvre_arguments,
+)
 
 
 # -- the measurement workbench: fit, compare, diagnose, improve -----------------------------------
@@ -869,11 +879,10 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     subcommands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    add_manoeuvre_command(subcommands)
+    MANOEUVRE_COMMAND.register(subcommands)
     add_workbench_commands(subcommands)
-    add_train_command(subcommands)
-    add_leaderboard_command(subcommands)
-    add_identify_bench_command(subcommands)
+    for command in (TRAIN_COMMAND, LEADERBOARD_COMMAND, IDENTIFY_BENCH_COMMAND):
+        command.register(subcommands)
     return parser
 
 

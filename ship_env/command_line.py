@@ -1,10 +1,12 @@
-"""What the ``ship-env`` subcommands share: their parser, argument types that name the bad value
-and the output options checked before any work (``--ray-address`` is in :mod:`ship_env.ray_cluster`).
+"""What the ``ship-env`` subcommands share: their declaration and parser, argument types that name
+the bad value, and the options several commands take: the output options checked before any work
+and the progress bar (``--ray-address`` is in :mod:`ship_env.ray_cluster`).
 
-Each subcommand's module registers itself with :func:`add_command` and reads its values with the
-types here; an argument type raises ``argparse.ArgumentTypeError``, which argparse reports with
-the argument's name and exit status 2, and a handler raises :class:`UsageError` for a value that is
-well formed but does not fit (``ship_env.cli.main`` reports it the same way).
+Each subcommand's module declares it as a :class:`Command` (``ship_env.cli.build_parser`` registers
+them all) and reads its values with the types here; an argument type raises
+``argparse.ArgumentTypeError``, which argparse reports with the argument's name and exit status 2,
+and a handler raises :class:`UsageError` for a value that is well formed but does not fit
+(``ship_env.cli.main`` reports it the same way).
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from __future__ import annotations
 import argparse
 import math
 from collections.abc import Callable, Collection, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 
@@ -44,6 +47,40 @@ def add_command(
     )
     parser.set_defaults(handler=handler, command_parser=parser)
     return parser
+
+
+@dataclass(frozen=True)
+class Command:
+    """A ``ship-env`` subcommand, declared beside the code that runs it.
+
+    Attributes:
+        name: the word that picks it (``ship-env NAME``).
+        help: its line in ``ship-env --help``.
+        description: its ``--help`` text, as written (line breaks kept).
+        examples: command lines shown at the end of its ``--help``.
+        handler: runs it with the parsed arguments; returns the exit status.
+        arguments: adds its arguments to its parser.
+    """
+
+    name: str
+    help: str
+    description: str
+    examples: Sequence[str]
+    handler: Callable[[argparse.Namespace], int]
+    arguments: Callable[[argparse.ArgumentParser], None]
+
+    def register(self, subcommands: argparse._SubParsersAction) -> argparse.ArgumentParser:
+        """Add the subcommand with its arguments to ``subcommands`` (:func:`add_command`)."""
+        parser = add_command(
+            subcommands,
+            self.name,
+            help=self.help,
+            description=self.description,
+            examples=self.examples,
+            handler=self.handler,
+        )
+        self.arguments(parser)
+        return parser
 
 
 # -- argument types -------------------------------------------------------------------------------
@@ -103,7 +140,19 @@ def name_list(kind: str, known: Collection[str]) -> Callable[[str], list[str]]:
     return parse
 
 
-# -- outputs --------------------------------------------------------------------------------------
+# -- options several commands take ---------------------------------------------------------------
+def add_output_arguments(parser: argparse.ArgumentParser, plots: str, json_content: str) -> None:
+    """``--plot DIR`` (write ``plots`` into it) and ``--json FILE`` (``json_content`` as JSON), both
+    optional; :func:`prepare_outputs` checks them."""
+    parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help=f"write {plots} into DIR")
+    parser.add_argument("--json", type=Path, default=None, metavar="FILE", help=f"write {json_content} to FILE as JSON")
+
+
+def add_progress_argument(parser: argparse.ArgumentParser) -> None:
+    """``--no-progress``: no progress bar."""
+    parser.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
+
+
 def prepare_outputs(plot: Path | None, json_file: Path | None) -> None:
     """Create the ``--plot`` folder and check the ``--json`` file's folder before any work is done."""
     if plot is not None:

@@ -1,6 +1,6 @@
 """``ship-env leaderboard``: every controller on the fixed, seeded suites; tables and plots.
 
-Registered by :func:`add_parser`; the evaluation (torch, stable-baselines3, the baselines) is
+Declared as :data:`COMMAND`; the evaluation (torch, stable-baselines3, the baselines) is
 imported only when the command runs.
 """
 
@@ -11,7 +11,7 @@ import dataclasses
 from pathlib import Path
 from typing import Any
 
-from ship_env.command_line import add_command, number, whole_number
+from ship_env.command_line import Command, add_progress_argument, number, whole_number
 from ship_env.envs.tracks import TRACK_IDS
 from ship_env.leaderboard.evaluation import BACKENDS
 from ship_env.leaderboard.suites import CONDITIONS, COURSE_CHANGE_DISTURBANCES, SUITE_SPECS, SuiteSpec
@@ -64,32 +64,8 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
     return 0
 
 
-def add_parser(subcommands: argparse._SubParsersAction) -> None:
-    """Register ``ship-env leaderboard``."""
-    parser = add_command(
-        subcommands,
-        "leaderboard",
-        help="rank the classic autopilots and learned policies on fixed, seeded suites",
-        description=(
-            "Sail every controller - fixed and gain-scheduled PD, indirect adaptive PD, MRAC, the predictor\n"
-            "course changer (TrackFollow), the shipped policies and the policy files given - on fixed,\n"
-            "seeded suites: CourseChange (15..105 deg both ways, calm / wind and current / plus waves) and\n"
-            "TrackFollow (T1..T6), on the nominal ship, with its K*, tau* off by 2x from the controllers'\n"
-            "design values, and at half speed. Prints a ranked table per suite and writes it as markdown\n"
-            "and CSV with plots. Learned policies sail every episode with each training seed; each table gives\n"
-            "the IQM of its ranking metric and of the normalised score (1 = the fixed PD, or the predictor\n"
-            "course changer on TrackFollow) with 95 % stratified-bootstrap intervals over training seeds\n"
-            "and episodes (rliable), and each learned policy's probability of improvement over the best\n"
-            "classic autopilot: it beats it only where that interval excludes parity (0.5). The same\n"
-            "seeds give the same tables and intervals to the last digit."
-        ),
-        examples=(
-            "ship-env leaderboard",
-            "ship-env leaderboard --suite full --backend ray --out leaderboard_full",
-            "ship-env leaderboard --policies runs/CourseChange-v0/ppo --conditions nominal --tracks",
-        ),
-        handler=run_leaderboard_command,
-    )
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``ship-env leaderboard``."""
     parser.add_argument(
         "--suite",
         choices=list(SUITE_SPECS),
@@ -157,4 +133,30 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
         help="sail each episode N times with other seeds (default: the suite's)",
     )
     parser.add_argument("--no-plots", action="store_true", help="write the tables only")
-    parser.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
+    add_progress_argument(parser)
+
+
+COMMAND = Command(
+    "leaderboard",
+    help="rank the classic autopilots and learned policies on fixed, seeded suites",
+    description=(
+        "Sail every controller - fixed and gain-scheduled PD, indirect adaptive PD, MRAC, the predictor\n"
+        "course changer (TrackFollow), the shipped policies and the policy files given - on fixed,\n"
+        "seeded suites: CourseChange (15..105 deg both ways, calm / wind and current / plus waves) and\n"
+        "TrackFollow (T1..T6), on the nominal ship, with its K*, tau* off by 2x from the controllers'\n"
+        "design values, and at half speed. Prints a ranked table per suite and writes it as markdown\n"
+        "and CSV with plots. Learned policies sail every episode with each training seed; each table gives\n"
+        "the IQM of its ranking metric and of the normalised score (1 = the fixed PD, or the predictor\n"
+        "course changer on TrackFollow) with 95 % stratified-bootstrap intervals over training seeds\n"
+        "and episodes (rliable), and each learned policy's probability of improvement over the best\n"
+        "classic autopilot: it beats it only where that interval excludes parity (0.5). The same\n"
+        "seeds give the same tables and intervals to the last digit."
+    ),
+    examples=(
+        "ship-env leaderboard",
+        "ship-env leaderboard --suite full --backend ray --out leaderboard_full",
+        "ship-env leaderboard --policies runs/CourseChange-v0/ppo --conditions nominal --tracks",
+    ),
+    handler=run_leaderboard_command,
+    arguments=add_arguments,
+)

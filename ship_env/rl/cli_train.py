@@ -1,6 +1,6 @@
 """``ship-env train``: train a stable-baselines3 agent with the hyper-parameters of ``configs/agents``.
 
-Registered by :func:`add_parser`; stable-baselines3 and torch are imported only when the command
+Declared as :data:`COMMAND`; stable-baselines3 and torch are imported only when the command
 runs, so the rest of the command line starts quickly.
 """
 
@@ -11,7 +11,7 @@ import shlex
 import time
 from pathlib import Path
 
-from ship_env.command_line import add_command, whole_number
+from ship_env.command_line import Command, add_progress_argument, whole_number
 from ship_env.ray_cluster import add_backend_arguments
 from ship_env.rl.agents import ALGORITHMS, DEFAULT_TORCH_THREADS
 from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE, PolicyMetadata
@@ -104,29 +104,8 @@ def _seed_list(text: str) -> tuple[int, ...]:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
-def add_parser(subcommands: argparse._SubParsersAction) -> None:
-    """Register ``ship-env train``."""
-    parser = add_command(
-        subcommands,
-        "train",
-        help="train a PPO, recurrent PPO (ppo_lstm) or SAC policy on an environment",
-        description=(
-            "Train a stable-baselines3 agent (or sb3-contrib's RecurrentPPO: --algo ppo_lstm) on the native\n"
-            "vector environment with the hyper-parameters of configs/agents/<algo>.yaml (one entry per\n"
-            "environment id, as rl-zoo3 keeps them), and\n"
-            "save model.zip with metadata.json (environment and its kwargs, config, seed, steps, wall\n"
-            "time, package versions, the command that reproduces the run). --seeds trains several seeds,\n"
-            "one after another or as Ray tasks (--backend ray), each the same run as its own --seed command.\n"
-            "A folder that already holds a run is not overwritten without --force. TensorBoard logs go to\n"
-            "<out>/tensorboard when tensorboard is installed."
-        ),
-        examples=(
-            "ship-env train --algo ppo --env ship_env/CourseChange-v0",
-            "ship-env train --algo ppo --env ship_env/CourseChange-v0 --seeds 0-4 --backend ray",
-            "ship-env train --algo sac --env ship_env/CourseChange-v0 --steps 50000 --seed 3 --out runs/sac3",
-        ),
-        handler=run_train,
-    )
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``ship-env train``."""
     parser.add_argument("--algo", choices=list(ALGORITHMS), required=True, help="the algorithm")
     parser.add_argument(
         "--env", default=DEFAULT_ENV, metavar="ID", help="the Gymnasium environment id (default: %(default)s)"
@@ -175,4 +154,27 @@ def add_parser(subcommands: argparse._SubParsersAction) -> None:
         metavar="N",
         help="torch intra-op threads; 1 is fastest on 2 shared cores (default: %(default)s)",
     )
-    parser.add_argument("--no-progress", action="store_true", help="do not show the progress bar")
+    add_progress_argument(parser)
+
+
+COMMAND = Command(
+    "train",
+    help="train a PPO, recurrent PPO (ppo_lstm) or SAC policy on an environment",
+    description=(
+        "Train a stable-baselines3 agent (or sb3-contrib's RecurrentPPO: --algo ppo_lstm) on the native\n"
+        "vector environment with the hyper-parameters of configs/agents/<algo>.yaml (one entry per\n"
+        "environment id, as rl-zoo3 keeps them), and\n"
+        "save model.zip with metadata.json (environment and its kwargs, config, seed, steps, wall\n"
+        "time, package versions, the command that reproduces the run). --seeds trains several seeds,\n"
+        "one after another or as Ray tasks (--backend ray), each the same run as its own --seed command.\n"
+        "A folder that already holds a run is not overwritten without --force. TensorBoard logs go to\n"
+        "<out>/tensorboard when tensorboard is installed."
+    ),
+    examples=(
+        "ship-env train --algo ppo --env ship_env/CourseChange-v0",
+        "ship-env train --algo ppo --env ship_env/CourseChange-v0 --seeds 0-4 --backend ray",
+        "ship-env train --algo sac --env ship_env/CourseChange-v0 --steps 50000 --seed 3 --out runs/sac3",
+    ),
+    handler=run_train,
+    arguments=add_arguments,
+)

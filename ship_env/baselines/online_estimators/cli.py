@@ -1,6 +1,6 @@
 """``ship-env identify-bench``: every on-line estimator on the same logs, a table, plots, and stelling 5.
 
-:func:`add_parser` registers the subcommand with the ``ship-env`` parser; the comparison and
+:data:`COMMAND` declares the subcommand for the ``ship-env`` parser; the comparison and
 matplotlib are imported only when it runs.
 """
 
@@ -9,10 +9,9 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from pathlib import Path
 
 from ship_env.baselines.online_estimators.scenarios import SCENARIOS, adaptation_trials
-from ship_env.command_line import add_command, name_list, number, prepare_outputs
+from ship_env.command_line import Command, add_output_arguments, name_list, number, prepare_outputs
 
 
 def run_identify_bench(args: argparse.Namespace) -> int:
@@ -84,27 +83,8 @@ def run_identify_bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def add_parser(subparsers: argparse._SubParsersAction) -> None:
-    """Register ``ship-env identify-bench``."""
-    parser = add_command(
-        subparsers,
-        "identify-bench",
-        help="compare the on-line identification methods (Perera, Nguyen, Song, Passenier) on the same logs",
-        description=(
-            "Sail excitation runs (zig-zag, PRBS, white-noise rudder, turning, a loading change, a speed\n"
-            "change) on the container ship and on Perera et al.'s model, run every on-line estimator on the\n"
-            "same logs (Nguyen's RLS, Passenier's combined MRAS and random-walk EKF, Song's EKF, Perera's\n"
-            "EKF) and print per estimator the final parameter error, the time to within 10 %, J_p (thesis\n"
-            "6.1) and the cost per sample; then test stelling 5 (random walk against a forgetting factor\n"
-            "matched to the same steady-state noise)."
-        ),
-        examples=(
-            "ship-env identify-bench --plot identification/",
-            "ship-env identify-bench --scenarios zigzag,loading-change --no-adaptation",
-            "ship-env identify-bench --scale 0.25 --json bench.json",
-        ),
-        handler=run_identify_bench,
-    )
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """The arguments of ``ship-env identify-bench``."""
     parser.add_argument(
         "--scenarios",
         type=name_list("scenario", SCENARIOS),
@@ -121,5 +101,25 @@ def add_parser(subparsers: argparse._SubParsersAction) -> None:
         help="multiply every run's duration (and change time) by F, e.g. 0.25 for a quick look (default: %(default)s)",
     )
     parser.add_argument("--no-adaptation", action="store_true", help="leave out the stelling-5 comparison")
-    parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write convergence plots (PNG) into DIR")
-    parser.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the results to FILE as JSON")
+    add_output_arguments(parser, plots="convergence plots (PNG)", json_content="the results")
+
+
+COMMAND = Command(
+    "identify-bench",
+    help="compare the on-line identification methods (Perera, Nguyen, Song, Passenier) on the same logs",
+    description=(
+        "Sail excitation runs (zig-zag, PRBS, white-noise rudder, turning, a loading change, a speed\n"
+        "change) on the container ship and on Perera et al.'s model, run every on-line estimator on the\n"
+        "same logs (Nguyen's RLS, Passenier's combined MRAS and random-walk EKF, Song's EKF, Perera's\n"
+        "EKF) and print per estimator the final parameter error, the time to within 10 %, J_p (thesis\n"
+        "6.1) and the cost per sample; then test stelling 5 (random walk against a forgetting factor\n"
+        "matched to the same steady-state noise)."
+    ),
+    examples=(
+        "ship-env identify-bench --plot identification/",
+        "ship-env identify-bench --scenarios zigzag,loading-change --no-adaptation",
+        "ship-env identify-bench --scale 0.25 --json bench.json",
+    ),
+    handler=run_identify_bench,
+    arguments=add_arguments,
+)

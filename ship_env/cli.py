@@ -29,7 +29,8 @@ from ship_env.command_line import (
     Command,
     UsageError,
     add_command,
-    add_output_arguments,
+    add_json_argument,
+    add_plot_argument,
     name_list,
     number,
     prepare_outputs,
@@ -265,7 +266,8 @@ def _manoeuvre_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="A/B",
         help="zig-zag tests as rudder/heading change in deg, -A/-B starts to port (default: 10/10 20/20)",
     )
-    add_output_arguments(parser, plots="a PNG per manoeuvre", json_content="the figures and criteria")
+    add_plot_argument(parser, "a PNG per manoeuvre")
+    add_json_argument(parser, "the figures and criteria")
 
 
 MANOEUVRE_COMMAND = Command(
@@ -794,8 +796,8 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
     )
     _add_workbench_arguments(parser)
     parser.add_argument("--per-run", action="store_true", help="also fit each run on its own (in-sample)")
-    parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write a held-out PNG per run into DIR")
-    parser.add_argument("--json", type=Path, default=None, metavar="FILE", help="write the fit to FILE as JSON")
+    add_plot_argument(parser, "a held-out PNG per run")
+    add_json_argument(parser, "the fit")
 
     parser = _workbench_parser(
         subcommands,
@@ -813,7 +815,7 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help="the fitted model from 'ship-env fit --json FILE' (replaces --model and --add)",
     )
-    parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help="write a PNG per run into DIR")
+    add_plot_argument(parser, "a PNG per run")
 
     parser = _workbench_parser(
         subcommands,

@@ -141,11 +141,14 @@ def name_list(kind: str, known: Collection[str]) -> Callable[[str], list[str]]:
 
 
 # -- options several commands take ---------------------------------------------------------------
-def add_output_arguments(parser: argparse.ArgumentParser, plots: str, json_content: str) -> None:
-    """``--plot DIR`` (write ``plots`` into it) and ``--json FILE`` (``json_content`` as JSON), both
-    optional; :func:`prepare_outputs` checks them."""
+def add_plot_argument(parser: argparse.ArgumentParser, plots: str) -> None:
+    """``--plot DIR``: write ``plots`` into DIR (checked before any work, e.g. by :func:`prepare_outputs`)."""
     parser.add_argument("--plot", type=Path, default=None, metavar="DIR", help=f"write {plots} into DIR")
-    parser.add_argument("--json", type=Path, default=None, metavar="FILE", help=f"write {json_content} to FILE as JSON")
+
+
+def add_json_argument(parser: argparse.ArgumentParser, content: str) -> None:
+    """``--json FILE``: write ``content`` to FILE as JSON (checked before any work, e.g. by :func:`prepare_outputs`)."""
+    parser.add_argument("--json", type=Path, default=None, metavar="FILE", help=f"write {content} to FILE as JSON")
 
 
 def add_progress_argument(parser: argparse.ArgumentParser) -> None:

@@ -11,7 +11,7 @@ import json
 import sys
 
 from ship_env.baselines.online_estimators.scenarios import SCENARIOS, adaptation_trials
-from ship_env.command_line import Command, add_output_arguments, name_list, number, prepare_outputs
+from ship_env.command_line import Command, add_json_argument, add_plot_argument, name_list, number, prepare_outputs
 
 
 def run_identify_bench(args: argparse.Namespace) -> int:
@@ -101,7 +101,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="multiply every run's duration (and change time) by F, e.g. 0.25 for a quick look (default: %(default)s)",
     )
     parser.add_argument("--no-adaptation", action="store_true", help="leave out the stelling-5 comparison")
-    add_output_arguments(parser, plots="convergence plots (PNG)", json_content="the results")
+    add_plot_argument(parser, "convergence plots (PNG)")
+    add_json_argument(parser, "the results")
 
 
 COMMAND = Command(

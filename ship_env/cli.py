@@ -78,6 +78,7 @@ from ship_env.workbench.fit import NUISANCE
 from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
 from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
+from ship_env.workbench.parallel import usable_cores
 from ship_env.workbench.replay import Simulated
 from ship_env.workbench.signals import past_the_library, plot_signals
 from ship_env.workbench.tables import (
@@ -345,7 +346,7 @@ def _workbench_options(args: argparse.Namespace) -> FitOptions:
     if unknown:
         raise UsageError("--nuisance", f"unknown nuisance terms {unknown}; known: {', '.join(NUISANCE)}")
     scales = ErrorScales(math.radians(args.heading_scale), math.radians(args.rate_scale), args.position_scale)
-    return FitOptions(scales=scales, nuisance=nuisance, initial_window=args.window)
+    return FitOptions(scales=scales, nuisance=nuisance, initial_window=args.window, workers=getattr(args, "workers", 1))
 
 
 def _workbench_logs(args: argparse.Namespace, paths: Sequence[Path] | None = None) -> list[Log]:
@@ -655,6 +656,14 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
             default=[],
             metavar="NAME[,NAME]",
             help=f"per-run nuisance terms fitted with the model: {', '.join(NUISANCE)} (initial-state offsets)",
+        )
+        parser.add_argument(
+            "--workers",
+            type=_whole_number,
+            default=usable_cores(),
+            metavar="N",
+            help="processes that run independent fits side by side; 1: one after another, same results "
+            "(default: the usable cores, %(default)s)",
         )
     parser.add_argument(
         "--service-speed",

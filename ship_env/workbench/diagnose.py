@@ -49,7 +49,7 @@ from ship_env.workbench.terms import (
     why_not_fitted,
     with_values,
 )
-from ship_env.workbench.validation import CrossValidation, cross_validate
+from ship_env.workbench.validation import CrossValidation, ValidationJob, cross_validate_each
 
 #: Cost evaluations of a screening fit (a few Gauss-Newton iterations from the current fit).
 SCREENING_EVALUATIONS = 6
@@ -260,54 +260,64 @@ def diagnose(
 
 
 def screen(
-    current: CrossValidation, logs: Sequence[Log], found: Mapping[str, Evidence], options: FitOptions
-) -> CandidateResult:
-    """Add the effects ``found`` (with their evidence) to the current model, refit briefly and cross-validate.
+    current: CrossValidation, logs: Sequence[Log], founds: Sequence[Mapping[str, Evidence]], options: FitOptions
+) -> list[CandidateResult]:
+    """Add each set of effects found (with their evidence) to the current model, refit briefly and cross-validate.
 
     The refit is ``SCREENING_EVALUATIONS`` evaluations from the current fit with the new terms at
     their linearised estimates, without the validation runs (see the module docstring).
     """
-    effects = tuple(found)
-    added, terms = with_effect_at_null(current.fit.setup, *effects)
-    keys = [estimate.term.key for estimate in current.fit.estimates] + [term.key for term in terms]
-    linearised = {key: value for evidence_ in found.values() for key, value in evidence_.linearised.items()}
-    own_evidence = next(iter(found.values())) if len(found) == 1 else None
     quick = replace(options, max_evaluations=SCREENING_EVALUATIONS)
-    try:
-        screened = cross_validate(with_values(added, linearised), logs, keys, quick, groups=current.groups or None)
-    except (ValueError, FloatingPointError) as error:
-        return CandidateResult(effects, own_evidence, skipped=f"refit failed: {error}")
-    return CandidateResult(effects, own_evidence, screened=screened)
+    jobs = []
+    for found in founds:
+        added, terms = with_effect_at_null(current.fit.setup, *found)
+        keys = [estimate.term.key for estimate in current.fit.estimates] + [term.key for term in terms]
+        linearised = {key: value for evidence_ in found.values() for key, value in evidence_.linearised.items()}
+        jobs.append(ValidationJob(with_values(added, linearised), logs, keys, quick, groups=current.groups or None))
+    results = []
+    for found, outcome in zip(founds, cross_validate_each(jobs, options.workers), strict=True):
+        own_evidence = next(iter(found.values())) if len(found) == 1 else None
+        if isinstance(outcome, Exception):
+            results.append(CandidateResult(tuple(found), own_evidence, skipped=f"refit failed: {outcome}"))
+        else:
+            results.append(CandidateResult(tuple(found), own_evidence, screened=outcome))
+    return results
 
 
 def refit(
     current: CrossValidation,
     logs: Sequence[Log],
-    screened: CandidateResult,
+    screened: Sequence[CandidateResult],
     options: FitOptions,
-) -> CandidateResult:
-    """The screened candidate refitted and cross-validated, with the validation runs.
+) -> list[CandidateResult]:
+    """The screened candidates refitted and cross-validated, with the validation runs.
 
-    The fit starts from the screening's fit, from the current fit with the new terms at their null
+    Each fit starts from the screening's fit, from the current fit with the new terms at their null
     values and from the ship preset's values; the fit with the lowest cost is kept.
     """
-    fitted = screened.refitted_briefly
-    keys = [estimate.term.key for estimate in fitted.fit.estimates]
-    added, _ = with_effect_at_null(current.fit.setup, *screened.effects)
-    starts = ({key: value_of(added, key) for key in keys}, preset_values(added, keys))
-    try:
-        validation = cross_validate(
-            fitted.fit.setup,
-            logs,
-            keys,
-            options,
-            starts=starts,
-            groups=current.groups or None,
-            validate_on=current.validation_logs,
+    jobs = []
+    for candidate in screened:
+        fitted = candidate.refitted_briefly
+        keys = [estimate.term.key for estimate in fitted.fit.estimates]
+        added, _ = with_effect_at_null(current.fit.setup, *candidate.effects)
+        starts = ({key: value_of(added, key) for key in keys}, preset_values(added, keys))
+        jobs.append(
+            ValidationJob(
+                fitted.fit.setup,
+                logs,
+                keys,
+                options,
+                starts=starts,
+                groups=current.groups or None,
+                validate_on=current.validation_logs,
+            )
         )
-    except (ValueError, FloatingPointError) as error:
-        return replace(screened, skipped=f"refit failed: {error}")
-    return replace(screened, cross_validation=validation)
+    return [
+        replace(candidate, skipped=f"refit failed: {outcome}")
+        if isinstance(outcome, Exception)
+        else replace(candidate, cross_validation=outcome)
+        for candidate, outcome in zip(screened, cross_validate_each(jobs, options.workers), strict=True)
+    ]
 
 
 def screen_and_confirm(
@@ -322,10 +332,12 @@ def screen_and_confirm(
     A few evaluations can leave a candidate whose terms must move far well short of its optimum:
     the one the residuals point to most is refitted whatever its screening says.
     """
-    screened = [screen(current, logs, found, options) for found in founds]
+    screened = screen(current, logs, founds, options)
     best = _by_screened_score([c for c in screened if c.screened], options.scales)[:confirmed]
     best += [c for c in screened[:1] if c.screened]
-    return [refit(current, logs, c, options) if any(c is b for b in best) else c for c in screened]
+    chosen = [c for c in screened if any(c is b for b in best)]
+    refitted = iter(refit(current, logs, chosen, options))
+    return [next(refitted) if any(c is b for b in best) else c for c in screened]
 
 
 def _by_screened_score(candidates: Sequence[CandidateResult], scales: ErrorScales) -> list[CandidateResult]:

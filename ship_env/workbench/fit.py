@@ -114,6 +114,8 @@ class FitOptions:
         tolerance: relative change of cost and terms at which the fit stops.
         fold_method: how cross-validation fits a fold from the all-run fit: ``"linearised"``
             (one Gauss-Newton step with the left-out rows removed) or ``"refit"`` (a full fit).
+        workers: processes that run independent fits (starts, folds, candidates) side by side
+            (:mod:`.parallel`); 1 runs them one after another, with the same results.
     """
 
     scales: ErrorScales = field(default_factory=ErrorScales)
@@ -122,8 +124,11 @@ class FitOptions:
     max_evaluations: int = 100
     tolerance: float = 1e-6
     fold_method: str = "linearised"
+    workers: int = 1
 
     def __post_init__(self) -> None:
+        if self.workers < 1:
+            raise FitError(f"fit: workers must be at least 1, got {self.workers}")
         if self.fold_method not in FOLD_METHODS:
             raise FitError(f"fit: unknown fold_method {self.fold_method!r}; known: {', '.join(FOLD_METHODS)}")
         unknown = [name for name in self.nuisance if name not in NUISANCE]

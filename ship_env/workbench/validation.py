@@ -22,7 +22,7 @@ all-run fit: they are *validation runs*, never fitted.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +31,7 @@ from ship_env.model import ShipModel
 from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
 from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup, one_thread
 from ship_env.workbench.logs import Log
+from ship_env.workbench.parallel import run_each
 from ship_env.workbench.replay import ReplayModel, Simulated, simulate
 from ship_env.workbench.terms import default_terms, with_values
 
@@ -162,6 +163,37 @@ def _linearised_fold(problem: Problem, fitted: FitResult, left_out: Sequence[int
     return point
 
 
+@dataclass(frozen=True)
+class ValidationJob:
+    """A cross-validation to run (the arguments of :func:`cross_validate`, the terms named)."""
+
+    setup: ReplayModel
+    logs: Sequence[Log]
+    keys: Sequence[str]
+    options: FitOptions
+    starts: Sequence[Mapping[str, float]] = ()
+    groups: Sequence[str] | None = None
+    validate_on: Sequence[Log] = ()
+
+
+#: A fit to run: the model (its values are the start), the runs, the terms, the options.
+FitTask = tuple[ReplayModel, Sequence[Log], Sequence[str], FitOptions]
+
+
+def _fitted(task: FitTask) -> FitResult | Exception:
+    """The fit of a task, or the error that stopped it (returned, to be raised for its job alone)."""
+    try:
+        return Problem(*task).solve()
+    except (ValueError, FloatingPointError) as error:
+        return error
+
+
+def _fitted_values(task: FitTask) -> dict[str, float] | Exception:
+    """The fitted terms of a task (SI units), or the error that stopped it."""
+    fitted = _fitted(task)
+    return fitted if isinstance(fitted, Exception) else fitted.values()
+
+
 @one_thread
 def cross_validate(
     model: ShipModel | ReplayModel,
@@ -183,49 +215,127 @@ def cross_validate(
         validate_on: runs replayed by the all-run fit and never fitted (another manoeuvre type).
     """
     options = options or FitOptions()
-    folds_runs = fold_groups(logs, groups)
-    if len(folds_runs) < 2:
-        raise FitError("cross-validation: leaving one run out needs at least two runs (or two groups)")
     setup = as_setup(model)
     keys = default_terms(setup.model.effects) if terms is None else list(terms)
-    problems = [Problem(with_values(setup, start), logs, keys, options) for start in ({}, *starts)]
-    fits = [problem.solve() for problem in problems]
-    best = min(range(len(fits)), key=lambda i: float(fits[i].residual @ fits[i].residual))
-    problem, everything = problems[best], fits[best]
-    points = []
-    for left_out in folds_runs:
-        step = _linearised_fold(problem, everything, left_out) if options.fold_method == "linearised" else None
-        if step is None:
-            others = [log for i, log in enumerate(logs) if i not in left_out]
-            fold = Problem(everything.setup, others, keys, options)
-            points.append(problem.point_of(fold.values_at(fold.solve().solution)))
-        else:
-            points.append(problem.padded(step[: len(keys)]))
-    # Every fold's runs left out, replayed from their measured states, in one batch.
-    owner = {run: f for f, left_out in enumerate(folds_runs) for run in left_out}
-    replays = problem.replay_each(points, [owner[run] for run in range(len(logs))])
-    folds = tuple(
-        Fold(
-            left_out=tuple(logs[run].name for run in left_out),
-            setup=problem.setup_at(point),
-            values=problem.values_at(point),
+    job = ValidationJob(setup, logs, keys, options, starts, groups, validate_on)
+    outcome = cross_validate_each([job], options.workers)[0]
+    if isinstance(outcome, Exception):
+        raise outcome
+    return outcome
+
+
+def cross_validate_each(jobs: Sequence[ValidationJob], workers: int = 1) -> list[CrossValidation | Exception]:
+    """Each job's :func:`cross_validate`, or the error that stopped it; the fits on ``workers`` processes.
+
+    The jobs' all-run fits (every start of every job) run side by side, then every fold that needs
+    a full refit; the linearised folds and the held-out replays are computed here.
+    """
+    plans: list[_Plan | Exception] = []
+    for job in jobs:
+        try:
+            plans.append(_Plan(job))
+        except (ValueError, FloatingPointError) as error:
+            plans.append(error)
+    planned = [plan for plan in plans if isinstance(plan, _Plan)]
+    fits = iter(run_each(_fitted, [task for plan in planned for task in plan.start_tasks()], workers))
+    for plan in planned:
+        plan.choose([next(fits) for _ in plan.starts])
+    refits = iter(run_each(_fitted_values, [task for plan in planned for task in plan.fold_tasks()], workers))
+    return [
+        plan if isinstance(plan, Exception) else plan.finish([next(refits) for _ in plan.fold_tasks()])
+        for plan in plans
+    ]
+
+
+class _Plan:
+    """One cross-validation in its stages: the all-run fits from each start, the folds, the held-out replays.
+
+    A stage's fits are handed out as tasks (:data:`FitTask`) and their results handed back, so that
+    the fits of many cross-validations run side by side (:func:`cross_validate_each`).
+    """
+
+    def __init__(self, job: ValidationJob) -> None:
+        self.job = job
+        self.folds_runs = fold_groups(job.logs, job.groups)
+        if len(self.folds_runs) < 2:
+            raise FitError("cross-validation: leaving one run out needs at least two runs (or two groups)")
+        self.starts = [with_values(job.setup, start) for start in ({}, *job.starts)]
+        self.error: Exception | None = None
+        self.points: list[np.ndarray | None] = []
+        self._fold_tasks: list[FitTask] = []
+
+    def start_tasks(self) -> list[FitTask]:
+        return [(start, self.job.logs, self.job.keys, self.job.options) for start in self.starts]
+
+    def choose(self, fits: Sequence[FitResult | Exception]) -> None:
+        """Keep the all-run fit with the lowest cost; find each fold's fit by one step, or ask for a refit."""
+        try:
+            self._choose(fits)
+        except (ValueError, FloatingPointError) as error:
+            self.error = error
+            self._fold_tasks = []
+
+    def _choose(self, fits: Sequence[FitResult | Exception]) -> None:
+        done = [fitted for fitted in fits if not isinstance(fitted, Exception)]
+        if len(done) < len(fits):
+            raise next(fitted for fitted in fits if isinstance(fitted, Exception))
+        best = min(range(len(done)), key=lambda i: float(done[i].residual @ done[i].residual))
+        job = self.job
+        self.problem = Problem(self.starts[best], job.logs, job.keys, job.options)
+        self.everything = done[best]
+        for left_out in self.folds_runs:
+            linearised = job.options.fold_method == "linearised"
+            point = _linearised_fold(self.problem, self.everything, left_out) if linearised else None
+            self.points.append(None if point is None else self.problem.padded(point[: len(job.keys)]))
+            if point is None:
+                others = [log for i, log in enumerate(job.logs) if i not in left_out]
+                self._fold_tasks.append((self.everything.setup, others, job.keys, job.options))
+
+    def fold_tasks(self) -> list[FitTask]:
+        return self._fold_tasks
+
+    def finish(self, refits: Sequence[dict[str, float] | Exception]) -> CrossValidation | Exception:
+        """The cross-validation from the folds refitted in full (in the order of :meth:`fold_tasks`)."""
+        values = [fold for fold in refits if not isinstance(fold, Exception)]
+        if self.error is not None:
+            return self.error
+        if len(values) < len(refits):
+            return next(fold for fold in refits if isinstance(fold, Exception))
+        try:
+            return self._assemble(iter(values))
+        except (ValueError, FloatingPointError) as error:
+            return error
+
+    def _assemble(self, refits: Iterator[dict[str, float]]) -> CrossValidation:
+        job, problem, logs = self.job, self.problem, self.job.logs
+        points = [problem.point_of(next(refits)) if point is None else point for point in self.points]
+        # Every fold's runs left out, replayed from their measured states, in one batch.
+        owner = {run: f for f, left_out in enumerate(self.folds_runs) for run in left_out}
+        replays = problem.replay_each(points, [owner[run] for run in range(len(logs))])
+        folds = tuple(
+            Fold(
+                left_out=tuple(logs[run].name for run in left_out),
+                setup=problem.setup_at(point),
+                values=problem.values_at(point),
+            )
+            for left_out, point in zip(self.folds_runs, points, strict=True)
         )
-        for left_out, point in zip(folds_runs, points, strict=True)
-    )
-    validation_replays: list[Simulated] = []
-    if validate_on:
-        validation_replays = simulate(everything.setup, validate_on, options.initial_window)
-    labels = groups if groups is not None else [log.name for log in logs]
-    return CrossValidation(
-        fit=everything,
-        folds=folds,
-        held_out=tuple(run_errors(log, sim) for log, sim in zip(logs, replays, strict=True)),
-        replays=tuple(replays),
-        validation=tuple(run_errors(log, sim) for log, sim in zip(validate_on, validation_replays, strict=True)),
-        validation_replays=tuple(validation_replays),
-        groups=tuple(labels),
-        validation_logs=tuple(validate_on),
-    )
+        validation_replays: list[Simulated] = []
+        if job.validate_on:
+            validation_replays = simulate(self.everything.setup, job.validate_on, job.options.initial_window)
+        labels = job.groups if job.groups is not None else [log.name for log in logs]
+        return CrossValidation(
+            fit=self.everything,
+            folds=folds,
+            held_out=tuple(run_errors(log, sim) for log, sim in zip(logs, replays, strict=True)),
+            replays=tuple(replays),
+            validation=tuple(
+                run_errors(log, sim) for log, sim in zip(job.validate_on, validation_replays, strict=True)
+            ),
+            validation_replays=tuple(validation_replays),
+            groups=tuple(labels),
+            validation_logs=tuple(job.validate_on),
+        )
 
 
-__all__ = ["CrossValidation", "Fold", "cross_validate", "fold_groups"]
+__all__ = ["CrossValidation", "Fold", "ValidationJob", "cross_validate", "cross_validate_each", "fold_groups"]

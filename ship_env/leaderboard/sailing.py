@@ -1,7 +1,7 @@
 """The leaderboard's own seeded episode loop (SB3's ``evaluate_policy`` resets without seeds).
 
 :func:`sail_suite` sails every episode of a suite with one entrant: it makes the sailed
-environment (the suite's, with the condition's ship parameters), designs each episode's fresh
+environment (the suite's, sailing the condition's ship), designs each episode's fresh
 controller for the nominal ship, resets with the episode's seed and options, and steps until the
 episode ends. The result is a pure function of the entrant, the suite and the episode.
 """
@@ -10,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
@@ -77,15 +78,11 @@ def ship_task(env: gym.Env) -> ShipTask:
 def suite_envs(suite: Suite, entrant: Entrant) -> tuple[gym.Env, ShipModel]:
     """The environment the suite sails (with its condition's ship, observed as ``entrant`` was
     trained to) and the nominal ship's model."""
-    env_kwargs = {**suite.env_kwargs, **dict(entrant.observation_kwargs)}
-    nominal = gym.make(suite.env_id, **env_kwargs)
-    model = ship_task(nominal).model
-    if not suite.condition.scales:
-        return nominal, model
-    nominal.close()
-    ship_parameters = dict(suite.env_kwargs.get("ship_parameters", {}))
-    ship_parameters.update({key: scale * model.parameter(key) for key, scale in suite.condition.scales.items()})
-    return gym.make(suite.env_id, **{**env_kwargs, "ship_parameters": ship_parameters}), model
+    env_kwargs: dict[str, Any] = {**suite.env_kwargs, **dict(entrant.observation_kwargs)}
+    if suite.condition.scales:
+        env_kwargs["ship_variation"] = suite.condition.ship_variation()
+    env = gym.make(suite.env_id, **env_kwargs)
+    return env, ship_task(env).model
 
 
 def sail_recorded(entrant: Entrant, suite: Suite, episode: Episode) -> tuple[np.ndarray, ShipTask]:

@@ -14,6 +14,9 @@ episode's seed and reset options are fixed here.
 - **Robustness**: the same suites on a ship whose K*, tau* are off by a factor 2 from the values
   the controllers were designed for (``yaw.gain`` and ``yaw.time_constant`` scaled), or that sails
   at half its service speed (:data:`CONDITIONS`; at half speed a track may take twice as long).
+  The environment sails that ship as its ``ship_variation`` option would draw it
+  (:meth:`Condition.ship_variation`): the design ship's environment, whose observations keep the
+  design ship's scales (a learned policy is not told the changed K*, as no autopilot is).
 
 Seeds: episode k of a suite's r-th repetition has seed ``SEED_STRIDE * r + k``, so the quick
 suite's episodes are the first repetition of the full suite's.
@@ -92,6 +95,15 @@ class Condition:
     name: str
     slug: str
     scales: Mapping[str, float] = field(default_factory=dict)
+
+    def ship_variation(self) -> dict[str, tuple[float, float]]:
+        """The condition's ship as the environments' ``ship_variation`` ranges (each a single
+        value; :mod:`ship_env.envs.variation`): {} for the nominal ship."""
+        return {VARIATION_KEYS[key]: (scale, scale) for key, scale in self.scales.items()}
+
+
+#: Each scaled parameter's key in the environments' ``ship_variation`` ranges.
+VARIATION_KEYS = {"yaw.gain": "yaw_gain", "yaw.time_constant": "yaw_time_constant", "service_speed": "speed"}
 
 
 NOMINAL = Condition("nominal", "nominal")

@@ -185,3 +185,19 @@ def test_the_yaw_factor_scales_k_and_tau_together():
     ships = [task.draw_scenario(rng).ship for _ in range(50)]
     assert all(ship.yaw_gain == ship.yaw_time_constant for ship in ships)
     assert min(ship.yaw_gain for ship in ships) < 0.6 and max(ship.yaw_gain for ship in ships) > 1.7
+
+
+@pytest.mark.parametrize(("env_id", "speed"), [("ship_env/CourseChange-v0", 3), ("ship_env/TrackFollow-v0", 4)])
+def test_observe_design_speed_shows_a_slower_ship_in_the_speed_observation(env_id, speed):
+    """At half the service speed the log speed over the ship's own service speed reads 1, over the
+    design ship's 1/2; the other observations are the same numbers."""
+    observations = {}
+    for design in (False, True):
+        env = gym.make(env_id, ship_variation={"speed": (0.5, 0.5)}, observe_design_speed=design)
+        env.reset(seed=3)
+        observations[design] = env.step(np.zeros(1, dtype=np.float32))[0]
+    own, design = observations[False], observations[True]
+    assert own[speed] == pytest.approx(1.0, abs=0.02) and design[speed] == pytest.approx(0.5 * own[speed], rel=1e-6)
+    np.testing.assert_array_equal(np.delete(own, speed), np.delete(design, speed))
+    with pytest.raises(TypeError, match="observe_design_speed: expected true or false, got 'yes'"):
+        gym.make(env_id, observe_design_speed="yes")

@@ -71,8 +71,10 @@ def define_update_loops(module_globals: dict[str, Any]) -> tuple[Callable[..., N
 def measure_and_observe(i, state, conditions, noise_keys, step_index, episode, sensors, restarted, first, task):
     """Read ship ``i``'s instruments into its ``episode`` record (:func:`~ship_env.envs.sensors.measure`)
     and observe its motion at ``observation[first:first + 3]`` (:func:`~ship_env.envs.sensors.observe_motion`);
-    ``task`` is the task's parameter record (its ``rudder_limit`` and ``full_rudder_rate_per_speed``)."""
+    ``task`` is the task's parameter record (its ``rudder_limit``, ``full_rudder_rate_per_speed`` and
+    ``observed_speed_scale``: the speed observed over it, or over the ship's service speed if 0)."""
     service_speed = conditions[i, S.SERVICE_SPEED]
+    speed_scale = task["observed_speed_scale"] if task["observed_speed_scale"] > 0.0 else service_speed
     measured = episode["measurement"]
     measure(state, service_speed, episode["wave_yaw"], noise_keys[i], step_index[i], sensors, restarted, measured)
     observe_motion(
@@ -81,6 +83,7 @@ def measure_and_observe(i, state, conditions, noise_keys, step_index, episode, s
         measured,
         state[S.RUDDER],
         service_speed,
+        speed_scale,
         task["full_rudder_rate_per_speed"],
         task["rudder_limit"],
     )

@@ -51,7 +51,8 @@ class CourseChangeEnv(ShipEnv):
     1.35 deg/s for the default ship and limit. The turn direction tells a 180-deg change's way.
     With ``observation_history=n`` the heading error, rate of turn and rudder (0, 1, 2) of the n
     previous steps follow, newest first (``Box(5 + 3 n,)``): a policy without memory can then see
-    how the ship answers its rudder.
+    how the ship answers its rudder. With ``observe_design_speed=True`` the speed is over the
+    preset's service speed instead, so a ship sailing slower than designed shows it.
 
     ## Rewards
 
@@ -104,8 +105,9 @@ class CourseChangeEnv(ShipEnv):
     ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``,
     ``wave_period_range``; and those every task shares (:class:`~ship_env.envs.task.ShipTask`):
     ``ship``, ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``,
-    ``fix_interval`` (s, default 0: a fix every step), ``action_type``, ``rudder_levels``, and
-    ``ship_variation`` (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
+    ``fix_interval`` (s, default 0: a fix every step), ``action_type``, ``rudder_levels``,
+    ``observation_history``, ``decision_interval``, ``observe_design_speed`` and ``ship_variation``
+    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
 
     ## Version History
 

@@ -93,8 +93,9 @@ class CourseKeepingEnv(ShipEnv):
     ``rudder_limit_deg``, ``rudder_weight``, ``wind_speed_range``, ``current_speed_range``,
     ``wave_height_range``, ``wave_period_range``; and those every task shares
     (:class:`~ship_env.envs.task.ShipTask`): ``ship``, ``ship_parameters``, ``effects``, ``dt``
-    (s), ``sensor_noise_scale``, ``fix_interval`` (s), ``action_type``, ``rudder_levels``, and
-    ``ship_variation`` (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
+    (s), ``sensor_noise_scale``, ``fix_interval`` (s), ``action_type``, ``rudder_levels``,
+    ``observation_history``, ``decision_interval``, ``observe_design_speed`` and ``ship_variation``
+    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
 
     ## Version History
 

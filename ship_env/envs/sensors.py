@@ -132,14 +132,16 @@ SPEED_BOUND = 2.0
 
 
 @kernel
-def observe_motion(observation, first, measured, rudder, service_speed, full_rudder_rate_per_speed, rudder_limit):
+def observe_motion(
+    observation, first, measured, rudder, service_speed, speed_scale, full_rudder_rate_per_speed, rudder_limit
+):
     """Write the motion part every task observes into ``observation[first:first + 3]``.
 
     Rate of turn over the linear full-rudder steady rate K* U0 / L delta_max (clipped to
-    +-RATE_BOUND), actual rudder over the rudder limit, log speed over the service speed (clipped
-    to [0, SPEED_BOUND]).
+    +-RATE_BOUND), actual rudder over the rudder limit, log speed over ``speed_scale`` (the
+    service speed, or the design ship's; clipped to [0, SPEED_BOUND]).
     """
     steady_rate = full_rudder_rate_per_speed * service_speed
     observation[first] = min(max(measured[MEASURED_RATE_OF_TURN] / steady_rate, -RATE_BOUND), RATE_BOUND)
     observation[first + 1] = rudder / rudder_limit
-    observation[first + 2] = min(max(measured[MEASURED_SPEED] / service_speed, 0.0), SPEED_BOUND)
+    observation[first + 2] = min(max(measured[MEASURED_SPEED] / speed_scale, 0.0), SPEED_BOUND)

@@ -29,7 +29,7 @@ ACTION_TYPES = ("continuous", "discrete")
 #: The keywords that change what a policy observes or how often it acts (the tasks' observation options
 #: and decision interval): a policy trained with them steers only an environment made with the same (a
 #: leaderboard sails it so).
-OBSERVATION_KEYWORDS = ("observation_history", "track_preview", "decision_interval")
+OBSERVATION_KEYWORDS = ("observation_history", "track_preview", "decision_interval", "observe_design_speed")
 
 
 def observation_keywords(env_kwargs: Mapping[str, Any]) -> dict[str, Any]:
@@ -87,6 +87,10 @@ class ShipTask:
             ``decision_interval * dt`` s: the episode has that many times fewer decisions (a shorter
             horizon for its discount) and each decision's effect shows within the step.
             ``max_episode_steps`` counts environment steps (decisions).
+        observe_design_speed: ``False`` (default): the speed observation is the log speed over the
+            episode's own service speed (1 on a straight course at any service speed); ``True``: over
+            the preset's, so a ship that sails slower than designed (``ship_variation``'s speed, or
+            conditions given at reset) shows it, as the log shows a gain-scheduled autopilot.
     """
 
     #: The observation's elements ``observation_history`` remembers (each task sets its own).
@@ -113,6 +117,7 @@ class ShipTask:
         ship_variation: bool | Mapping[str, Sequence[float]] | None = None,
         observation_history: int = 0,
         decision_interval: int = 1,
+        observe_design_speed: bool = False,
     ) -> None:
         self.rudder_limit = math.radians(check_number("rudder_limit_deg", rudder_limit_deg, 1e-3, 90.0))
         self.dt = check_number("dt", dt, 1e-6)
@@ -123,6 +128,9 @@ class ShipTask:
         self.variation = None if ship_variation in (None, False) else ShipVariation(ship_variation)
         self.observation_history = check_whole_number("observation_history", observation_history, 0)
         self.decision_interval = check_whole_number("decision_interval", decision_interval, 1)
+        if not isinstance(observe_design_speed, bool):
+            raise TypeError(f"observe_design_speed: expected true or false, got {observe_design_speed!r}")
+        self.observe_design_speed = observe_design_speed
 
         preset = load_ship(ship)
         if effects is None:
@@ -141,11 +149,13 @@ class ShipTask:
 
     def parameter_record(self, **values: float | bool) -> np.ndarray:
         """The task's constants as its compiled update reads them: one record with ``rudder_limit``
-        (rad) and ``full_rudder_rate_per_speed`` (K* delta_max / L), then ``values`` (float64, or
-        bool for a flag)."""
+        (rad), ``full_rudder_rate_per_speed`` (K* delta_max / L) and ``observed_speed_scale`` (m/s:
+        the preset's service speed with ``observe_design_speed``, else 0: the episode's own), then
+        ``values`` (float64, or bool for a flag)."""
         values = {
             "rudder_limit": self.rudder_limit,
             "full_rudder_rate_per_speed": self.full_rudder_rate_per_speed,
+            "observed_speed_scale": self.model.service_speed if self.observe_design_speed else 0.0,
             **values,
         }
         dtype = np.dtype([(name, np.bool_ if isinstance(v, bool) else np.float64) for name, v in values.items()])

@@ -132,8 +132,8 @@ class TrackFollowEnv(ShipEnv):
     (s), ``track_preview``, ``line_of_sight_weight``, ``cross_track_reward_bound``, ``start``; and
     those every task shares (:class:`~ship_env.envs.task.ShipTask`): ``ship``,
     ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``, ``action_type``,
-    ``rudder_levels``, ``observation_history``, ``decision_interval`` and ``ship_variation`` (each
-    episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
+    ``rudder_levels``, ``observation_history``, ``decision_interval``, ``observe_design_speed`` and
+    ``ship_variation`` (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
 
     ## Version History
 

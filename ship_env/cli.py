@@ -527,7 +527,7 @@ def run_fit(args: argparse.Namespace) -> int:
         print("\neach run fitted on its own (in-sample)")
         print(error_table([f.errors[0] for f in fits], options.scales).text())
     if args.plot is not None:
-        plot_comparison(held_out_comparison(validation, logs), args.plot, "held out")
+        plot_comparison(held_out_comparison(validation, logs), args.plot, "held out", options.workers)
         print(f"\nplots written to {args.plot}/")
     if args.json is not None:
         args.json.write_text(json.dumps(_fit_json(validation, options.scales, runs), indent=2) + "\n")
@@ -602,7 +602,7 @@ def run_improve(args: argparse.Namespace) -> int:
     print(f"stopped: {ladder.stopped}")
     print("\nfinal model, fitted to all runs")
     print(estimate_table(ladder.final).text())
-    report = write_report(ladder, logs, args.report)
+    report = write_report(ladder, logs, args.report, workers=options.workers)
     print(f"\nreport written to {report}")
     return 0
 

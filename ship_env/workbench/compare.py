@@ -21,6 +21,7 @@ from matplotlib.figure import Figure as Drawing
 
 from ship_env.workbench.errors import RunErrors, pooled, run_errors
 from ship_env.workbench.logs import Log
+from ship_env.workbench.parallel import run_each
 from ship_env.workbench.replay import INITIAL_WINDOW, ReplayModel, Simulated, simulate
 from ship_env.workbench.validation import CrossValidation
 
@@ -128,9 +129,10 @@ def plot_run(log: Log, simulated: Simulated, errors: RunErrors, title: str, path
     return path
 
 
-def plot_comparison(comparison: Comparison, folder: Path, title: str) -> list[Path]:
-    """One PNG per run in ``folder`` (named after the runs)."""
-    return [
-        plot_run(log, simulated, errors, title, folder / f"{file_name(log.name)}.png")
+def plot_comparison(comparison: Comparison, folder: Path, title: str, workers: int = 1) -> list[Path]:
+    """One PNG per run in ``folder`` (named after the runs), drawn on ``workers`` processes."""
+    drawings = [
+        (log, simulated, errors, title, folder / f"{file_name(log.name)}.png")
         for log, simulated, errors in zip(comparison.logs, comparison.simulated, comparison.errors, strict=True)
     ]
+    return run_each(plot_run, drawings, workers)

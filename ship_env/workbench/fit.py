@@ -115,7 +115,8 @@ class FitOptions:
         fold_method: how cross-validation fits a fold from the all-run fit: ``"linearised"``
             (one Gauss-Newton step with the left-out rows removed) or ``"refit"`` (a full fit).
         workers: processes that run independent fits (starts, folds, candidates) side by side
-            (:mod:`.parallel`); 1 runs them one after another, with the same results.
+            (:mod:`.parallel`); 1 runs them one after another, with the same results. A script that
+            sets more needs the ``if __name__ == "__main__":`` guard (the workers are spawned).
     """
 
     scales: ErrorScales = field(default_factory=ErrorScales)
@@ -251,6 +252,7 @@ class Problem:
     ) -> tuple[np.ndarray, np.ndarray]:
         """Replay ``requests`` (point, run, track?) in one batch."""
         records = np.repeat(self.setup.model.record, len(points))
+        currents = [self._current(x) for x in points]
         for p, x in enumerate(points):
             write_record(records[p : p + 1], self.terms, self._term_values(x))
         offsets = np.stack(
@@ -261,27 +263,26 @@ class Problem:
             run=[run for _, run, _ in requests],
             track=[track for _, _, track in requests],
             initial_offset=offsets,
-            current=np.array([self._current(points[p]) for p, _, _ in requests]),
+            current=np.array([currents[p] for p, _, _ in requests]),
         )
         self.evaluations += 1
         return replay(self.runs, records, tasks)
 
     def _free_part(self, run: int, free: np.ndarray) -> np.ndarray:
-        """The weighted heading and rate-of-turn residual of a free replay."""
+        """The weighted heading and rate-of-turn residual of a free replay (or of a stack of them)."""
         log = self.logs[run]
         scales = self.options.scales
-        parts = [(free[: log.samples, HEADING] - log.heading) / scales.heading]
+        parts = [(free[..., : log.samples, HEADING] - log.heading) / scales.heading]
         if log.rate_of_turn is not None:
-            parts.append((free[: log.samples, RATE] - log.rate_of_turn) / scales.rate_of_turn)
-        return np.concatenate(parts)
+            parts.append((free[..., : log.samples, RATE] - log.rate_of_turn) / scales.rate_of_turn)
+        return np.concatenate(parts, axis=-1)
 
     def _track_part(self, run: int, track: np.ndarray) -> np.ndarray:
-        """The weighted north and east residual of a track replay."""
+        """The weighted north and east residual of a track replay (or of a stack of them)."""
         log = self.logs[run]
         position = self.options.scales.position
-        return np.concatenate(
-            [(track[: log.samples, NORTH] - log.north) / position, (track[: log.samples, EAST] - log.east) / position]
-        )
+        north = (track[..., : log.samples, NORTH] - log.north) / position
+        return np.concatenate([north, (track[..., : log.samples, EAST] - log.east) / position], axis=-1)
 
     def _requests(self, point: int, runs: Sequence[int], free: bool = True, track: bool = True) -> list[Request]:
         requests = [(point, run, False) for run in runs] if free else []
@@ -335,17 +336,22 @@ class Problem:
                 requests += self._requests(j, [(j - len(self.terms)) // per_run], track=False)
         outputs, _ = self._outputs(points, requests)
         matrix = np.zeros((len(base), self.size))
-        for i, (j, run, track) in enumerate(requests):
+        replays_of: dict[tuple[int, bool], list[int]] = {}  # (run, track?) -> its requests
+        for i, (_, run, track) in enumerate(requests):
+            replays_of.setdefault((run, track), []).append(i)
+        for (run, track), indices in replays_of.items():
             rows = self._rows(run, track)
-            part = self._track_part(run, outputs[i]) if track else self._free_part(run, outputs[i])
-            matrix[rows, j] = (part - base[rows]) / steps[j]
-        track_rows = np.zeros(len(base), dtype=bool)
-        for run in all_runs:
-            track_rows[self._rows(run, True)] = True
-        for j in range(len(self.terms)):
-            moves = (bool(np.any(matrix[~track_rows, j])), bool(np.any(matrix[track_rows, j])))
-            if self._moves[j] is None and any(moves):
-                self._moves[j] = moves
+            columns = [requests[i][0] for i in indices]
+            parts = self._track_part(run, outputs[indices]) if track else self._free_part(run, outputs[indices])
+            matrix[rows, columns] = ((parts - base[rows]) / steps[columns, np.newaxis]).T
+        if any(moves is None for moves in self._moves):
+            track_rows = np.zeros(len(base), dtype=bool)
+            for run in all_runs:
+                track_rows[self._rows(run, True)] = True
+            for j in range(len(self.terms)):
+                moves = (bool(np.any(matrix[~track_rows, j])), bool(np.any(matrix[track_rows, j])))
+                if self._moves[j] is None and any(moves):
+                    self._moves[j] = moves
         return matrix
 
     def residual_length(self, run: int) -> int:

@@ -8,7 +8,9 @@ process takes it, and the results come back in the items' order: the outcome is 
 bit, with one worker or many.
 
 The pool is started once (``spawn``: the compiled replay's OpenMP threads do not survive a
-``fork``) and kept for the next calls with the same number of workers.
+``fork``) and kept for the next calls with the same number of workers. A spawned worker knows the
+built-in effects and those of installed entry points; while this process has registered others (a
+notebook's, a script's), the fits run here, one after another.
 """
 
 from __future__ import annotations
@@ -16,13 +18,13 @@ from __future__ import annotations
 import multiprocessing
 import os
 from collections.abc import Callable, Iterable
-from concurrent.futures import ProcessPoolExecutor
-from typing import TypeVar
+from concurrent.futures import Future, ProcessPoolExecutor
+from typing import Any, TypeVar
 
-Item = TypeVar("Item")
 Result = TypeVar("Result")
 
-_pool: tuple[int, ProcessPoolExecutor] | None = None
+#: The pool: its number of workers, the workers, and their effect registry's fingerprint.
+_pool: tuple[int, ProcessPoolExecutor, str] | None = None
 
 
 def usable_cores() -> int:
@@ -44,22 +46,50 @@ def _single_threaded() -> None:
     threadpool_limits(limits=1, user_api="blas")
 
 
-def _workers(count: int) -> ProcessPoolExecutor:
+def _registry() -> str:
+    """A fingerprint of the registered effects (names, order and equations)."""
+    from ship_env.model import EFFECTS
+
+    return EFFECTS.fingerprint(list(EFFECTS))
+
+
+def _workers(count: int) -> tuple[ProcessPoolExecutor, str]:
     global _pool
     if _pool is None or _pool[0] != count:
         if _pool is not None:
             _pool[1].shutdown()
         context = multiprocessing.get_context("spawn")
-        _pool = (count, ProcessPoolExecutor(count, mp_context=context, initializer=_single_threaded))
-    return _pool[1]
+        executor = ProcessPoolExecutor(count, mp_context=context, initializer=_single_threaded)
+        _pool = (count, executor, executor.submit(_registry).result())
+    return _pool[1], _pool[2]
 
 
-def run_each(function: Callable[[Item], Result], items: Iterable[Item], workers: int) -> list[Result]:
-    """``[function(item) for item in items]``, over ``workers`` processes where more than one.
+class _InProcess:
+    """The pool's ``submit`` for one worker: the call made at once, in this process."""
 
-    ``function`` must be a module-level function and the items picklable.
+    def submit(self, function: Callable[..., Result], *arguments: Any) -> Future[Result]:
+        done: Future[Result] = Future()
+        done.set_result(function(*arguments))
+        return done
+
+
+def pool(workers: int) -> ProcessPoolExecutor | _InProcess:
+    """Something to ``submit(function, *arguments)`` to: the worker processes, or this process for one
+    (or where the workers would not know this process's effects)."""
+    if workers > 1:
+        executor, registry = _workers(workers)
+        if registry == _registry():
+            return executor
+    return _InProcess()
+
+
+def run_each(function: Callable[..., Result], arguments: Iterable[tuple[Any, ...]], workers: int) -> list[Result]:
+    """``[function(*item) for item in arguments]``, over ``workers`` processes where more than one.
+
+    ``function`` must be a module-level function and the arguments picklable.
     """
-    items = list(items)
-    if workers <= 1 or len(items) <= 1:
-        return [function(item) for item in items]
-    return list(_workers(workers).map(function, items))
+    items = list(arguments)
+    runner = pool(workers) if len(items) > 1 else _InProcess()
+    if isinstance(runner, _InProcess):
+        return [function(*item) for item in items]
+    return list(runner.map(function, *zip(*items, strict=True)))

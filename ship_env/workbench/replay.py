@@ -31,7 +31,7 @@ from numba import prange
 from ship_env.model import ShipModel, draws
 from ship_env.model import state as S
 from ship_env.model.dynamics import derivatives
-from ship_env.model.integrators import RK4, new_workspace, step_ship
+from ship_env.model.integrators import RK4, WORK_ROWS, borrowed, step_ship
 from ship_env.model.kernel import kernel, parallel_kernel
 from ship_env.workbench.logs import Log
 
@@ -174,6 +174,69 @@ def _record(out, task, sample, state):
     out[task, sample, RATE] = state[S.RATE_OF_TURN]
 
 
+@kernel
+def _replay_task(
+    task,
+    work,
+    row,
+    records,
+    task_record,
+    task_run,
+    task_track,
+    task_initial,
+    task_current,
+    offsets,
+    time,
+    rudder,
+    conditions,
+    heading,
+    rate,
+    no_draws,
+    out,
+    valid,
+):
+    """Replay task ``task`` of ``_replay`` with the scratch space ``work`` and a row of conditions ``row``."""
+    # Borrowed (see ``integrators.borrowed``): the arrays pass on to each step at no reference-counting cost.
+    work, row, records, task_initial, time, rudder, conditions, heading, rate, no_draws, out = borrowed(
+        (work, row, records, task_initial, time, rudder, conditions, heading, rate, no_draws, out)
+    )
+    size = task_initial.shape[1]
+    step_work = work[:WORK_ROWS]
+    slope = work[WORK_ROWS : WORK_ROWS + 2]
+    stage = work[WORK_ROWS + 2]
+    white_noise = work[WORK_ROWS + 3]
+    state = work[WORK_ROWS + 4]
+    params = records[task_record[task] : task_record[task] + 1]
+    first = offsets[task_run[task]]
+    count = offsets[task_run[task] + 1] - first
+    for j in range(size):
+        state[j] = task_initial[task, j]
+    current_speed = math.hypot(task_current[task, 0], task_current[task, 1])
+    current_direction = math.atan2(task_current[task, 1], task_current[task, 0])
+    valid[task] = True
+    _record(out, task, 0, state)
+    for k in range(count - 1):
+        i = first + k
+        for j in range(S.CONDITION_SIZE):
+            row[j] = conditions[i, j]
+        row[S.CURRENT_SPEED] = current_speed
+        row[S.CURRENT_DIRECTION] = current_direction
+        if valid[task]:
+            if task_track[task]:
+                valid[task] = _track_step(
+                    state, i, row, time, heading, rate, params, slope, stage, white_noise, no_draws
+                )
+            else:
+                valid[task] = step_ship(
+                    state, rudder[i], row, np.uint64(0), 0, no_draws, params, time[i + 1] - time[i], RK4, step_work
+                )
+        if valid[task]:
+            _record(out, task, k + 1, state)
+        else:
+            for j in range(OUTPUT_SIZE):
+                out[task, k + 1, j] = out[task, k, j]
+
+
 @parallel_kernel
 def _replay(
     records,
@@ -198,40 +261,29 @@ def _replay(
     held at the last valid state, so that a fitter sees a large but finite error. A replayed log
     meets no random numbers: its effects' draws (a random sea) are ``no_draws``, zeros.
     """
-    size = task_initial.shape[1]
     for task in prange(task_record.shape[0]):
-        work = new_workspace(size)
-        slope = np.zeros((2, size))
-        stage = np.zeros(size)
-        white_noise = np.zeros(size)
-        row = np.zeros(S.CONDITION_SIZE)
-        params = records[task_record[task] : task_record[task] + 1]
-        first = offsets[task_run[task]]
-        count = offsets[task_run[task] + 1] - first
-        state = task_initial[task].copy()
-        current_speed = math.hypot(task_current[task, 0], task_current[task, 1])
-        current_direction = math.atan2(task_current[task, 1], task_current[task, 0])
-        valid[task] = True
-        _record(out, task, 0, state)
-        for k in range(count - 1):
-            i = first + k
-            row[:] = conditions[i]
-            row[S.CURRENT_SPEED] = current_speed
-            row[S.CURRENT_DIRECTION] = current_direction
-            if valid[task]:
-                if task_track[task]:
-                    valid[task] = _track_step(
-                        state, i, row, time, heading, rate, params, slope, stage, white_noise, no_draws
-                    )
-                else:
-                    valid[task] = step_ship(
-                        state, rudder[i], row, np.uint64(0), 0, no_draws, params, time[i + 1] - time[i], RK4, work
-                    )
-            if valid[task]:
-                _record(out, task, k + 1, state)
-            else:
-                for j in range(OUTPUT_SIZE):
-                    out[task, k + 1, j] = out[task, k, j]
+        # The step's scratch space, then the track step's two slopes, its stage and white noise, the state.
+        work = np.zeros((WORK_ROWS + 5, task_initial.shape[1]))
+        _replay_task(
+            task,
+            work,
+            np.zeros(S.CONDITION_SIZE),
+            records,
+            task_record,
+            task_run,
+            task_track,
+            task_initial,
+            task_current,
+            offsets,
+            time,
+            rudder,
+            conditions,
+            heading,
+            rate,
+            no_draws,
+            out,
+            valid,
+        )
 
 
 @dataclass(frozen=True)

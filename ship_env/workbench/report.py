@@ -62,8 +62,10 @@ def _figure_links(paths: Sequence[Path], folder: Path) -> list[str]:
     return [f"![{path.stem}]({path.relative_to(folder).as_posix()})" for path in paths]
 
 
-def write_report(ladder: Ladder, logs: Sequence[Log], folder: Path, title: str = "Measurement workbench") -> Path:
-    """Write ``report.md`` with its figures into ``folder``; returns the report's path."""
+def write_report(
+    ladder: Ladder, logs: Sequence[Log], folder: Path, title: str = "Measurement workbench", workers: int = 1
+) -> Path:
+    """Write ``report.md`` with its figures (drawn on ``workers`` processes) into ``folder``; returns its path."""
     folder.mkdir(parents=True, exist_ok=True)
     scales = ladder.scales
     first, last = ladder.rungs[0], ladder.rungs[-1]
@@ -123,7 +125,9 @@ def write_report(ladder: Ladder, logs: Sequence[Log], folder: Path, title: str =
     lines += ["## Runs, held out: measured against simulated", ""]
     for label, rung in (("start", first), ("final", last)) if len(ladder.rungs) > 1 else (("final", last),):
         comparison = held_out_comparison(rung.validation, logs)
-        paths = plot_comparison(comparison, folder / label, f"{label} model, held out: {', '.join(rung.effects)}")
+        paths = plot_comparison(
+            comparison, folder / label, f"{label} model, held out: {', '.join(rung.effects)}", workers
+        )
         lines += [f"### {label} model", "", *_figure_links(paths, folder), ""]
     path = folder / "report.md"
     path.write_text("\n".join(lines))

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterator, Mapping, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, wait
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,7 +32,7 @@ from ship_env.model import ShipModel
 from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
 from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup, one_thread
 from ship_env.workbench.logs import Log
-from ship_env.workbench.parallel import run_each
+from ship_env.workbench.parallel import pool
 from ship_env.workbench.replay import ReplayModel, Simulated, simulate
 from ship_env.workbench.terms import default_terms, with_values
 
@@ -180,17 +181,19 @@ class ValidationJob:
 FitTask = tuple[ReplayModel, Sequence[Log], Sequence[str], FitOptions]
 
 
-def _fitted(task: FitTask) -> FitResult | Exception:
-    """The fit of a task, or the error that stopped it (returned, to be raised for its job alone)."""
+def _fitted(setup: ReplayModel, logs: Sequence[Log], keys: Sequence[str], options: FitOptions) -> FitResult | Exception:
+    """The fit from the setup's values, or the error that stopped it (returned, to be raised for its job alone)."""
     try:
-        return Problem(*task).solve()
+        return Problem(setup, logs, keys, options).solve()
     except (ValueError, FloatingPointError) as error:
         return error
 
 
-def _fitted_values(task: FitTask) -> dict[str, float] | Exception:
-    """The fitted terms of a task (SI units), or the error that stopped it."""
-    fitted = _fitted(task)
+def _fitted_values(
+    setup: ReplayModel, logs: Sequence[Log], keys: Sequence[str], options: FitOptions
+) -> dict[str, float] | Exception:
+    """The fitted terms (SI units), or the error that stopped the fit."""
+    fitted = _fitted(setup, logs, keys, options)
     return fitted if isinstance(fitted, Exception) else fitted.values()
 
 
@@ -227,8 +230,10 @@ def cross_validate(
 def cross_validate_each(jobs: Sequence[ValidationJob], workers: int = 1) -> list[CrossValidation | Exception]:
     """Each job's :func:`cross_validate`, or the error that stopped it; the fits on ``workers`` processes.
 
-    The jobs' all-run fits (every start of every job) run side by side, then every fold that needs
-    a full refit; the linearised folds and the held-out replays are computed here.
+    Every job's all-run fits (every start) are handed to the workers at once, the jobs' last starts
+    first (a refit's fresh start from the preset takes longest); as soon as a job's starts are
+    done, the folds it must refit in full follow.
+    The linearised folds and the held-out replays are computed here.
     """
     plans: list[_Plan | Exception] = []
     for job in jobs:
@@ -237,14 +242,29 @@ def cross_validate_each(jobs: Sequence[ValidationJob], workers: int = 1) -> list
         except (ValueError, FloatingPointError) as error:
             plans.append(error)
     planned = [plan for plan in plans if isinstance(plan, _Plan)]
-    fits = iter(run_each(_fitted, [task for plan in planned for task in plan.start_tasks()], workers))
-    for plan in planned:
-        plan.choose([next(fits) for _ in plan.starts])
-    refits = iter(run_each(_fitted_values, [task for plan in planned for task in plan.fold_tasks()], workers))
-    return [
-        plan if isinstance(plan, Exception) else plan.finish([next(refits) for _ in plan.fold_tasks()])
-        for plan in plans
-    ]
+    workers_ = pool(workers)
+    starts: list[list[Future[FitResult | Exception]]] = [[] for _ in planned]
+    for k in reversed(range(max((len(plan.starts) for plan in planned), default=0))):
+        for plan, futures in zip(planned, starts, strict=True):
+            if k < len(plan.starts):
+                futures.insert(0, workers_.submit(_fitted, *plan.start_tasks()[k]))
+    folds: dict[int, list[Future[dict[str, float] | Exception]]] = {}
+    while len(folds) < len(planned):
+        for index, (plan, futures) in enumerate(zip(planned, starts, strict=True)):
+            if index not in folds and all(future.done() for future in futures):
+                plan.choose([future.result() for future in futures])
+                folds[index] = [workers_.submit(_fitted_values, *task) for task in plan.fold_tasks()]
+        running = [
+            future
+            for index, futures in enumerate(starts)
+            if index not in folds
+            for future in futures
+            if not future.done()
+        ]
+        if running:
+            wait(running, return_when=FIRST_COMPLETED)
+    finished = iter(plan.finish([future.result() for future in folds[index]]) for index, plan in enumerate(planned))
+    return [plan if isinstance(plan, Exception) else next(finished) for plan in plans]
 
 
 class _Plan:

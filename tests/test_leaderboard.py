@@ -252,15 +252,44 @@ def test_shipped_ppo_beats_the_best_classic_baseline_on_the_full_suite(disturban
     assert comparison.beats
 
 
+@pytest.fixture(scope="module")
+def shipped_track_follow():
+    """Every entrant on T1..T6 in the four conditions: the nominal ship, K*, tau* halved and doubled, half speed."""
+    assert len(seed_models(shipped_folder("ship_env/TrackFollow-v0", "ppo"))) == 5
+    spec = SuiteSpec(course_changes_deg=(), course_change_disturbances=())
+    return run_leaderboard(spec, progress=False)
+
+
 @pytest.mark.slow
-def test_shipped_track_follow_ppo_sails_t1_to_t6_nearer_than_the_thesis_navigators():
+def test_shipped_track_follow_ppo_sails_t1_to_t6_nearer_than_the_thesis_navigators(shipped_track_follow):
     """Five training seeds x T1..T6 on the nominal ship: every run reaches its track's end, and the
     IQM of the RMS cross-track error, its whole 95 % interval, lies below the track-predictor
     navigators' 33 m (Table 6.4), the best of the thesis's simulator experiment."""
-    assert len(seed_models(shipped_folder("ship_env/TrackFollow-v0", "ppo"))) == 5
-    spec = SuiteSpec(course_changes_deg=(), conditions=(NOMINAL,), course_change_disturbances=())
-    table = run_leaderboard(spec, progress=False).table("TrackFollow | nominal")
-    standing = table.standing(SHIPPED_PPO)
+    standing = shipped_track_follow.table("TrackFollow | nominal").standing(SHIPPED_PPO)
     print(standing)
     assert standing.sample == "5 seeds x 6 episodes" and standing.completed == 30
     assert standing.score.high is not None and standing.score.high < 33.0
+
+
+#: The halved ship: the shipped policy, trained on the nominal ship only, cannot turn it on the design
+#: ship's arcs and loses 4 of 30 ships (configs/agents/ppo.yaml: what training on varied ships gave).
+_HALVED_SHIP_NOT_YET = pytest.mark.xfail(
+    strict=True, reason="K*, tau* x0.5: 365 m against the course changer's 143 m (trained on the nominal ship)"
+)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "condition",
+    [pytest.param(K_TAU_HALF, marks=_HALVED_SHIP_NOT_YET), K_TAU_DOUBLE, HALF_SPEED],
+    ids=lambda c: c.slug,
+)
+def test_shipped_track_follow_ppo_holds_within_twice_the_course_changer_off_the_nominal_ship(
+    shipped_track_follow, condition
+):
+    """Off the ship the predictor course changer is designed for, the learned policy's IQM RMS
+    cross-track error (five seeds x T1..T6) is at most twice the course changer's."""
+    table = shipped_track_follow.table(f"TrackFollow | {condition.name}")
+    standing, course_changer = table.standing(SHIPPED_PPO), table.standing("predictor course changer")
+    print(standing, course_changer, sep="\n")
+    assert standing.score.value <= 2.0 * course_changer.score.value

@@ -393,12 +393,17 @@ class Problem:
     # -- the fit ---------------------------------------------------------------------------------
     def solve(self, x0: np.ndarray | None = None) -> FitResult:
         """Least squares from ``x0`` (default: the model's values); the fitted model and its errors."""
+        return self._result(*self.optimum(x0))
+
+    def optimum(self, x0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
+        """Least squares from ``x0`` (default: the model's values): the solution, its residual and Jacobian, the
+        optimiser's verdict."""
         lower, upper = self.bounds()
         if x0 is not None and len(x0) < self.size:
             x0 = self.padded(x0[: len(self.terms)])
         start = np.clip(self.start() if x0 is None else x0, lower, upper)
         if self.size == 0:
-            return self._result(start, self.residual(start), np.zeros((len(self.residual(start)), 0)), "nothing to fit")
+            return start, self.residual(start), np.zeros((len(self.residual(start)), 0)), "nothing to fit"
         solution = least_squares(
             self.residual,
             start,
@@ -411,7 +416,7 @@ class Problem:
             gtol=self.options.tolerance,
             max_nfev=self.options.max_evaluations,
         )
-        return self._result(solution.x, solution.fun, solution.jac, solution.message)
+        return solution.x, solution.fun, solution.jac, str(solution.message)
 
     def _result(self, x: np.ndarray, residual: np.ndarray, jacobian: np.ndarray, message: str) -> FitResult:
         lower, upper = self.bounds()

@@ -73,10 +73,10 @@ class _InProcess:
         return done
 
 
-def pool(workers: int) -> ProcessPoolExecutor | _InProcess:
+def pool(workers: int, tasks: int = 2) -> ProcessPoolExecutor | _InProcess:
     """Something to ``submit(function, *arguments)`` to: the worker processes, or this process for one
-    (or where the workers would not know this process's effects)."""
-    if workers > 1:
+    worker, for fewer than two ``tasks`` or where the workers would not know this process's effects."""
+    if workers > 1 and tasks > 1:
         executor, registry = _workers(workers)
         if registry == _registry():
             return executor
@@ -89,7 +89,7 @@ def run_each(function: Callable[..., Result], arguments: Iterable[tuple[Any, ...
     ``function`` must be a module-level function and the arguments picklable.
     """
     items = list(arguments)
-    runner = pool(workers) if len(items) > 1 else _InProcess()
+    runner = pool(workers, len(items))
     if isinstance(runner, _InProcess):
         return [function(*item) for item in items]
     return list(runner.map(function, *zip(*items, strict=True)))

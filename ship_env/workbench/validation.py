@@ -193,8 +193,11 @@ def _fitted_values(
     setup: ReplayModel, logs: Sequence[Log], keys: Sequence[str], options: FitOptions
 ) -> dict[str, float] | Exception:
     """The fitted terms (SI units), or the error that stopped the fit."""
-    fitted = _fitted(setup, logs, keys, options)
-    return fitted if isinstance(fitted, Exception) else fitted.values()
+    try:
+        problem = Problem(setup, logs, keys, options)
+        return problem.values_at(problem.optimum()[0])
+    except (ValueError, FloatingPointError) as error:
+        return error
 
 
 @one_thread
@@ -232,8 +235,8 @@ def cross_validate_each(jobs: Sequence[ValidationJob], workers: int = 1) -> list
 
     Every job's all-run fits (every start) are handed to the workers at once, the jobs' last starts
     first (a refit's fresh start from the preset takes longest); as soon as a job's starts are
-    done, the folds it must refit in full follow.
-    The linearised folds and the held-out replays are computed here.
+    done, the folds it must refit in full follow. The linearised folds and the held-out replays
+    are computed here.
     """
     plans: list[_Plan | Exception] = []
     for job in jobs:
@@ -242,7 +245,8 @@ def cross_validate_each(jobs: Sequence[ValidationJob], workers: int = 1) -> list
         except (ValueError, FloatingPointError) as error:
             plans.append(error)
     planned = [plan for plan in plans if isinstance(plan, _Plan)]
-    workers_ = pool(workers)
+    # One fit alone (a single start of a single job) runs here, with its folds: a pool would cost more.
+    workers_ = pool(workers, sum(len(plan.starts) for plan in planned))
     starts: list[list[Future[FitResult | Exception]]] = [[] for _ in planned]
     for k in reversed(range(max((len(plan.starts) for plan in planned), default=0))):
         for plan, futures in zip(planned, starts, strict=True):

@@ -30,6 +30,7 @@ from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.fit import FitOptions, as_setup, one_thread
 from ship_env.workbench.logs import Log
+from ship_env.workbench.parallel import start as start_workers
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.validation import CrossValidation, cross_validate
 
@@ -119,6 +120,7 @@ def improve(
         require_validation: an effect must also lower the validation runs' score by ``min_gain``.
     """
     options = options or FitOptions()
+    start_workers(options.workers)
     say = progress or (lambda text: None)
     scales = options.scales
     validation = cross_validate(as_setup(model), logs, options=options, groups=groups, validate_on=validate_on)

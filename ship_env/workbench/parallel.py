@@ -23,8 +23,8 @@ from typing import Any, TypeVar
 
 Result = TypeVar("Result")
 
-#: The pool: its number of workers, the workers, and their effect registry's fingerprint.
-_pool: tuple[int, ProcessPoolExecutor, str] | None = None
+#: The pool: its number of workers, the workers, and their effect registry's fingerprint (to come).
+_pool: tuple[int, ProcessPoolExecutor, Future[str]] | None = None
 
 
 def usable_cores() -> int:
@@ -53,15 +53,23 @@ def _registry() -> str:
     return EFFECTS.fingerprint(list(EFFECTS))
 
 
-def _workers(count: int) -> tuple[ProcessPoolExecutor, str]:
+def start(workers: int) -> None:
+    """Start ``workers`` worker processes (for more than one) without waiting for them: they start
+    while this process goes on (fits the starting model)."""
+    if workers > 1:
+        _workers(workers)
+
+
+def _workers(count: int) -> ProcessPoolExecutor:
     global _pool
     if _pool is None or _pool[0] != count:
         if _pool is not None:
             _pool[1].shutdown()
         context = multiprocessing.get_context("spawn")
         executor = ProcessPoolExecutor(count, mp_context=context, initializer=_single_threaded)
-        _pool = (count, executor, executor.submit(_registry).result())
-    return _pool[1], _pool[2]
+        # One call per worker: each submission starts a process.
+        _pool = (count, executor, [executor.submit(_registry) for _ in range(count)][0])
+    return _pool[1]
 
 
 class _InProcess:
@@ -77,8 +85,8 @@ def pool(workers: int, tasks: int = 2) -> ProcessPoolExecutor | _InProcess:
     """Something to ``submit(function, *arguments)`` to: the worker processes, or this process for one
     worker, for fewer than two ``tasks`` or where the workers would not know this process's effects."""
     if workers > 1 and tasks > 1:
-        executor, registry = _workers(workers)
-        if registry == _registry():
+        executor = _workers(workers)
+        if _pool is not None and _pool[2].result() == _registry():
             return executor
     return _InProcess()
 

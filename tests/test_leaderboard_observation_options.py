@@ -32,8 +32,9 @@ def test_a_policy_with_observation_history_is_sailed_with_it(tmp_path):
     assert len([result for result in board.results if result.kind == "learned"]) == 2  # +-30 deg, sailed
 
 
-def test_the_robust_course_change_config_loads_and_fits_its_environment():
-    config = load_agent_config("ppo", "ship_env/CourseChange-v0", config_dir() / "agents" / "ppo_robust.yaml")
+def test_the_course_change_config_loads_and_fits_its_environment():
+    """The shipped CourseChange policy's entry: varied ships and a history of the observations."""
+    config = load_agent_config("ppo", "ship_env/CourseChange-v0", config_dir() / "agents" / "ppo.yaml")
     env = gym.make(config.env_id, **config.env_kwargs)
     scales = config.hyperparameters["policy_kwargs"]["features_extractor_kwargs"]["scales"]
     assert len(scales) == env.observation_space.shape[0] == 5 + 3 * config.env_kwargs["observation_history"]

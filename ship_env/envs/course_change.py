@@ -59,7 +59,14 @@ class CourseChangeEnv(ShipEnv):
     Each step: ``-(heading_error_weight * |e| / pi + rudder_travel_weight * |d delta| / delta_max)``
     with e the *true* heading error wrap(new heading - psi) and d delta the actual rudder's move
     over the step; weights 1 and 0.2 by default. The heading part of the return is the integrated
-    absolute heading error in units of pi * dt.
+    absolute heading error in units of pi * dt, the leaderboard's ranking metric.
+
+    A policy that must hold up off the design ship trains with ``ship_variation=True`` (K*, tau*
+    x0.5..x2, half to full speed, the weather's strength varied) and ``observation_history=4`` (it
+    sees how this ship answers its rudder), at ``rudder_travel_weight=0.5``: the shipped policy
+    (``configs/agents/ppo.yaml``, which says what else was tried) is first or inside the best
+    classic autopilot's interval on 6 of the leaderboard's 12 CourseChange suites, the policy
+    trained on the nominal ship only on 4.
 
     ## Starting State
 

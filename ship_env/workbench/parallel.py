@@ -15,8 +15,11 @@ notebook's, a script's), the fits run here, one after another.
 
 from __future__ import annotations
 
+import ctypes
 import multiprocessing
 import os
+import signal
+import sys
 from collections.abc import Callable, Iterable
 from concurrent.futures import Future, ProcessPoolExecutor
 from typing import Any, TypeVar
@@ -36,7 +39,8 @@ def usable_cores() -> int:
 
 
 def _single_threaded() -> None:
-    """A worker's start: one BLAS thread and one numba thread for its whole life."""
+    """A worker's start: one BLAS thread and one numba thread for its whole life, which ends with
+    this process's (on Linux, even where this process is killed)."""
     import numba
     from threadpoolctl import threadpool_limits
 
@@ -44,6 +48,9 @@ def _single_threaded() -> None:
 
     numba.set_num_threads(1)
     threadpool_limits(limits=1, user_api="blas")
+    if sys.platform == "linux":
+        set_parent_death_signal = 1  # prctl(PR_SET_PDEATHSIG, signal)
+        ctypes.CDLL(None).prctl(set_parent_death_signal, signal.SIGTERM)
 
 
 def _registry() -> str:

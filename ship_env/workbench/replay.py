@@ -175,27 +175,10 @@ def _record(out, task, sample, state):
 
 
 @kernel
-def _replay_task(
-    task,
-    work,
-    row,
-    records,
-    task_record,
-    task_run,
-    task_track,
-    task_initial,
-    task_current,
-    offsets,
-    time,
-    rudder,
-    conditions,
-    heading,
-    rate,
-    no_draws,
-    out,
-    valid,
-):
+def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid):
     """Replay task ``task`` of ``_replay`` with the scratch space ``work`` and a row of conditions ``row``."""
+    task_record, task_run, task_track, task_initial, task_current = tasks
+    offsets, time, rudder, conditions, heading, rate = runs
     # Borrowed (see ``integrators.borrowed``): the arrays pass on to each step at no reference-counting cost.
     work, row, records, task_initial, time, rudder, conditions, heading, rate, no_draws, out = borrowed(
         (work, row, records, task_initial, time, rudder, conditions, heading, rate, no_draws, out)
@@ -238,48 +221,25 @@ def _replay_task(
 
 
 @parallel_kernel
-def _replay(
-    records,
-    task_record,
-    task_run,
-    task_track,
-    task_initial,
-    task_current,
-    offsets,
-    time,
-    rudder,
-    conditions,
-    heading,
-    rate,
-    no_draws,
-    out,
-    valid,
-):
+def _replay(records, tasks, runs, no_draws, out, valid):
     """Replay every task (one run with one record) into ``out[task, sample, column]``.
 
+    ``tasks`` holds the tasks' arrays (record index, run index, track flag, initial state, current),
+    ``runs`` the packed runs' (offsets, time, rudder, conditions, heading, rate of turn).
     A task whose state leaves the model's validity is flagged in ``valid`` and its outputs are
     held at the last valid state, so that a fitter sees a large but finite error. A replayed log
     meets no random numbers: its effects' draws (a random sea) are ``no_draws``, zeros.
     """
-    for task in prange(task_record.shape[0]):
+    size = tasks[3].shape[1]
+    for task in prange(tasks[0].shape[0]):
         # The step's scratch space, then the track step's two slopes, its stage and white noise, the state.
-        work = np.zeros((WORK_ROWS + 5, task_initial.shape[1]))
         _replay_task(
             task,
-            work,
+            np.zeros((WORK_ROWS + 5, size)),
             np.zeros(S.CONDITION_SIZE),
             records,
-            task_record,
-            task_run,
-            task_track,
-            task_initial,
-            task_current,
-            offsets,
-            time,
-            rudder,
-            conditions,
-            heading,
-            rate,
+            tasks,
+            runs,
             no_draws,
             out,
             valid,
@@ -343,17 +303,8 @@ def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndar
     initial[:, : S.MOTION_SIZE] += tasks.initial_offset
     _replay(
         records,
-        tasks.record,
-        tasks.run,
-        tasks.track,
-        initial,
-        tasks.current,
-        runs.offsets,
-        runs.time,
-        runs.rudder,
-        runs.conditions,
-        runs.heading,
-        runs.rate_of_turn,
+        (tasks.record, tasks.run, tasks.track, initial, tasks.current),
+        (runs.offsets, runs.time, runs.rudder, runs.conditions, runs.heading, runs.rate_of_turn),
         np.zeros(draws.row_size(records)),
         outputs,
         valid,

@@ -46,6 +46,7 @@ from ship_env.workbench.replay import (
     Simulated,
     Tasks,
     free_and_track_tasks,
+    moved_replays,
     pack_runs,
     replay,
     unpack,
@@ -205,7 +206,9 @@ class Problem:
         self._nuisance = [NUISANCE[name] for name in options.nuisance]
         self._cache: tuple[np.ndarray, np.ndarray] | None = None
         self._edges = np.concatenate([[0], np.cumsum([self.residual_length(run) for run in range(len(self.logs))])])
-        # Per term, whether it moves the free and the track replay (None until it moves one).
+        # Per term, whether it can move the free and the track replay (from the equations), and whether it
+        # moves them (None until it moves one).
+        self._can_move = [moved_replays(setup.model, key) for key in keys]
         self._moves: list[tuple[bool, bool] | None] = [None] * len(self.terms)
         self.evaluations = 0
 
@@ -315,9 +318,10 @@ class Problem:
 
         A term that leaves the free replay (heading, rate of turn) or the track replay alone -- a
         current moves only the track, a yaw gain only the heading, the track being replayed on the
-        measured heading -- leaves its part of the Jacobian exactly zero: after the first Jacobian
-        those replays are no longer run. (A term that moves nothing yet, such as a time constant whose
-        gain is at zero, is tried on both until it moves one.)
+        measured heading -- leaves its part of the Jacobian exactly zero: those replays are not run
+        where the model's equations show it (:func:`~.replay.moved_replays`), nor after the first
+        Jacobian where a term moved only one. (A term that moves nothing yet, such as a time constant
+        whose gain is at zero, is tried on what it can move until it moves one.)
         """
         base = self.residual(x)
         _, upper = self.bounds()
@@ -331,7 +335,7 @@ class Problem:
             shifted[j] += steps[j]
             points.append(shifted)
             if j < len(self.terms):
-                requests += self._requests(j, all_runs, *(self._moves[j] or (True, True)))
+                requests += self._requests(j, all_runs, *(self._moves[j] or self._can_move[j]))
             else:
                 requests += self._requests(j, [(j - len(self.terms)) // per_run], track=False)
         outputs, _ = self._outputs(points, requests)

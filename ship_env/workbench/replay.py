@@ -28,8 +28,9 @@ from dataclasses import dataclass
 import numpy as np
 from numba import prange
 
-from ship_env.model import ShipModel, draws
+from ship_env.model import EFFECTS, ShipModel, draws
 from ship_env.model import state as S
+from ship_env.model.contributions import derivative_quantity
 from ship_env.model.dynamics import derivatives
 from ship_env.model.integrators import RK4, WORK_ROWS, borrowed, step_ship
 from ship_env.model.kernel import kernel, parallel_kernel
@@ -78,6 +79,83 @@ class PackedRuns:
     @property
     def longest(self) -> int:
         return int(np.max(np.diff(self.offsets)))
+
+
+#: The rates of the motion's states, as what ``dynamics`` makes them of; another state's rate is
+#: ``<state>_derivative``. The rudder moves to the step's actual rudder.
+_MOTION_RATES: dict[str, tuple[str, ...]] = {
+    "time": (),
+    "north": ("ground_velocity",),
+    "east": ("ground_velocity",),
+    "heading": ("rate_of_turn",),
+    "rate_of_turn": ("hull_yaw_acceleration", "yaw_acceleration"),
+    "rudder": ("actual_rudder",),
+}
+#: What the inputs and quantities read besides their contributions' arguments (``dynamics``' preamble,
+#: the apparent wind from the velocity over the ground, the quantities' starting values).
+_IMPLICIT: dict[str, tuple[str, ...]] = {
+    "speed": ("speed_loss",),
+    "scheduling_speed": ("speed_loss",),
+    "normalised_rate": ("rate_of_turn", "speed_loss"),
+    "cos_heading": ("heading",),
+    "sin_heading": ("heading",),
+    "relative_wind_speed": ("ground_velocity", "heading"),
+    "cos_wind": ("ground_velocity", "heading"),
+    "sin_wind": ("ground_velocity", "heading"),
+    "effective_rudder": ("rudder",),
+    "inflow_speed_squared": ("speed",),
+}
+
+
+def moved_replays(model: ShipModel, key: str) -> tuple[bool, bool]:
+    """Whether a change of the term ``key`` can move a free replay's heading and rate of turn, and a track
+    replay's north and east -- from the model's equations, not from numbers.
+
+    A term moves a replay where some contribution (or white-noise intensity) of an effect of the model
+    reads it and what that contribution changes feeds the replay's outputs: the track replay imposes
+    the measured heading and rate of turn and holds the rudder, so a yaw term never moves it, and a
+    current (read as the conditions ``current_speed``, ``current_direction``) moves the heading only
+    where a yaw contribution reads the current or the velocity over the ground. A term that is not
+    an effect's parameter or the current (a principal particular) is taken to move both.
+    """
+    effect, _, name = key.partition(".")
+    if effect == "current":
+        names = {"current_speed", "current_direction"}
+    elif name and effect in EFFECTS:
+        names = {EFFECTS[effect].field_name(name)}  # read by another effect's contribution
+    else:
+        return True, True
+    writers: dict[str, list[tuple[str, tuple[str, ...]]]] = {}  # quantity -> (effect, what it reads)
+    for entry in (EFFECTS.entry(effect_name) for effect_name in model.effects):
+        functions = [(c.quantity, c.function) for c in entry.contributions] + [
+            (derivative_quantity(state.name), state.white_noise) for state in entry.states if state.white_noise
+        ]
+        for quantity, function in functions:
+            writers.setdefault(quantity, []).append((entry.effect.name, entry.arguments(function)))
+
+    def reads(owner: str, arguments: tuple[str, ...]) -> bool:
+        return bool(names.intersection(arguments)) or (owner == effect and name in arguments)
+
+    states = set(S.MOTION_STATES) | {state.name for e in model.effects for state in EFFECTS.entry(e).new_states}
+
+    def moves(outputs: tuple[str, ...], imposed: tuple[str, ...]) -> bool:
+        needed: set[str] = set()
+        pending = list(outputs)
+        while pending:
+            what = pending.pop()
+            if what in needed:
+                continue
+            needed.add(what)
+            if what in states and what not in imposed:
+                pending += _MOTION_RATES.get(what, (derivative_quantity(what),))
+            pending += _IMPLICIT.get(what, ())
+            for owner, arguments in writers.get(what, ()):
+                if reads(owner, arguments):
+                    return True
+                pending += arguments
+        return False
+
+    return moves(("heading", "rate_of_turn"), ()), moves(("north", "east"), ("heading", "rate_of_turn", "rudder"))
 
 
 def initial_state(log: Log, window: float = INITIAL_WINDOW) -> np.ndarray:

@@ -17,6 +17,7 @@ from ship_env.workbench import (
     simulate,
 )
 from ship_env.workbench.fit import DIFFERENCE_STEP, Problem
+from ship_env.workbench.replay import moved_replays
 from ship_env.workbench.synthetic import (
     LogSettings,
     Manoeuvre,
@@ -25,6 +26,7 @@ from ship_env.workbench.synthetic import (
     noise_scales,
     sail_all,
 )
+from ship_env.workbench.terms import default_terms, make_term, value_of, with_values
 
 SHIP = "esso_osaka_model"
 SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -147,3 +149,26 @@ def test_the_batched_jacobian_is_the_derivative_of_the_residual():
         curvature = np.abs(ahead - 2.0 * base + behind) / h**2
         assert np.all(np.abs(first[:, j] - central) <= 0.5 * h * curvature + rounding), keys[j : j + 1] or j
         assert np.any(first[:, j] != 0.0)
+
+
+@pytest.mark.parametrize("effects", [EVERY_EFFECT, [e for e in EVERY_EFFECT if e != "wind_moment"]])
+def test_a_term_moves_exactly_the_replays_its_equations_say(effects):
+    """``moved_replays`` reads from the equations which replays a term can move: a changed term must
+    leave the others bit for bit as they were (the Jacobian skips them) and move the ones it names.
+    Without the wind moment the sway and the current move only the track; with it, the heading too."""
+    setup = ReplayModel(ShipModel(SHIP, effects), 0.02, -0.03)
+    logs = sail_all(setup, short_programme(), seed=3)
+    before = simulate(setup, logs)
+    moved = {}
+    for key in default_terms(setup.model.effects):
+        term = make_term(key, setup)
+        value = value_of(setup, key) + term.scale
+        after = simulate(with_values(setup, {key: value if value <= term.upper else value - 2 * term.scale}), logs)
+        free = any(not np.array_equal(a.heading, b.heading) for a, b in zip(after, before, strict=True))
+        track = any(not np.array_equal(a.track_north, b.track_north) for a, b in zip(after, before, strict=True))
+        moved[key] = (free, track)
+        assert moved[key] == moved_replays(setup.model, key), key
+    assert moved["yaw.gain"] == moved["steering_machine.rudder_rate"] == (True, False)
+    assert (
+        moved["current.north"] == moved["sway.linear"] == ((True, True) if "wind_moment" in effects else (False, True))
+    )

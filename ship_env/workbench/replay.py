@@ -30,6 +30,7 @@ from numba import prange
 
 from ship_env.model import EFFECTS, ShipModel, draws
 from ship_env.model import state as S
+from ship_env.model.contributions import WIND as WIND_QUANTITIES
 from ship_env.model.contributions import derivative_quantity
 from ship_env.model.dynamics import derivatives
 from ship_env.model.integrators import RK4, WORK_ROWS, borrowed, step_ship
@@ -91,6 +92,8 @@ _MOTION_RATES: dict[str, tuple[str, ...]] = {
     "rate_of_turn": ("hull_yaw_acceleration", "yaw_acceleration"),
     "rudder": ("actual_rudder",),
 }
+#: The velocity over the ground before the contributions that read the apparent wind, which it makes.
+_STILL_AIR_GROUND_VELOCITY = "ground_velocity before the wind"
 #: What the inputs and quantities read besides their contributions' arguments (``dynamics``' preamble,
 #: the apparent wind from the velocity over the ground, the quantities' starting values).
 _IMPLICIT: dict[str, tuple[str, ...]] = {
@@ -99,9 +102,10 @@ _IMPLICIT: dict[str, tuple[str, ...]] = {
     "normalised_rate": ("rate_of_turn", "speed_loss"),
     "cos_heading": ("heading",),
     "sin_heading": ("heading",),
-    "relative_wind_speed": ("ground_velocity", "heading"),
-    "cos_wind": ("ground_velocity", "heading"),
-    "sin_wind": ("ground_velocity", "heading"),
+    "relative_wind_speed": (_STILL_AIR_GROUND_VELOCITY, "heading"),
+    "cos_wind": (_STILL_AIR_GROUND_VELOCITY, "heading"),
+    "sin_wind": (_STILL_AIR_GROUND_VELOCITY, "heading"),
+    "ground_velocity": (_STILL_AIR_GROUND_VELOCITY,),
     "effective_rudder": ("rudder",),
     "inflow_speed_squared": ("speed",),
 }
@@ -131,7 +135,10 @@ def moved_replays(model: ShipModel, key: str) -> tuple[bool, bool]:
             (derivative_quantity(state.name), state.white_noise) for state in entry.states if state.white_noise
         ]
         for quantity, function in functions:
-            writers.setdefault(quantity, []).append((entry.effect.name, entry.arguments(function)))
+            arguments = entry.arguments(function)
+            if quantity == "ground_velocity" and not set(WIND_QUANTITIES).intersection(arguments):
+                quantity = _STILL_AIR_GROUND_VELOCITY
+            writers.setdefault(quantity, []).append((entry.effect.name, arguments))
 
     def reads(owner: str, arguments: tuple[str, ...]) -> bool:
         return bool(names.intersection(arguments)) or (owner == effect and name in arguments)

@@ -1,8 +1,11 @@
-"""``ship-env train --seeds``: a run per seed, each repeated by its own command, the same on Ray, none overwritten."""
+"""``ship-env train --seeds``: a run per seed, each repeated by its own command, the same on Ray, none overwritten;
+``--trained-agent``: a run that continues a saved agent."""
 
 from __future__ import annotations
 
+import hashlib
 import json
+import re
 import shlex
 
 import pytest
@@ -129,3 +132,74 @@ def test_seeds_trained_as_ray_tasks_are_the_seeds_trained_here(tmp_path, tiny_co
         on_ray = json.loads((tmp_path / "ray" / seed / "metadata.json").read_text())
         here = json.loads((tmp_path / "here" / seed / "metadata.json").read_text())
         assert on_ray["command"] == here["command"].replace(str(tmp_path / "here"), str(tmp_path / "ray"))
+
+
+def _changed_config(tmp_path, name, **changed):
+    path = tmp_path / f"{name}.yaml"
+    path.write_text(yaml.safe_dump({COURSE_CHANGE: {**TINY_ENTRY, **changed}}))
+    return path
+
+
+def test_a_continued_run_starts_from_the_saved_weights_and_trains_with_the_configs_hyperparameters(
+    tmp_path, tiny_config
+):
+    """``--trained-agent`` (rl-zoo3's option): with the config's learning rate 0 the continued agent
+    keeps the saved weights exactly (a new agent of the same seed has others), with 3e-4 it moves
+    them; the saved policy_kwargs are kept (the config's net_arch is another); the metadata names
+    the file, its SHA-256 and its command, and the run's own command repeats it bit for bit."""
+    _train(tiny_config, tmp_path / "start", "--seed", "1")
+    frozen = _changed_config(tmp_path, "frozen", learning_rate=0.0, policy_kwargs="dict(net_arch=[32, 32])")
+    assert _train(frozen, tmp_path / "frozen", "--trained-agent", str(tmp_path / "start")) == 0
+    assert _same_weights(tmp_path / "frozen", tmp_path / "start")
+    assert _train(frozen, tmp_path / "new") == 0
+    assert not _same_weights(tmp_path / "new", tmp_path / "start")
+    assert _train(tiny_config, tmp_path / "moved", "-i", str(tmp_path / "start" / "model.zip")) == 0
+    assert not _same_weights(tmp_path / "moved", tmp_path / "start")
+
+    metadata = json.loads((tmp_path / "moved" / "metadata.json").read_text())
+    start = json.loads((tmp_path / "start" / "metadata.json").read_text())
+    assert start["trained_agent"] is None
+    assert metadata["trained_agent"] == {
+        "path": str(tmp_path / "start" / "model.zip"),
+        "sha256": hashlib.sha256((tmp_path / "start" / "model.zip").read_bytes()).hexdigest(),
+        "command": start["command"],
+    }
+    words = shlex.split(metadata["command"])
+    assert words[words.index("--trained-agent") + 1] == str(tmp_path / "start" / "model.zip")
+    words[words.index("--out") + 1] = str(tmp_path / "again")
+    assert main([*words[1:], "--no-progress"]) == 0
+    assert _same_weights(tmp_path / "moved", tmp_path / "again")
+
+
+def test_with_seeds_each_seed_continues_its_own_run(tmp_path, tiny_config):
+    _train(tiny_config, tmp_path / "start", "--seeds", "0-1")
+    frozen = _changed_config(tmp_path, "frozen", learning_rate=0.0)
+    assert _train(frozen, tmp_path / "on", "--seeds", "0-1", "--trained-agent", str(tmp_path / "start")) == 0
+    for seed in (0, 1):
+        assert _same_weights(tmp_path / "on" / f"seed{seed}", tmp_path / "start" / f"seed{seed}")
+        metadata = json.loads((tmp_path / "on" / f"seed{seed}" / "metadata.json").read_text())
+        assert metadata["trained_agent"]["path"] == str(tmp_path / "start" / f"seed{seed}" / "model.zip")
+
+
+@pytest.mark.parametrize(
+    "start, message",
+    [
+        ("missing", r"argument -i/--trained-agent: policy file .*missing: no such file"),
+        ("sac", r"argument -i/--trained-agent: policy file .*sac/model\.zip: trained with sac, not ppo"),
+        ("other_spaces", r"argument -i/--trained-agent: policy file .*other_spaces/model\.zip: its observation space"),
+    ],
+)
+def test_an_agent_that_cannot_continue_is_named_and_nothing_is_written(tmp_path, tiny_config, capsys, start, message):
+    if start == "sac":
+        sac = tmp_path / "sac.yaml"
+        sac.write_text(yaml.safe_dump({COURSE_CHANGE: {"n_envs": 2, "learning_starts": 10, "batch_size": 16}}))
+        argv = ["train", "--algo", "sac", "--steps", "20", "--config", str(sac), "--out", str(tmp_path / "sac")]
+        main([*argv, "--no-progress"])
+    if start == "other_spaces":
+        history = _changed_config(tmp_path, "history", env_kwargs={"observation_history": 2})
+        _train(history, tmp_path / "other_spaces")
+    with pytest.raises(SystemExit) as raised:
+        _train(tiny_config, tmp_path / "run", "--trained-agent", str(tmp_path / start))
+    assert raised.value.code == 2
+    assert re.search(message, capsys.readouterr().err)
+    assert not (tmp_path / "run" / "model.zip").exists()

@@ -33,10 +33,20 @@ def reproducing_command(args: argparse.Namespace, seed: int, out: Path) -> str:
         words += ["--steps", str(args.steps)]
     if args.config is not None:
         words += ["--config", str(args.config)]
+    if args.trained_agent is not None:
+        words += ["--trained-agent", str(trained_agent(args, seed))]
     if args.torch_threads != DEFAULT_TORCH_THREADS:
         words += ["--torch-threads", str(args.torch_threads)]
     words += ["--out", str(out)]
     return shlex.join(words)
+
+
+def trained_agent(args: argparse.Namespace, seed: int) -> Path | None:
+    """The saved agent that seed ``seed``'s run continues: ``--trained-agent`` itself, or with
+    ``--seeds`` and a folder of seeds' runs, the run of the same seed in it."""
+    if args.trained_agent is None or args.seeds is None or not (args.trained_agent / f"seed{seed}").is_dir():
+        return args.trained_agent
+    return args.trained_agent / f"seed{seed}"
 
 
 def seed_runs(args: argparse.Namespace) -> list[SeedRun]:
@@ -44,16 +54,18 @@ def seed_runs(args: argparse.Namespace) -> list[SeedRun]:
     ``--seeds`` to ``<out>/seed<S>`` each."""
     if args.seeds is None:
         out = args.out if args.out is not None else default_out(args.env, args.algo) / f"seed{args.seed}"
-        return [SeedRun(args.seed, out, reproducing_command(args, args.seed, out))]
-    parent = args.out if args.out is not None else default_out(args.env, args.algo)
-    runs = [(seed, parent / f"seed{seed}") for seed in args.seeds]
-    return [SeedRun(seed, out, reproducing_command(args, seed, out)) for seed, out in runs]
+        runs = [(args.seed, out)]
+    else:
+        parent = args.out if args.out is not None else default_out(args.env, args.algo)
+        runs = [(seed, parent / f"seed{seed}") for seed in args.seeds]
+    return [SeedRun(seed, out, reproducing_command(args, seed, out), trained_agent(args, seed)) for seed, out in runs]
 
 
 def run_train(args: argparse.Namespace) -> int:
     """Train each seed, save ``model.zip`` and ``metadata.json`` into its folder, print a summary."""
     from ship_env.ray_cluster import check_backend
     from ship_env.rl.agents import load_agent_config
+    from ship_env.rl.policy_file import PolicyFileError, read_policy_file
     from ship_env.rl.seeds import train_seeds, trained_already
     from ship_env.rl.training import TENSORBOARD_FOLDER, tensorboard_installed
 
@@ -63,6 +75,12 @@ def run_train(args: argparse.Namespace) -> int:
     except ValueError as error:
         args.command_parser.error(f"argument --env/--config: {error}")
     runs = seed_runs(args)
+    try:
+        for run in runs:
+            if run.trained_agent is not None:
+                read_policy_file(run.trained_agent)
+    except PolicyFileError as error:
+        args.command_parser.error(f"argument -i/--trained-agent: {error}")
     existing = trained_already(runs)
     if existing and not args.force:
         args.command_parser.error(
@@ -77,16 +95,19 @@ def run_train(args: argparse.Namespace) -> int:
         )
 
     start = time.perf_counter()
-    train_seeds(
-        config,
-        runs,
-        steps=args.steps,
-        torch_threads=args.torch_threads,
-        backend=args.backend,
-        ray_address=args.ray_address,
-        on_done=report,
-        progress_bar=not args.no_progress and len(runs) == 1,
-    )
+    try:
+        train_seeds(
+            config,
+            runs,
+            steps=args.steps,
+            torch_threads=args.torch_threads,
+            backend=args.backend,
+            ray_address=args.ray_address,
+            on_done=report,
+            progress_bar=not args.no_progress and len(runs) == 1,
+        )
+    except PolicyFileError as error:
+        args.command_parser.error(f"argument -i/--trained-agent: {error}")
     if len(runs) > 1:
         print(f"{len(runs)} seeds in {time.perf_counter() - start:.1f} s on the {args.backend} backend")
     print(f"metadata (with the command that repeats each run): {METADATA_FILE} beside each model")
@@ -134,6 +155,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="folder for model.zip and metadata.json (default: runs/<Env>/<algo>/seed<S>); "
         "with --seeds, the folder of the seeds' folders (default: runs/<Env>/<algo>)",
     )
+    parser.add_argument(
+        "-i",
+        "--trained-agent",
+        type=Path,
+        default=None,
+        metavar="PATH",
+        help="continue training a saved agent (rl-zoo3's option): its model.zip or its run's folder, "
+        "or with --seeds a folder of seeds' runs (each seed continues its own); the policy and its "
+        "policy_kwargs are the agent's, the other hyper-parameters the config's",
+    )
     parser.add_argument("--force", action="store_true", help="overwrite runs already trained in those folders")
     add_backend_arguments(
         parser,
@@ -167,6 +198,8 @@ COMMAND = Command(
         "save model.zip with metadata.json (environment and its kwargs, config, seed, steps, wall\n"
         "time, package versions, the command that reproduces the run). --seeds trains several seeds,\n"
         "one after another or as Ray tasks (--backend ray), each the same run as its own --seed command.\n"
+        "--trained-agent continues a saved agent instead of new weights (fine-tuning it on other\n"
+        "environment options), recorded in the metadata with the file's SHA-256.\n"
         "A folder that already holds a run is not overwritten without --force. TensorBoard logs go to\n"
         "<out>/tensorboard when tensorboard is installed."
     ),
@@ -174,6 +207,8 @@ COMMAND = Command(
         "ship-env train --algo ppo --env ship_env/CourseChange-v0",
         "ship-env train --algo ppo --env ship_env/CourseChange-v0 --seeds 0-4 --backend ray",
         "ship-env train --algo sac --env ship_env/CourseChange-v0 --steps 50000 --seed 3 --out runs/sac3",
+        "ship-env train --algo ppo --env ship_env/TrackFollow-v0 --seeds 0-4 --config tuned.yaml "
+        "--trained-agent ship_env/policies/TrackFollow-v0/ppo",
     ),
     handler=run_train,
     arguments=add_arguments,

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import json
 import platform
-from dataclasses import asdict, dataclass, fields
+from dataclasses import MISSING, asdict, dataclass, fields
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any
@@ -54,6 +54,9 @@ class PolicyMetadata:
         torch_threads: torch's intra-op threads during training.
         versions: package versions (:func:`package_versions`).
         command: the ``ship-env train`` command line that reproduces the run.
+        trained_agent: for a run that continued a saved agent (``--trained-agent``), that agent's
+            ``model.zip`` path, its SHA-256 and the command that trained it; ``None`` for a run
+            from new weights.
     """
 
     env_id: str
@@ -68,6 +71,7 @@ class PolicyMetadata:
     torch_threads: int
     versions: dict[str, str]
     command: str
+    trained_agent: dict[str, Any] | None = None
 
     def write(self, folder: Path) -> Path:
         """Write ``folder/metadata.json``; returns its path."""
@@ -83,7 +87,8 @@ class PolicyMetadata:
         except (OSError, json.JSONDecodeError) as error:
             raise ValueError(f"{path}: cannot read the policy's metadata: {error}") from None
         names = [item.name for item in fields(cls)]
-        missing = [name for name in names if name not in document] if isinstance(document, dict) else names
+        required = [item.name for item in fields(cls) if item.default is MISSING]
+        missing = [name for name in required if name not in document] if isinstance(document, dict) else required
         if missing:
             raise ValueError(f"{path}: not a training run's metadata, missing {', '.join(missing)}")
-        return cls(**{name: document[name] for name in names})
+        return cls(**{name: document[name] for name in names if name in document})

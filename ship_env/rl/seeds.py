@@ -11,6 +11,7 @@ Nothing already trained is overwritten unless asked (:func:`trained_already`).
 
 from __future__ import annotations
 
+import dataclasses
 import re
 import tempfile
 from collections.abc import Callable, Sequence
@@ -51,11 +52,13 @@ def parse_seeds(text: str) -> tuple[int, ...]:
 
 @dataclass(frozen=True)
 class SeedRun:
-    """One seed's run: where it goes and the command line that repeats it alone."""
+    """One seed's run: where it goes, the command line that repeats it alone and the saved agent
+    it continues (``None``: new weights; read where the seed trains)."""
 
     seed: int
     out: Path
     command: str
+    trained_agent: Path | None = None
 
 
 def trained_already(runs: Sequence[SeedRun]) -> list[Path]:
@@ -74,7 +77,14 @@ def train_seed(
     from ship_env.rl.training import train
 
     return train(
-        config, run.out, run.command, steps=steps, seed=run.seed, torch_threads=torch_threads, progress_bar=progress_bar
+        config,
+        run.out,
+        run.command,
+        steps=steps,
+        seed=run.seed,
+        torch_threads=torch_threads,
+        progress_bar=progress_bar,
+        trained_agent=run.trained_agent,
     ).metadata
 
 
@@ -83,7 +93,7 @@ def _train_seed_files(
 ) -> tuple[PolicyMetadata, dict[str, bytes]]:
     """Train one seed in a scratch folder (a Ray worker's); the metadata and every file written, by relative path."""
     with tempfile.TemporaryDirectory(prefix="ship_env_seed") as scratch:
-        metadata = train_seed(config, SeedRun(run.seed, Path(scratch), run.command), steps, torch_threads)
+        metadata = train_seed(config, dataclasses.replace(run, out=Path(scratch)), steps, torch_threads)
         files = {
             str(path.relative_to(scratch)): path.read_bytes() for path in Path(scratch).rglob("*") if path.is_file()
         }

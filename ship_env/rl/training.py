@@ -4,15 +4,19 @@ The environment is ``gymnasium.make_vec(env_id, num_envs=n_envs, vectorization_m
 "vector_entry_point")``, all ships stepped in one simulator call, presented to stable-baselines3
 by :class:`~ship_env.envs.sb3_adapter.SB3VecEnvAdapter` (design notes 9: SB3's own ``VecEnv``
 API). Torch runs with :data:`~ship_env.rl.agents.DEFAULT_TORCH_THREADS` intra-op threads unless
-told otherwise. With the same seed, thread count and package versions a run repeats exactly.
+told otherwise. With the same seed, thread count and package versions a run repeats exactly. A run
+may continue a saved agent (``trained_agent``: rl-zoo3's ``--trained-agent``) instead of starting
+from new weights.
 """
 
 from __future__ import annotations
 
+import hashlib
 import importlib.util
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import gymnasium as gym
 import torch
@@ -24,6 +28,7 @@ import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.sb3_adapter import SB3VecEnvAdapter
 from ship_env.rl.agents import DEFAULT_TORCH_THREADS, AgentConfig
 from ship_env.rl.metadata import MODEL_FILE, PolicyMetadata, package_versions
+from ship_env.rl.policy_file import PolicyFile, PolicyFileError, read_policy_file
 
 #: The folder under a run's output that holds its TensorBoard logs (when tensorboard is installed).
 TENSORBOARD_FOLDER = "tensorboard"
@@ -57,6 +62,30 @@ def tensorboard_installed() -> bool:
     return importlib.util.find_spec("tensorboard") is not None
 
 
+def continue_agent(config: AgentConfig, saved: PolicyFile, env: VecEnv, **run_keywords: Any) -> BaseAlgorithm:
+    """The saved agent, ready to train on ``env`` with ``config``'s hyper-parameters, as rl-zoo3's
+    ``--trained-agent`` continues one: its policy (class, ``policy_kwargs``, weights) and optimiser
+    state are the saved agent's, every other keyword the config's (``run_keywords``: the run's
+    seed, device, log folder). :class:`~ship_env.rl.policy_file.PolicyFileError` naming the file if
+    it was trained with another algorithm, on another environment or with other spaces.
+    """
+    if saved.metadata is not None and saved.metadata.algo != config.algo:
+        raise PolicyFileError(f"policy file {saved.path}: trained with {saved.metadata.algo}, not {config.algo}")
+    saved.check(config.env_id, env.observation_space, env.action_space)
+    hyperparameters = {key: value for key, value in config.hyperparameters.items() if key != "policy_kwargs"}
+    return config.algorithm.load(saved.path, env=env, custom_objects=hyperparameters, **run_keywords, **hyperparameters)
+
+
+def starting_agent(saved: PolicyFile) -> dict[str, Any]:
+    """What a continued run records of the agent it started from: its ``model.zip``'s path and
+    SHA-256, and the command that trained it (``None`` without its metadata)."""
+    return {
+        "path": str(saved.path),
+        "sha256": hashlib.sha256(saved.path.read_bytes()).hexdigest(),
+        "command": None if saved.metadata is None else saved.metadata.command,
+    }
+
+
 @dataclass(frozen=True)
 class TrainingRun:
     """A finished run: the trained model and what was written.
@@ -82,6 +111,7 @@ def train(
     torch_threads: int = DEFAULT_TORCH_THREADS,
     progress_bar: bool = True,
     callback: BaseCallback | None = None,
+    trained_agent: Path | None = None,
 ) -> TrainingRun:
     """Train ``config``'s algorithm on its environment and save model and metadata into ``out``.
 
@@ -95,20 +125,29 @@ def train(
         progress_bar: show SB3's progress bar (tqdm and rich).
         callback: an SB3 callback (it may stop the run early by returning False), run after the
             config's own (``callback``).
+        trained_agent: continue training the agent saved there (a ``model.zip`` or its run's
+            folder: :func:`continue_agent`) instead of new weights; the metadata records it
+            (:func:`starting_agent`).
     """
     steps = config.n_timesteps if steps is None else steps
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     torch.set_num_threads(torch_threads)
     env = make_training_env(config)
-    model = config.algorithm(
-        config.policy,
-        env,
-        seed=seed,
-        device="cpu",
-        tensorboard_log=str(out / TENSORBOARD_FOLDER) if tensorboard_installed() else None,
-        **config.hyperparameters,
-    )
+    run_keywords: dict[str, Any] = {
+        "seed": seed,
+        "device": "cpu",
+        "tensorboard_log": str(out / TENSORBOARD_FOLDER) if tensorboard_installed() else None,
+    }
+    saved = None if trained_agent is None else read_policy_file(trained_agent)
+    if saved is None:
+        model = config.algorithm(config.policy, env, **run_keywords, **config.hyperparameters)
+    else:
+        try:
+            model = continue_agent(config, saved, env, **run_keywords)
+        except PolicyFileError:
+            env.close()
+            raise
     callbacks = [make() for make in config.callbacks] + ([] if callback is None else [callback])
     start = time.perf_counter()
     try:
@@ -131,6 +170,7 @@ def train(
         torch_threads=torch_threads,
         versions=package_versions(),
         command=command,
+        trained_agent=None if saved is None else starting_agent(saved),
     )
     metadata.write(out)
     return TrainingRun(model, model_path, metadata)

@@ -302,24 +302,19 @@ def test_shipped_track_follow_ppo_sails_t1_to_t6_nearer_than_the_thesis_navigato
     assert standing.score.high is not None and standing.score.high < 33.0
 
 
-#: The halved ship: the shipped policy, trained on the nominal ship only, cannot turn it on the design
-#: ship's arcs and loses 4 of 30 ships (configs/agents/ppo.yaml: what training on varied ships gave).
-_HALVED_SHIP_NOT_YET = pytest.mark.xfail(
-    strict=True, reason="K*, tau* x0.5: 365 m against the course changer's 143 m (trained on the nominal ship)"
-)
-
-
 @pytest.mark.slow
 @pytest.mark.parametrize(
     "condition",
-    [pytest.param(K_TAU_HALF, marks=_HALVED_SHIP_NOT_YET), K_TAU_DOUBLE, HALF_SPEED],
+    [K_TAU_HALF, K_TAU_DOUBLE, HALF_SPEED],
     ids=lambda c: c.slug,
 )
 def test_shipped_track_follow_ppo_holds_within_twice_the_course_changer_off_the_nominal_ship(
     shipped_track_follow, condition
 ):
     """Off the ship the predictor course changer is designed for, the learned policy's IQM RMS
-    cross-track error (five seeds x T1..T6) is at most twice the course changer's."""
+    cross-track error (five seeds x T1..T6) is at most twice the course changer's (the policy trained
+    on the nominal ship only: 365 m against 143 with K*, tau* halved; fine-tuned on the halved ship
+    it keeps the other conditions within the mark)."""
     table = shipped_track_follow.table(f"TrackFollow | {condition.name}")
     standing, course_changer = table.standing(SHIPPED_PPO), table.standing("predictor course changer")
     print(standing, course_changer, sep="\n")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -26,7 +27,7 @@ from ship_env.workbench.synthetic import (
     noise_scales,
     sail_all,
 )
-from ship_env.workbench.terms import default_terms, make_term, value_of, with_values
+from ship_env.workbench.terms import acts_on, default_terms, make_term, value_of, with_values
 
 SHIP = "esso_osaka_model"
 SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
@@ -172,3 +173,22 @@ def test_a_term_moves_exactly_the_replays_its_equations_say(effects):
     assert (
         moved["current.north"] == moved["sway.linear"] == ((True, True) if "wind_moment" in effects else (False, True))
     )
+
+
+def test_propeller_astern_moves_no_replay_of_logs_that_never_reverse_the_propeller():
+    """``acts_on``: where the propeller never turns astern the effect returns what it is given, so its
+    terms leave every replay bit for bit as it was (the Jacobian skips them); astern, they move the heading."""
+    setup = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "propeller_slipstream", "propeller_astern"]))
+    ahead = sail_all(setup, short_programme(), seed=3)
+    astern = [dataclasses.replace(log, propeller_rate=-log.propeller_rate) for log in ahead]
+    assert not acts_on("propeller_astern", ahead) and acts_on("propeller_astern", astern)
+    assert acts_on("yaw", ahead)
+    for key in ("propeller_astern.rudder_inflow", "propeller_astern.walk"):
+        changed = with_values(setup, {key: value_of(setup, key) + 0.5})
+        for logs, moves in ((ahead, False), (astern, True)):
+            pairs = zip(simulate(changed, logs), simulate(setup, logs), strict=True)
+            assert any(not np.array_equal(a.heading, b.heading) for a, b in pairs) == moves, key
+    problem = Problem(setup, ahead, default_terms(setup.model.effects), FitOptions())
+    jacobian = problem.jacobian(problem.start())
+    columns = [j for j, term in enumerate(problem.terms) if term.effect == "propeller_astern"]
+    assert len(columns) == 2 and not np.any(jacobian[:, columns]) and np.all(np.any(jacobian, axis=0)[: columns[0]])

@@ -53,6 +53,7 @@ from ship_env.workbench.replay import (
 )
 from ship_env.workbench.terms import (
     Term,
+    acts_on,
     default_terms,
     make_term,
     value_of,
@@ -206,9 +207,12 @@ class Problem:
         self._nuisance = [NUISANCE[name] for name in options.nuisance]
         self._cache: tuple[np.ndarray, np.ndarray] | None = None
         self._edges = np.concatenate([[0], np.cumsum([self.residual_length(run) for run in range(len(self.logs))])])
-        # Per term, whether it can move the free and the track replay (from the equations), and whether it
-        # moves them (None until it moves one).
-        self._can_move = [moved_replays(setup.model, key) for key in keys]
+        # Per term, whether it can move the free and the track replay (from the equations, and nothing where
+        # its effect cannot act on these logs), and whether it moves them (None until it moves one).
+        self._can_move = [
+            moved_replays(setup.model, key) if acts_on(key.partition(".")[0], self.logs) else (False, False)
+            for key in keys
+        ]
         self._moves: list[tuple[bool, bool] | None] = [None] * len(self.terms)
         self.evaluations = 0
 
@@ -319,7 +323,8 @@ class Problem:
         A term that leaves the free replay (heading, rate of turn) or the track replay alone -- a
         current moves only the track, a yaw gain only the heading, the track being replayed on the
         measured heading -- leaves its part of the Jacobian exactly zero: those replays are not run
-        where the model's equations show it (:func:`~.replay.moved_replays`), nor after the first
+        where the model's equations show it (:func:`~.replay.moved_replays`) or the logs (an effect
+        that acts only with the propeller astern, :func:`~.terms.acts_on`), nor after the first
         Jacobian where a term moved only one. (A term that moves nothing yet, such as a time constant
         whose gain is at zero, is tried on what it can move until it moves one.)
         """
@@ -340,22 +345,21 @@ class Problem:
                 requests += self._requests(j, [(j - len(self.terms)) // per_run], track=False)
         outputs, _ = self._outputs(points, requests)
         matrix = np.zeros((len(base), self.size))
+        moved = np.zeros((self.size, 2), dtype=bool)  # per column, whether it moved a free and a track replay
         replays_of: dict[tuple[int, bool], list[int]] = {}  # (run, track?) -> its requests
         for i, (_, run, track) in enumerate(requests):
             replays_of.setdefault((run, track), []).append(i)
         for (run, track), indices in replays_of.items():
             rows = self._rows(run, track)
             columns = [requests[i][0] for i in indices]
-            parts = self._track_part(run, outputs[indices]) if track else self._free_part(run, outputs[indices])
-            matrix[rows, columns] = ((parts - base[rows]) / steps[columns, np.newaxis]).T
-        if any(moves is None for moves in self._moves):
-            track_rows = np.zeros(len(base), dtype=bool)
-            for run in all_runs:
-                track_rows[self._rows(run, True)] = True
-            for j in range(len(self.terms)):
-                moves = (bool(np.any(matrix[~track_rows, j])), bool(np.any(matrix[track_rows, j])))
-                if self._moves[j] is None and any(moves):
-                    self._moves[j] = moves
+            replays = outputs[indices, : self.logs[run].samples]
+            parts = self._track_part(run, replays) if track else self._free_part(run, replays)
+            differences = (parts - base[rows]) / steps[columns, np.newaxis]
+            matrix[rows, columns] = differences.T
+            moved[columns, int(track)] |= np.any(differences, axis=1)
+        for j, moves in enumerate(moved[: len(self.terms)]):
+            if self._moves[j] is None and moves.any():
+                self._moves[j] = (bool(moves[0]), bool(moves[1]))
         return matrix
 
     def residual_length(self, run: int) -> int:

@@ -18,7 +18,7 @@ excluded with the reason (:func:`why_not_fitted`).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -52,6 +52,23 @@ NOT_FITTED: dict[str, str] = {
     "wave_filter": "a random disturbance: output error cannot fit it (the filters in baselines/ estimate it)",
     "wave_spectrum": "a random sea: output error cannot fit it",
 }
+
+
+def _reverses_propeller(log: Log) -> bool:
+    """Whether the log's propeller turns astern (n < 0) at some sample."""
+    return log.propeller_rate is not None and not bool(np.all(log.propeller_rate >= 0.0))
+
+
+#: Effects that act only where a run meets a condition -- elsewhere their contributions return what
+#: they are given (see the effect's module) -- and whether a log meets it at some sample.
+ACTS_ONLY_WHERE: dict[str, Callable[[Log], bool]] = {"propeller_astern": _reverses_propeller}
+
+
+def acts_on(effect: str, logs: Sequence[Log]) -> bool:
+    """Whether an effect can act on the logs: False for one of ``ACTS_ONLY_WHERE`` whose condition no log
+    meets (its terms then move no replay of these logs)."""
+    meets = ACTS_ONLY_WHERE.get(effect)
+    return meets is None or any(meets(log) for log in logs)
 
 
 @dataclass(frozen=True)

@@ -21,6 +21,7 @@ from matplotlib.figure import Figure as Drawing
 
 from ship_env.workbench.errors import RunErrors, pooled, run_errors
 from ship_env.workbench.logs import Log
+from ship_env.workbench.outputs import save_drawing
 from ship_env.workbench.parallel import run_each
 from ship_env.workbench.replay import INITIAL_WINDOW, ReplayModel, Simulated, simulate
 from ship_env.workbench.validation import CrossValidation
@@ -123,16 +124,17 @@ def plot_run(log: Log, simulated: Simulated, errors: RunErrors, title: str, path
         f"position {shown['position']:.2f} m, track {shown['track']:.2f} m",
         fontsize=10,
     )
-    drawing.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    drawing.savefig(path, dpi=90)
-    return path
+    return save_drawing(drawing, path, dpi=90)
+
+
+def run_drawings(comparison: Comparison, folder: Path, title: str) -> list[tuple[Log, Simulated, RunErrors, str, Path]]:
+    """The arguments of :func:`plot_run` for each run: one PNG per run in ``folder``, named after the run."""
+    return [
+        (log, simulated, errors, title, folder / f"{file_name(log.name)}.png")
+        for log, simulated, errors in zip(comparison.logs, comparison.simulated, comparison.errors, strict=True)
+    ]
 
 
 def plot_comparison(comparison: Comparison, folder: Path, title: str, workers: int = 1) -> list[Path]:
     """One PNG per run in ``folder`` (named after the runs), drawn on ``workers`` processes."""
-    drawings = [
-        (log, simulated, errors, title, folder / f"{file_name(log.name)}.png")
-        for log, simulated, errors in zip(comparison.logs, comparison.simulated, comparison.errors, strict=True)
-    ]
-    return run_each(plot_run, drawings, workers)
+    return run_each(plot_run, run_drawings(comparison, folder, title), workers)

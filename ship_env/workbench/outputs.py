@@ -8,6 +8,10 @@ where an empty one is, or where the workbench wrote before (it leaves a marker f
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 #: The file the workbench leaves in every folder it writes into.
 MARKER = ".ship-env-output"
@@ -45,4 +49,17 @@ def claim_folder(path: Path, force: bool = False, option: str = "--plot") -> Pat
     return path
 
 
-__all__ = ["MARKER", "OutputError", "claim_file", "claim_folder"]
+def save_drawing(drawing: Figure, path: Path, dpi: int) -> Path:
+    """Lay the drawing out tightly and write it to ``path`` as PNG (its folder created where missing).
+
+    The layout is fixed before saving (no layout engine left on the drawing), so that saving draws
+    the drawing once, not twice.
+    """
+    drawing.tight_layout()
+    drawing.set_layout_engine(None)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    drawing.savefig(path, dpi=dpi)
+    return path
+
+
+__all__ = ["MARKER", "OutputError", "claim_file", "claim_folder", "save_drawing"]

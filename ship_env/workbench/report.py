@@ -16,10 +16,12 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure as Drawing
 from matplotlib.ticker import FormatStrFormatter
 
-from ship_env.workbench.compare import held_out_comparison, plot_comparison
+from ship_env.workbench.compare import held_out_comparison, plot_run, run_drawings
 from ship_env.workbench.diagnose import Diagnosis
 from ship_env.workbench.improve import Ladder
 from ship_env.workbench.logs import Log
+from ship_env.workbench.outputs import save_drawing
+from ship_env.workbench.parallel import run_each
 from ship_env.workbench.tables import (
     diagnosis_table,
     estimate_table,
@@ -52,10 +54,7 @@ def plot_ladder(ladder: Ladder, path: Path) -> Path:
     score_axes.set_xticks(steps, labels, rotation=20, ha="right")
     score_axes.grid(True, which="both", alpha=0.3)
     errors_axes.set_title("Error ladder: held-out error (leave one run out) after each added effect")
-    drawing.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    drawing.savefig(path, dpi=90)
-    return path
+    return save_drawing(drawing, path, dpi=90)
 
 
 def _figure_links(paths: Sequence[Path], folder: Path) -> list[str]:
@@ -123,12 +122,19 @@ def write_report(
                 "",
             ]
     lines += ["## Runs, held out: measured against simulated", ""]
-    for label, rung in (("start", first), ("final", last)) if len(ladder.rungs) > 1 else (("final", last),):
-        comparison = held_out_comparison(rung.validation, logs)
-        paths = plot_comparison(
-            comparison, folder / label, f"{label} model, held out: {', '.join(rung.effects)}", workers
+    shown = (("start", first), ("final", last)) if len(ladder.rungs) > 1 else (("final", last),)
+    drawings = [
+        run_drawings(
+            held_out_comparison(rung.validation, logs),
+            folder / label,
+            f"{label} model, held out: {', '.join(rung.effects)}",
         )
-        lines += [f"### {label} model", "", *_figure_links(paths, folder), ""]
+        for label, rung in shown
+    ]
+    # Every model's runs drawn in one go: the workers share them out evenly.
+    paths = iter(run_each(plot_run, [drawing for runs in drawings for drawing in runs], workers))
+    for (label, _), runs in zip(shown, drawings, strict=True):
+        lines += [f"### {label} model", "", *_figure_links([next(paths) for _ in runs], folder), ""]
     path = folder / "report.md"
     path.write_text("\n".join(lines))
     return path

@@ -34,6 +34,7 @@ from ship_env.model import state as S
 from ship_env.model.dynamics import derivatives
 from ship_env.model.kernel import kernel
 from ship_env.workbench.logs import Log
+from ship_env.workbench.outputs import save_drawing
 from ship_env.workbench.replay import ReplayModel
 
 if TYPE_CHECKING:
@@ -360,10 +361,7 @@ def plot_signals(signals: ResidualSignals, path: Path, title: str = "") -> Path:
     axes.set_ylabel("missing yaw acceleration, deg/s^2 (likewise)")
     axes.set_title(title or f"look for {match.signal.points_to}", fontsize=9, wrap=True)
     axes.legend(loc="best", fontsize=8)
-    drawing.tight_layout()
-    path = Path(path)
-    drawing.savefig(path, dpi=100)
-    return path
+    return save_drawing(drawing, Path(path), dpi=100)
 
 
 def past_the_library(diagnosis: Diagnosis, min_gain: float = EXPLAINS) -> str | None:

@@ -8,12 +8,15 @@ import json
 import re
 import shlex
 
+import numpy as np
 import pytest
 import torch
 import yaml
 from stable_baselines3.common.save_util import load_from_zip_file
 
 from ship_env.cli import main
+from ship_env.rl.features import MirroredObservationPolicy, ScaledObservationPolicy
+from ship_env.rl.policy_file import read_policy_file
 from ship_env.rl.seeds import parse_seeds
 
 COURSE_CHANGE = "ship_env/CourseChange-v0"
@@ -145,10 +148,10 @@ def test_a_continued_run_starts_from_the_saved_weights_and_trains_with_the_confi
 ):
     """``--trained-agent`` (rl-zoo3's option): with the config's learning rate 0 the continued agent
     keeps the saved weights exactly (a new agent of the same seed has others), with 3e-4 it moves
-    them; the saved policy_kwargs are kept (the config's net_arch is another); the metadata names
-    the file, its SHA-256 and its command, and the run's own command repeats it bit for bit."""
+    them; the metadata names the file, its SHA-256 and its command, and the run's own command
+    repeats it bit for bit."""
     _train(tiny_config, tmp_path / "start", "--seed", "1")
-    frozen = _changed_config(tmp_path, "frozen", learning_rate=0.0, policy_kwargs="dict(net_arch=[32, 32])")
+    frozen = _changed_config(tmp_path, "frozen", learning_rate=0.0)
     assert _train(frozen, tmp_path / "frozen", "--trained-agent", str(tmp_path / "start")) == 0
     assert _same_weights(tmp_path / "frozen", tmp_path / "start")
     assert _train(frozen, tmp_path / "new") == 0
@@ -179,6 +182,73 @@ def test_with_seeds_each_seed_continues_its_own_run(tmp_path, tiny_config):
         assert _same_weights(tmp_path / "on" / f"seed{seed}", tmp_path / "start" / f"seed{seed}")
         metadata = json.loads((tmp_path / "on" / f"seed{seed}" / "metadata.json").read_text())
         assert metadata["trained_agent"]["path"] == str(tmp_path / "start" / f"seed{seed}" / "model.zip")
+
+
+#: The tiny config's network as ScaledObservationPolicy, and behind the mirror (CourseChange's
+#: observation: heading error, rate of turn, rudder, speed, turn direction; all but the speed mirrored).
+SCALED = {
+    "policy": "ship_env.rl.features.ScaledObservationPolicy",
+    "policy_kwargs": "dict(net_arch=[16], features_extractor_kwargs=dict(scales=[50, 5, 1, 1, 1]))",
+}
+MIRROR = "mirror_sign=4, mirrored=[0, 1, 2, 4]"
+
+
+def _mirrored_config(tmp_path, name, policy_kwargs=SCALED["policy_kwargs"], **changed):
+    mirrored = {
+        "policy": "ship_env.rl.features.MirroredObservationPolicy",
+        "policy_kwargs": policy_kwargs[:-1] + f", {MIRROR})",
+    }
+    return _changed_config(tmp_path, name, **mirrored, **changed)
+
+
+def test_a_continued_run_builds_the_configs_policy_with_the_saved_weights(tmp_path):
+    """A config naming another policy class than the saved agent's (the same network behind the
+    mirror) continues the agent's weights in it: with learning rate 0 the mirrored policy acts as
+    the plain one on turns to starboard and as its mirror image on turns to port."""
+    _train(_changed_config(tmp_path, "plain", **SCALED), tmp_path / "start", "--seed", "1")
+    frozen = _mirrored_config(tmp_path, "frozen", learning_rate=0.0)
+    assert _train(frozen, tmp_path / "mirrored", "--trained-agent", str(tmp_path / "start")) == 0
+    plain, mirrored = read_policy_file(tmp_path / "start").policy(), read_policy_file(tmp_path / "mirrored").policy()
+    assert type(plain) is ScaledObservationPolicy
+    assert isinstance(mirrored, MirroredObservationPolicy)
+    metadata = json.loads((tmp_path / "mirrored" / "metadata.json").read_text())
+    assert metadata["trained_agent"]["path"] == str(tmp_path / "start" / "model.zip")
+
+    rng = np.random.default_rng(2)
+    starboard = rng.uniform(-0.1, 0.1, (32, 5)).astype(np.float32)
+    starboard[:, 3], starboard[:, 4] = rng.uniform(0.5, 1.0, 32), 1.0
+    port = starboard * np.array([-1, -1, -1, 1, -1], np.float32)  # the mirror images
+    actions = plain.predict(starboard, deterministic=True)[0]
+    assert np.all(actions != 0.0)
+    np.testing.assert_array_equal(mirrored.predict(starboard, deterministic=True)[0], actions)
+    np.testing.assert_array_equal(mirrored.predict(port, deterministic=True)[0], -actions)
+    assert not np.allclose(plain.predict(port, deterministic=True)[0], -actions)  # the plain one is not symmetric
+
+
+@pytest.mark.parametrize(
+    "policy_kwargs, message",
+    [
+        (
+            "dict(net_arch=[32], features_extractor_kwargs=dict(scales=[50, 5, 1, 1, 1]))",
+            r"its ScaledObservationPolicy's weights do not fit the config's MirroredObservationPolicy: "
+            r"mlp_extractor\.policy_net\.0\.weight has shape \(16, 5\), not \(32, 5\)",
+        ),
+        (
+            "dict(net_arch=[16], features_extractor_kwargs=dict(scales=[1, 1, 1, 1, 1]))",
+            r"its ScaledObservationPolicy's weights do not fit the config's MirroredObservationPolicy: "
+            r"features_extractor\.scales \(fixed by policy_kwargs\) holds other values",
+        ),
+    ],
+)
+def test_weights_that_do_not_fit_the_configs_policy_are_refused_by_name(tmp_path, capsys, policy_kwargs, message):
+    _train(_changed_config(tmp_path, "plain", **SCALED), tmp_path / "start")
+    with pytest.raises(SystemExit) as raised:
+        _train(_mirrored_config(tmp_path, "other", policy_kwargs), tmp_path / "run", "-i", str(tmp_path / "start"))
+    assert raised.value.code == 2
+    assert re.search(
+        r"argument -i/--trained-agent: policy file .*start/model\.zip: " + message, capsys.readouterr().err
+    )
+    assert not (tmp_path / "run" / "model.zip").exists()
 
 
 @pytest.mark.parametrize(

@@ -162,8 +162,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="PATH",
         help="continue training a saved agent (rl-zoo3's option): its model.zip or its run's folder, "
-        "or with --seeds a folder of seeds' runs (each seed continues its own); the policy and its "
-        "policy_kwargs are the agent's, the other hyper-parameters the config's",
+        "or with --seeds a folder of seeds' runs (each seed continues its own); its weights go into "
+        "the config's policy (class and policy_kwargs: another class takes them where they fit exactly), "
+        "with the config's other hyper-parameters",
     )
     parser.add_argument("--force", action="store_true", help="overwrite runs already trained in those folders")
     add_backend_arguments(

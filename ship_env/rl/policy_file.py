@@ -63,6 +63,26 @@ class PolicyFile:
         """The algorithm that trained it (``"PPO"``) from the metadata, or without it the policy's class name."""
         return self.metadata.algo.upper() if self.metadata is not None else self._data["policy_class"].__name__
 
+    @property
+    def policy_class(self) -> type:
+        """The saved policy's class."""
+        return self._data["policy_class"]
+
+    @property
+    def policy_kwargs(self) -> dict[str, Any]:
+        """The keyword arguments the saved policy was built with (its config's ``policy_kwargs``)."""
+        return dict(self._data.get("policy_kwargs") or {})
+
+    @property
+    def weights(self) -> dict[str, torch.Tensor]:
+        """The policy's state dict: its trained parameters and fixed buffers."""
+        return self._parameters["policy"]
+
+    @property
+    def optimizer_state(self) -> dict[str, Any] | None:
+        """The optimiser's state dict as saved (``None`` if it was not)."""
+        return self._parameters.get("policy.optimizer")
+
     def mismatch(self, env_id: str, observation_space: spaces.Space, action_space: spaces.Space) -> str | None:
         """Why the policy cannot steer ``env_id`` with these spaces, or ``None`` if it can."""
         if self.env_id is not None and self.env_id != env_id:
@@ -81,13 +101,13 @@ class PolicyFile:
 
     def policy(self) -> BasePolicy:
         """The policy network with its trained weights, in evaluation mode, on the CPU."""
-        policy_class = self._data["policy_class"]
-        kwargs = dict(self._data.get("policy_kwargs") or {})
+        policy_class = self.policy_class
+        kwargs = self.policy_kwargs
         if "use_sde" in inspect.signature(policy_class).parameters:
             kwargs.setdefault("use_sde", bool(self._data.get("use_sde", False)))
         try:
             policy = policy_class(self.observation_space, self.action_space, _no_learning_rate, **kwargs)
-            policy.load_state_dict(self._parameters["policy"])
+            policy.load_state_dict(self.weights)
         except (KeyError, RuntimeError, TypeError) as error:
             raise PolicyFileError(
                 f"policy file {self.path}: cannot rebuild its {policy_class.__name__}: {error}"

@@ -14,6 +14,7 @@ from __future__ import annotations
 import hashlib
 import importlib.util
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -64,16 +65,71 @@ def tensorboard_installed() -> bool:
 
 def continue_agent(config: AgentConfig, saved: PolicyFile, env: VecEnv, **run_keywords: Any) -> BaseAlgorithm:
     """The saved agent, ready to train on ``env`` with ``config``'s hyper-parameters, as rl-zoo3's
-    ``--trained-agent`` continues one: its policy (class, ``policy_kwargs``, weights) and optimiser
-    state are the saved agent's, every other keyword the config's (``run_keywords``: the run's
-    seed, device, log folder). :class:`~ship_env.rl.policy_file.PolicyFileError` naming the file if
-    it was trained with another algorithm, on another environment or with other spaces.
+    ``--trained-agent`` continues one: its weights and optimiser state are the saved agent's, every
+    other keyword the config's (``run_keywords``: the run's seed, device, log folder).
+
+    Where the config's policy class and ``policy_kwargs`` are the saved agent's, the agent is
+    loaded as it was saved; where they are others (say the same network behind
+    :class:`~ship_env.rl.features.MirroredObservationPolicy`), the config's policy is built and
+    given the saved weights (:func:`load_weights`). :class:`~ship_env.rl.policy_file.PolicyFileError`
+    naming the file if it was trained with another algorithm, on another environment, with other
+    spaces, or with a network whose weights do not fit the config's policy.
     """
     if saved.metadata is not None and saved.metadata.algo != config.algo:
         raise PolicyFileError(f"policy file {saved.path}: trained with {saved.metadata.algo}, not {config.algo}")
     saved.check(config.env_id, env.observation_space, env.action_space)
-    hyperparameters = {key: value for key, value in config.hyperparameters.items() if key != "policy_kwargs"}
-    return config.algorithm.load(saved.path, env=env, custom_objects=hyperparameters, **run_keywords, **hyperparameters)
+    policy_kwargs = config.hyperparameters.get("policy_kwargs") or {}
+    if _policy_class(config) is saved.policy_class and policy_kwargs == saved.policy_kwargs:
+        hyperparameters = {key: value for key, value in config.hyperparameters.items() if key != "policy_kwargs"}
+        return config.algorithm.load(
+            saved.path, env=env, custom_objects=hyperparameters, **run_keywords, **hyperparameters
+        )
+    model = config.algorithm(config.policy, env, **run_keywords, **config.hyperparameters)
+    load_weights(model, saved)
+    return model
+
+
+def _policy_class(config: AgentConfig) -> type:
+    """The policy class a config names (an alias such as ``MlpPolicy`` resolved by its algorithm)."""
+    if isinstance(config.policy, type):
+        return config.policy
+    return config.algorithm.policy_aliases.get(config.policy, type(None))
+
+
+def load_weights(model: BaseAlgorithm, saved: PolicyFile) -> None:
+    """Give ``model``'s policy the saved agent's weights and optimiser state.
+
+    The weights must fit exactly: every saved tensor is one of the policy's, of the same shape, and
+    every trained parameter of the policy is saved. The policy's fixed buffers that the saved agent
+    lacks stay as its ``policy_kwargs`` made them (the mirror's element signs); one it has too must
+    hold the same values (the observation scales). :class:`~ship_env.rl.policy_file.PolicyFileError`
+    naming both classes and the first tensor that does not fit.
+    """
+    policy = model.policy
+    reason = weights_mismatch(policy, saved.weights)
+    if reason is not None:
+        raise PolicyFileError(
+            f"policy file {saved.path}: its {saved.policy_class.__name__}'s weights do not fit the config's "
+            f"{type(policy).__name__}: {reason}"
+        )
+    policy.load_state_dict(saved.weights, strict=False)
+    if saved.optimizer_state is not None:
+        policy.optimizer.load_state_dict(saved.optimizer_state)
+
+
+def weights_mismatch(policy: torch.nn.Module, weights: Mapping[str, torch.Tensor]) -> str | None:
+    """Why ``weights`` (a saved state dict) do not fit ``policy`` (:func:`load_weights`), or ``None``."""
+    own = policy.state_dict()
+    parameters = dict(policy.named_parameters())
+    for key, saved in weights.items():
+        if key not in own:
+            return f"{key} is not one of its tensors"
+        if own[key].shape != saved.shape:
+            return f"{key} has shape {tuple(saved.shape)}, not {tuple(own[key].shape)}"
+        if key not in parameters and not torch.equal(own[key], saved):
+            return f"{key} (fixed by policy_kwargs) holds other values"
+    missing = [key for key in parameters if key not in weights]
+    return None if not missing else f"{missing[0]} is not saved"
 
 
 def starting_agent(saved: PolicyFile) -> dict[str, Any]:

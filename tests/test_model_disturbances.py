@@ -51,9 +51,11 @@ def test_tidal_current_speed_variation_averages_out_over_a_period():
 
 
 def _apparent_wind(heading, north_velocity, east_velocity, wind_speed, wind_direction):
-    """(V_wr, gamma_r) from ``wind.relative_wind``'s speed and direction cosines."""
+    """(V_wr, gamma_r) from ``wind.relative_wind``'s speed and direction cosines, with the true wind's
+    velocity as the conditions row derives it."""
+    row = Conditions(wind_speed=wind_speed, wind_direction=wind_direction).row(0.0)
     speed, cos_angle, sin_angle = wind.relative_wind(
-        math.cos(heading), math.sin(heading), north_velocity, east_velocity, wind_speed, wind_direction
+        math.cos(heading), math.sin(heading), north_velocity, east_velocity, row[S.WIND_NORTH], row[S.WIND_EAST]
     )
     return speed, math.atan2(sin_angle, cos_angle)
 

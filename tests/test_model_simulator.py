@@ -138,6 +138,22 @@ def test_negative_speed_is_rejected():
         Conditions(current_speed="fast")
 
 
+def test_changed_wind_and_current_carry_their_velocities():
+    """A condition set while sailing re-derives the wind's and current's velocity components (2.71, 2.74)."""
+    sim = Simulator(ShipModel(CONTAINER), num_ships=2)
+    sim.reset(seed=0, conditions=Conditions(current_speed=1.5, current_direction=math.radians(30.0)))
+    sim.set_conditions("wind_speed", np.array([10.0, 4.0]))
+    sim.set_conditions("wind_direction", math.radians(90.0))  # from the east: the air moves west
+    np.testing.assert_allclose(sim.conditions[:, S.WIND_NORTH], 0.0, atol=1e-12)
+    np.testing.assert_allclose(sim.conditions[:, S.WIND_EAST], [-10.0, -4.0])
+    np.testing.assert_allclose(sim.conditions[:, S.CURRENT_NORTH], 1.5 * math.cos(math.radians(30.0)))
+    np.testing.assert_allclose(sim.conditions[:, S.CURRENT_EAST], 0.75)
+    sim.set_conditions("current_speed", 0.0)
+    assert not np.any(sim.conditions[:, [S.CURRENT_NORTH, S.CURRENT_EAST]])
+    with pytest.raises(ValueError, match=r"'wind_north' is derived .*known: service_speed"):
+        sim.set_conditions("wind_north", 1.0)
+
+
 def test_unknown_effect_and_parameter_names_are_rejected():
     with pytest.raises(ValueError, match=r"unknown effect 'wind_momnet'"):
         ShipModel(CONTAINER, ["yaw", "wind_momnet"])

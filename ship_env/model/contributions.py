@@ -19,7 +19,8 @@ An argument may name:
   and the effects' :class:`State` s), with ``rudder`` the actual rudder at the instant;
 - ``<state>_white_noise`` for a state of the effect driven by white noise (:attr:`State.white_noise`);
 - one of the effect's own :class:`Draw` s by its name: the random numbers it drew where the ship started;
-- a condition (``propeller_rate``, ``wind_speed``...; see ``state.CONDITION_NAMES``);
+- a condition (``propeller_rate``, ``wind_speed``..., or the current's and the wind's velocity
+  components derived from them, ``current_north``, ``wind_north``...; see ``state.CONDITION_NAMES``);
 - a principal particular (``length``, ``draught``...);
 - one of the effect's own parameters by its name (``gain``), or any effect's parameter by its
   record field (``propeller_slipstream_propeller_diameter``).

@@ -282,8 +282,7 @@ class _Writer:
         self.emit(f"if {' or '.join(f'p[{flag!r}]' for flag in flags)}:")
         self.emit(
             "relative_wind_speed, cos_wind, sin_wind = relative_wind("
-            f"cos_heading, sin_heading, north_rate, east_rate, conditions[{S.WIND_SPEED}], "
-            f"conditions[{S.WIND_DIRECTION}])",
+            f"cos_heading, sin_heading, north_rate, east_rate, conditions[{S.WIND_NORTH}], conditions[{S.WIND_EAST}])",
             2,
         )
         for name in WIND:
@@ -608,6 +607,7 @@ def check_contributions(model: Any) -> None:
     conditions[S.CURRENT_SPEED] = 0.3
     conditions[S.WIND_SPEED] = 10.0
     conditions[S.WIND_DIRECTION] = math.radians(45.0)
+    S.derive_conditions(conditions[np.newaxis])
     sea = {"wave_height": np.array([2.0]), "wave_period": np.array([8.0])}
     drawn = model.draw(noise.keys_from_seeds(np.zeros(1)), conditions[np.newaxis], sea)[0]
     size = len(state_names(model.record))

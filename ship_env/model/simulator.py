@@ -152,6 +152,7 @@ class Conditions:
         row[S.WAVE_DIRECTION] = self.wave_direction
         row[S.YAW_GAIN_CHANGE] = self.yaw_gain_factor - 1.0
         row[S.YAW_TIME_CONSTANT_CHANGE] = self.yaw_time_constant_factor - 1.0
+        S.derive_conditions(row[np.newaxis])
         return row
 
 
@@ -294,14 +295,19 @@ class Simulator:
         """Change one condition (``service_speed``, ``propeller_rate``, ``wind_speed``, ...) now.
 
         Used to replay measured speed, propeller rate or wind step by step, or to switch a current
-        on or off during a run. Angles in radians.
+        on or off during a run. Angles in radians. The derived conditions follow
+        (``state.derive_conditions``).
         """
-        if name not in S.CONDITION_NAMES:
-            raise ValueError(f"conditions: unknown condition {name!r}; known: {', '.join(S.CONDITION_NAMES)}")
+        if name not in S.SETTABLE_CONDITION_NAMES:
+            known = f"known: {', '.join(S.SETTABLE_CONDITION_NAMES)}"
+            if name in S.DERIVED_CONDITION_NAMES:
+                raise ValueError(f"conditions: {name!r} is derived from the current and the wind; set those ({known})")
+            raise ValueError(f"conditions: unknown condition {name!r}; {known}")
         array = self._per_ship_value(name, value)
         if name in ("service_speed", "propeller_rate", "current_speed", "wind_speed") and np.any(array < 0.0):
             raise ValueError(f"conditions.{name}: must not be negative, got {value!r}")
         self.conditions[:, S.CONDITION_NAMES.index(name)] = array
+        S.derive_conditions(self.conditions)
 
     # -- stepping --------------------------------------------------------------------------------
     def step(self, ordered_rudder: float | np.ndarray) -> None:

@@ -7,9 +7,16 @@ register: the built-in library's first (:data:`LIBRARY_STATES`), then those of e
 ``ship_env``. A model's layout is ``ShipModel.state_names``.
 Angles are in radians, the heading is not wrapped (it counts whole turns), positions in metres
 in the earth-fixed frame (x0 north, y0 east), time in seconds.
+
+The conditions are a row of :data:`CONDITION_NAMES` per ship: those a caller sets, then the current's
+and the wind's velocity components :func:`derive_conditions` derives from them.
 """
 
 from __future__ import annotations
+
+import math
+
+from ship_env.model.kernel import kernel
 
 # The ship's motion (thesis ch. 2, DESIGN 3): time, position, heading, rate of turn, relative speed
 # loss u* and actual rudder angle. The speed_loss effect governs u*'s rate (u* stays 0 without it).
@@ -44,7 +51,14 @@ WAVE_DIRECTION = 6  # rad, the direction the waves come from, clockwise from nor
 # one simulator): K* (1 + change), tau* (1 + change); 0, nominal, in a row of zeros.
 YAW_GAIN_CHANGE = 7  # -, relative change of K* (2.54)
 YAW_TIME_CONSTANT_CHANGE = 8  # -, relative change of tau* (2.54)
-CONDITION_SIZE = 9
+# Derived from the conditions above wherever a row is written (:func:`derive_conditions`): the current
+# and the true wind as velocities over the ground, north and east, so that the derivative, evaluated
+# several times a step, does not take the cosine and sine of directions held over the step.
+CURRENT_NORTH = 9  # m/s, U_c cos(psi_c) (2.71)
+CURRENT_EAST = 10  # m/s, U_c sin(psi_c) (2.72)
+WIND_NORTH = 11  # m/s, -V_w cos(psi_w): the air's velocity north (it blows towards psi_w + pi) (2.74)
+WIND_EAST = 12  # m/s, -V_w sin(psi_w) (2.74)
+CONDITION_SIZE = 13
 
 CONDITION_NAMES = (
     "service_speed",
@@ -56,7 +70,29 @@ CONDITION_NAMES = (
     "wave_direction",
     "yaw_gain_change",
     "yaw_time_constant_change",
+    "current_north",
+    "current_east",
+    "wind_north",
+    "wind_east",
 )
+#: The conditions a caller sets, and those :func:`derive_conditions` writes from them (read, never set).
+SETTABLE_CONDITION_NAMES = CONDITION_NAMES[:CURRENT_NORTH]
+DERIVED_CONDITION_NAMES = CONDITION_NAMES[CURRENT_NORTH:]
+
+
+@kernel
+def derive_conditions(rows):
+    """Write the derived conditions of condition rows ``(N, CONDITION_SIZE)`` from those set, in place.
+
+    Every row the model reads passes through here after its current or wind is set (a scenario's, a
+    changed condition's, a replayed log's), so the derived columns never disagree with the others.
+    """
+    for i in range(rows.shape[0]):
+        rows[i, CURRENT_NORTH] = rows[i, CURRENT_SPEED] * math.cos(rows[i, CURRENT_DIRECTION])  # (2.71)
+        rows[i, CURRENT_EAST] = rows[i, CURRENT_SPEED] * math.sin(rows[i, CURRENT_DIRECTION])  # (2.72)
+        rows[i, WIND_NORTH] = -rows[i, WIND_SPEED] * math.cos(rows[i, WIND_DIRECTION])  # V_w of (2.74)
+        rows[i, WIND_EAST] = -rows[i, WIND_SPEED] * math.sin(rows[i, WIND_DIRECTION])
+
 
 # Conditions a ship starts a run in that the row does not hold (``Conditions``): the sea state,
 # which the ship meets through the components drawn where it starts (``contributions.Draw``).

@@ -118,13 +118,14 @@ def moved_replays(model: ShipModel, key: str) -> tuple[bool, bool]:
     A term moves a replay where some contribution (or white-noise intensity) of an effect of the model
     reads it and what that contribution changes feeds the replay's outputs: the track replay imposes
     the measured heading and rate of turn and holds the rudder, so a yaw term never moves it, and a
-    current (read as the conditions ``current_speed``, ``current_direction``) moves the heading only
+    current (read as the conditions ``current_speed``, ``current_direction`` and those derived from
+    them, ``current_north``, ``current_east``) moves the heading only
     where a yaw contribution reads the current or the velocity over the ground. A term that is not
     an effect's parameter or the current (a principal particular) is taken to move both.
     """
     effect, _, name = key.partition(".")
     if effect == "current":
-        names = {"current_speed", "current_direction"}
+        names = {"current_speed", "current_direction", "current_north", "current_east"}
     elif name and effect in EFFECTS:
         names = {EFFECTS[effect].field_name(name)}  # read by another effect's contribution
     else:
@@ -205,6 +206,7 @@ def _conditions(log: Log, model: ShipModel) -> np.ndarray:
     if log.wind_speed is not None and log.wind_direction is not None:
         rows[:, S.WIND_SPEED] = np.maximum(log.wind_speed, 0.0)
         rows[:, S.WIND_DIRECTION] = log.wind_direction
+    S.derive_conditions(rows)
     return rows
 
 
@@ -279,8 +281,12 @@ def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid):
     count = offsets[task_run[task] + 1] - first
     for j in range(size):
         state[j] = task_initial[task, j]
-    current_speed = math.hypot(task_current[task, 0], task_current[task, 1])
-    current_direction = math.atan2(task_current[task, 1], task_current[task, 0])
+    # The task's current, derived once (``state.derive_conditions``) and written into every step's row.
+    row[S.CURRENT_SPEED] = math.hypot(task_current[task, 0], task_current[task, 1])
+    row[S.CURRENT_DIRECTION] = math.atan2(task_current[task, 1], task_current[task, 0])
+    S.derive_conditions(row[np.newaxis])
+    current_speed, current_direction = row[S.CURRENT_SPEED], row[S.CURRENT_DIRECTION]
+    current_north, current_east = row[S.CURRENT_NORTH], row[S.CURRENT_EAST]
     valid[task] = True
     _record(out, task, 0, state)
     for k in range(count - 1):
@@ -289,6 +295,8 @@ def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid):
             row[j] = conditions[i, j]
         row[S.CURRENT_SPEED] = current_speed
         row[S.CURRENT_DIRECTION] = current_direction
+        row[S.CURRENT_NORTH] = current_north
+        row[S.CURRENT_EAST] = current_east
         if valid[task]:
             if task_track[task]:
                 valid[task] = _track_step(

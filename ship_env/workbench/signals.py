@@ -288,6 +288,7 @@ def _log_samples(setup: ReplayModel, log: Log) -> tuple[np.ndarray, dict[str, np
         conditions[:, S.WIND_SPEED] = wind_speed
         conditions[:, S.WIND_DIRECTION] = log.wind_direction
         wind_angle = log.wind_direction - states[:, S.HEADING]
+    S.derive_conditions(conditions)
     model.start_states(states, conditions)  # an effect's own state where its declaration starts it
     modelled = np.zeros(log.samples)
     _yaw_accelerations(states, rudder, conditions, np.zeros(model.draw_size), model.record, modelled)

@@ -4,7 +4,9 @@
 
 psi_c is the direction the current sets towards, clockwise from north. A tidal variation is
 optional: U_c(t) = U_c (1 + a sin(2 pi t / T)), psi_c(t) = psi_c + b sin(2 pi t / T), with
-a = ``variation``, b = ``swing``, T = ``period``; a = b = 0 gives a steady current.
+a = ``variation``, b = ``swing``, T = ``period``; a = b = 0 gives a steady current, whose
+U_c cos(psi_c) and U_c sin(psi_c) are the conditions ``current_north`` and ``current_east``, derived
+once where the conditions are written (``state.derive_conditions``).
 """
 
 from __future__ import annotations
@@ -24,10 +26,10 @@ EFFECT = Effect(
 
 
 @kernel
-def drift(time, current_speed, current_direction, variation, swing, period):
+def drift(time, current_north, current_east, current_speed, current_direction, variation, swing, period):
     """The current's contribution (dx0/dt, dy0/dt) in m/s at ``time``."""
     if variation == 0.0 and swing == 0.0:
-        return current_speed * math.cos(current_direction), current_speed * math.sin(current_direction)
+        return current_north, current_east
     phase = math.sin(2.0 * math.pi * time / period)
     speed = current_speed * (1.0 + variation * phase)
     direction = current_direction + swing * phase

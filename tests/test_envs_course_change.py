@@ -12,10 +12,11 @@ from env_contract import assert_same_steps, assert_vector_equals_singles, sail
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.course_change import CourseChangeEnv
-from ship_env.envs.course_change_task import OBS_RATE_OF_TURN
+from ship_env.envs.course_change_task import DEFAULT_RUDDER_TRAVEL_WEIGHT, OBS_RATE_OF_TURN
 from ship_env.envs.course_change_vector import CourseChangeVectorEnv
 from ship_env.envs.metrics import course_change_metrics
-from ship_env.envs.weather import RANDOM_DISTURBANCE
+from ship_env.envs.sensors import wrap
+from ship_env.envs.weather import DISTURBANCES, RANDOM_DISTURBANCE
 from ship_env.model import Conditions, ShipModel, simulator
 from ship_env.model import state as S
 from ship_env.model.simulator import PARALLEL_SHIPS, batch_loop
@@ -171,6 +172,66 @@ def test_episode_truncates_at_the_spec_length_with_the_shared_metrics_in_its_las
     expected = course_change_metrics(states[:, S.TIME], states[:, S.HEADING], states[:, S.RUDDER], math.radians(-45.0))
     assert info["metrics"] == pytest.approx(expected, rel=1e-12)
     assert 0.0 < expected["settling_time"] < 600.0 and expected["rudder_travel"] > 0.0
+
+
+#: A weather setting: each disturbance level's rudder-travel weight, wind and current left out.
+WEATHER_SETTING = {"calm": 0.1, "wind_current_waves": 0.9}
+
+
+@pytest.mark.parametrize(
+    ("options", "weight"),
+    [
+        ({"disturbance": "calm"}, 0.1),
+        ({"disturbance": "wind_current_waves"}, 0.9),
+        ({"disturbance": "wind_current"}, DEFAULT_RUDDER_TRAVEL_WEIGHT),  # left out: the default
+        ({"conditions": Conditions(wind_speed=10.0)}, DEFAULT_RUDDER_TRAVEL_WEIGHT),  # "custom"
+    ],
+)
+def test_each_steps_reward_weighs_the_rudder_travel_by_the_episodes_disturbance_level(options, weight):
+    env = CourseChangeEnv(
+        disturbance=RANDOM_DISTURBANCE, heading_error_weight=0.7, rudder_travel_weight=WEATHER_SETTING
+    )
+    actions = np.random.default_rng(6).uniform(-1.0, 1.0, size=(40, 1)).astype(np.float32)
+    steps = sail(env, actions, seed=11, options={"course_change_deg": 45.0, **options})
+    limit = math.radians(20.0)
+    infos = [step[-1] for step in steps]  # the reset's, then each step's
+    rudder_moves = []
+    for info, (_, reward, _, _, next_info) in zip(infos[:-1], steps[1:], strict=True):
+        assert info["rudder_travel_weight"] == weight
+        state = next_info["state"]
+        rudder_move = abs(state[S.RUDDER] - info["state"][S.RUDDER])
+        heading_error = abs(wrap(next_info["new_heading"] - state[S.HEADING]))
+        assert reward == pytest.approx(-(0.7 * heading_error / math.pi + weight * rudder_move / limit), rel=1e-12)
+        rudder_moves.append(rudder_move)
+    assert min(rudder_moves[1:]) > 0.0  # every step pays for rudder travel
+
+
+def test_one_rudder_travel_weight_for_all_levels_is_the_same_as_a_mapping_giving_each_level_it():
+    actions = np.random.default_rng(7).uniform(-1.0, 1.0, size=(30, 1)).astype(np.float32)
+    every_level = dict.fromkeys((*DISTURBANCES, "custom"), 0.35)
+    for seed in (1, 2, 3):  # random levels
+        one = sail(CourseChangeEnv(disturbance=RANDOM_DISTURBANCE, rudder_travel_weight=0.35), actions, seed)
+        assert_same_steps(
+            one, sail(CourseChangeEnv(disturbance=RANDOM_DISTURBANCE, rudder_travel_weight=every_level), actions, seed)
+        )
+        assert one[0][-1]["rudder_travel_weight"] == 0.35
+
+
+@pytest.mark.parametrize(
+    ("weight", "error", "message"),
+    [
+        ({"storm": 1.0}, ValueError, "rudder_travel_weight's level: expected one of calm, .*, got 'storm'"),
+        ({"random": 1.0}, ValueError, "got 'random'"),
+        ({"calm": -0.1}, ValueError, r"rudder_travel_weight\['calm'\]: .*got -0.1"),
+        ({"wind_current": math.nan}, ValueError, r"rudder_travel_weight\['wind_current'\]: .*got nan"),
+        ({"calm": "low"}, TypeError, r"rudder_travel_weight\['calm'\]: expected a number, got 'low'"),
+        (-1.0, ValueError, "rudder_travel_weight: .*got -1.0"),
+        ([0.1, 0.5], TypeError, r"rudder_travel_weight: expected a number, got \[0.1, 0.5\]"),
+    ],
+)
+def test_a_bad_rudder_travel_weight_is_refused_naming_the_field_and_value(weight, error, message):
+    with pytest.raises(error, match=message):
+        CourseChangeEnv(rudder_travel_weight=weight)
 
 
 def test_course_change_metrics_on_a_hand_made_run():

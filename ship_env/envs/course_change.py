@@ -60,6 +60,12 @@ class CourseChangeEnv(ShipEnv):
     with e the *true* heading error wrap(new heading - psi) and d delta the actual rudder's move
     over the step; weights 1 and 0.2 by default. The heading part of the return is the integrated
     absolute heading error in units of pi * dt, the leaderboard's ranking metric.
+    ``rudder_travel_weight`` may also be a mapping from the disturbance level to its weight, an
+    autopilot's weather setting (``{"calm": 0.15, "wind_current": 0.5, "wind_current_waves": 0.8}``:
+    more rudder for less heading error in still water, less chasing of the waves' yaw in a sea);
+    each episode's rewards use its level's weight (``"custom"`` for conditions given at reset; a
+    level left out weighs 0.2), reported in ``info["rudder_travel_weight"]``. The observation does
+    not show the level: a policy must tell the sea from what it sees.
 
     A policy that must hold up off the design ship trains with ``ship_variation=True`` (K*, tau*
     x0.5..x2, half to full speed, the weather's strength varied) and ``observation_history=4`` (it
@@ -94,7 +100,8 @@ class CourseChangeEnv(ShipEnv):
     ``rate_of_turn`` rad/s, ``rudder`` rad, log ``speed`` m/s, the latest position fix ``north``
     and ``east`` m and its ``fix_time`` s, for estimators such as the yaw and position filters of
     thesis 5.3-5.4); ``state``, the ship's true state (layout in
-    :mod:`ship_env.model.state`); ``new_heading`` (rad, unwrapped); ``metrics``, the episode's
+    :mod:`ship_env.model.state`); ``new_heading`` (rad, unwrapped); ``rudder_travel_weight`` (the
+    reward's, at the episode's disturbance level); ``metrics``, the episode's
     metrics so far (:mod:`ship_env.envs.metrics`: integrated heading error deg s, overshoot deg,
     settling time s, rudder travel deg), final at its last step. ``reset`` adds ``scenario``
     (:class:`~ship_env.envs.course_change_task.Scenario`).
@@ -109,7 +116,8 @@ class CourseChangeEnv(ShipEnv):
     ``render_mode`` (``"human"``, ``"rgb_array"``) and the task's keywords (see
     :class:`~ship_env.envs.course_change_task.CourseChangeTask`): ``disturbance`` (``"calm"``
     default, ``"wind_current"``, ``"wind_current_waves"``, ``"random"``), ``course_changes_deg``,
-    ``rudder_limit_deg``, ``heading_error_weight``, ``rudder_travel_weight``, ``settle_band_deg``,
+    ``rudder_limit_deg``, ``heading_error_weight``, ``rudder_travel_weight`` (a number, or one per
+    disturbance level), ``settle_band_deg``,
     ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``,
     ``wave_period_range``; and those every task shares (:class:`~ship_env.envs.task.ShipTask`):
     ``ship``, ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``,

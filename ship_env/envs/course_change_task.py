@@ -25,12 +25,12 @@ from typing import Any
 import numpy as np
 
 from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe
-from ship_env.envs.checks import check_number
+from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import METRICS_DTYPE, start_metrics, update_metrics
 from ship_env.envs.sensors import MEASURED_HEADING, RATE_BOUND, SPEED_BOUND, wrap
 from ship_env.envs.task import TaskScenario
 from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG
-from ship_env.envs.weather import WEATHER_DRAWS, WeatherTask
+from ship_env.envs.weather import CUSTOM_DISTURBANCE, DISTURBANCES, WEATHER_DRAWS, WeatherTask
 from ship_env.model import state as S
 from ship_env.model.kernel import kernel
 
@@ -51,11 +51,33 @@ OBSERVATION_SIZE = 5
 OBSERVATION_LOW = np.array([-1.0, -RATE_BOUND, -1.0, 0.0, -1.0], dtype=np.float32)
 OBSERVATION_HIGH = np.array([1.0, RATE_BOUND, 1.0, SPEED_BOUND, 1.0], dtype=np.float32)
 
+#: The levels ``rudder_travel_weight`` may weigh apart: those drawn, and ``"custom"`` (conditions given at reset).
+WEIGHTED_LEVELS = (*DISTURBANCES, CUSTOM_DISTURBANCE)
+#: The rudder-travel weight of a level a mapping leaves out (and the task's default).
+DEFAULT_RUDDER_TRAVEL_WEIGHT = 0.2
+
 #: Per-ship episode data besides the common record (:func:`~ship_env.envs.batch.episode_dtype`).
 TASK_FIELDS = (
     ("new_heading", np.float64),  # rad, unwrapped: initial heading + course change
     ("turn_direction", np.float64),  # +1 starboard, -1 port
+    ("rudder_travel_weight", np.float64),  # the reward's weight at the episode's disturbance level
 )
+
+
+def check_rudder_travel_weight(value: object) -> dict[str, float]:
+    """Each level's rudder-travel weight (``WEIGHTED_LEVELS``) from one number for all, or from a
+    mapping level -> weight whose left-out levels take ``DEFAULT_RUDDER_TRAVEL_WEIGHT``.
+
+    ``ValueError`` names an unknown level or a negative or non-finite weight, ``TypeError`` a weight
+    that is not a number.
+    """
+    if not isinstance(value, Mapping):
+        return dict.fromkeys(WEIGHTED_LEVELS, check_number("rudder_travel_weight", value, 0.0))
+    weights = dict.fromkeys(WEIGHTED_LEVELS, DEFAULT_RUDDER_TRAVEL_WEIGHT)
+    for level, weight in value.items():
+        check_choice("rudder_travel_weight's level", level, WEIGHTED_LEVELS)
+        weights[level] = check_number(f"rudder_travel_weight[{level!r}]", weight, 0.0)
+    return weights
 
 
 @dataclass(frozen=True)
@@ -85,7 +107,11 @@ class CourseChangeTask(WeatherTask):
         course_changes_deg: the course-change magnitudes drawn from, deg, each in (0, 180].
         rudder_limit_deg: delta_max, deg (default 20).
         heading_error_weight: reward per step for |heading error| / pi.
-        rudder_travel_weight: reward per step for |actual rudder move| / delta_max.
+        rudder_travel_weight: reward per step for |actual rudder move| / delta_max; one number, or a
+            mapping from the disturbance level (``"calm"``, ``"wind_current"``,
+            ``"wind_current_waves"``, ``"custom"``) to the weight of that level's episodes, a level
+            left out weighted ``DEFAULT_RUDDER_TRAVEL_WEIGHT`` (0.2): an autopilot's weather setting,
+            less rudder for more heading error in a rougher sea. The policy is not told the level.
         settle_band_deg: the settling band of the metrics, deg.
         **options: the weather's ranges (:class:`~ship_env.envs.weather.WeatherTask`:
             ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``,
@@ -102,7 +128,7 @@ class CourseChangeTask(WeatherTask):
         course_changes_deg: Sequence[float] = THESIS_COURSE_CHANGES_DEG,
         rudder_limit_deg: float = 20.0,
         heading_error_weight: float = 1.0,
-        rudder_travel_weight: float = 0.2,
+        rudder_travel_weight: float | Mapping[str, float] = DEFAULT_RUDDER_TRAVEL_WEIGHT,
         settle_band_deg: float = 2.0,
         **options: Any,
     ) -> None:
@@ -115,13 +141,13 @@ class CourseChangeTask(WeatherTask):
             for i, value in enumerate(course_changes_deg)
         )
         self.heading_error_weight = check_number("heading_error_weight", heading_error_weight, 0.0)
-        self.rudder_travel_weight = check_number("rudder_travel_weight", rudder_travel_weight, 0.0)
+        #: The rudder-travel weight of each disturbance level (``WEIGHTED_LEVELS``).
+        self.rudder_travel_weights = check_rudder_travel_weight(rudder_travel_weight)
         self.settle_band = math.radians(check_number("settle_band_deg", settle_band_deg, 0.0, 180.0))
         super().__init__(disturbance=disturbance, rudder_limit_deg=rudder_limit_deg, **options)
         #: The task's constants as the compiled update reads them.
         self.parameters = self.parameter_record(
             heading_error_weight=self.heading_error_weight,
-            rudder_travel_weight=self.rudder_travel_weight,
             settle_band=self.settle_band,
             dt=self.dt,
         )
@@ -167,7 +193,8 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
     Reads the simulator's arrays (``states``, ``conditions``, ``noise_keys``, ``step_index``),
     writes ``episodes[i]`` and ``metrics[i]``. Reward:
     -(w_e |wrap(psi_new - psi)| / pi + w_d |delta - delta_prev| / delta_max) on the true heading psi
-    and the actual rudder delta; the observation comes from the measurements.
+    and the actual rudder delta, w_d the episode's (its disturbance level's); the observation comes
+    from the measurements.
     """
     episode = episodes[i]
     restarted = episode["restarted"]
@@ -183,7 +210,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
         rudder_move = abs(rudder - episode["rudder"])
         episode["reward"] = -(
             p["heading_error_weight"] * abs(wrap(heading_error)) / math.pi
-            + p["rudder_travel_weight"] * rudder_move / p["rudder_limit"]
+            + episode["rudder_travel_weight"] * rudder_move / p["rudder_limit"]
         )
         update_metrics(
             metrics[i], state[S.TIME], heading_error, episode["turn_direction"], rudder_move, p["dt"], p["settle_band"]
@@ -202,10 +229,12 @@ update_ships, update_ships_parallel = define_update_loops(globals())
 class CourseChangeBatch(ShipBatch):
     """N ships sailing course changes (:class:`~ship_env.envs.batch.ShipBatch`).
 
-    Each ship's ``episodes`` record holds ``observation`` float32 (5,), ``measurement``, ``reward``
-    and the ordered ``new_heading``; ``metrics`` the running course-change metrics.
+    Each ship's ``episodes`` record holds ``observation`` float32 (5,), ``measurement``, ``reward``,
+    the ordered ``new_heading`` and the episode's ``rudder_travel_weight``; ``metrics`` the running
+    course-change metrics.
     """
 
+    task: CourseChangeTask
     task_fields = TASK_FIELDS
     metrics_dtype = METRICS_DTYPE
     update_serial = staticmethod(update_ships)
@@ -214,7 +243,12 @@ class CourseChangeBatch(ShipBatch):
     def start_episode(self, episode: np.void, scenario: Scenario) -> None:
         episode["new_heading"] = scenario.new_heading
         episode["turn_direction"] = math.copysign(1.0, scenario.course_change)
+        episode["rudder_travel_weight"] = self.task.rudder_travel_weights[scenario.disturbance]
 
     def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
-        """``new_heading``: the ordered heading, rad, unwrapped."""
-        return {"new_heading": episodes["new_heading"][ships]}
+        """``new_heading``: the ordered heading, rad, unwrapped; ``rudder_travel_weight``: the
+        reward's weight of the episode's disturbance level."""
+        return {
+            "new_heading": episodes["new_heading"][ships],
+            "rudder_travel_weight": episodes["rudder_travel_weight"][ships],
+        }

@@ -71,10 +71,10 @@ class CourseChangeEnv(ShipEnv):
     x0.5..x2, half to full speed, the weather's strength varied), ``observation_history=4`` (it
     sees how this ship answers its rudder) and ``observe_design_speed=True``, behind
     ``ship_env.rl.features.MirroredObservationPolicy`` (a turn to port steered as the mirror image
-    of one to starboard), at ``rudder_travel_weight=0.8`` (``configs/agents/ppo.yaml``, which says
-    what else was tried): the shipped policy, first or inside the best classic autopilot's interval
-    on 9 of the leaderboard's 12 CourseChange suites; the policy trained on the nominal ship only
-    holds 4. Trained with one weight per sea (calm 0.3, wind and current 0.5, waves 0.8) it held
+    of one to starboard), at ``rudder_travel_weight=0.5`` for 5M steps (``configs/agents/ppo.yaml``,
+    which says what else was tried): the shipped policy, first or inside the best classic
+    autopilot's interval on 10 of the leaderboard's 12 CourseChange suites; the policy trained on
+    the nominal ship only holds 4. Trained with one weight per sea (calm 0.3, wind and current 0.5, waves 0.8) it held
     none: the rudder chatters.
 
     ## Starting State

@@ -74,8 +74,8 @@ class CourseChangeEnv(ShipEnv):
     of one to starboard), at ``rudder_travel_weight=0.5`` for 5M steps (``configs/agents/ppo.yaml``,
     which says what else was tried): the shipped policy, first or inside the best classic
     autopilot's interval on 10 of the leaderboard's 12 CourseChange suites; the policy trained on
-    the nominal ship only holds 4. Trained with one weight per sea (calm 0.3, wind and current 0.5, waves 0.8) it held
-    none: the rudder chatters.
+    the nominal ship only holds 4. Trained with one weight per sea (calm 0.3, wind and current 0.5,
+    waves 0.8) it held none: the rudder chatters.
 
     ## Starting State
 

@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import json
 import math
+import os
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 import yaml
 from conftest import CONTAINER, run
+from short_run import short_run
 
 from ship_env.model import EFFECTS, Conditions, ShipModel, Simulator, list_ships, load_ship
 from ship_env.model import state as S
@@ -254,3 +259,16 @@ def test_large_batches_step_on_all_cores_with_the_same_numbers():
         big.step(orders)
         small.step(orders[[0, -1]])
     np.testing.assert_array_equal(big.state[[0, -1]], small.state)
+
+
+def test_the_model_runs_as_pure_python_with_the_compiled_numbers():
+    """``NUMBA_DISABLE_JIT=1`` runs the same code uncompiled (for a debugger). Both do the same IEEE
+    operations without fast-math; only a math library may round a last bit differently, which ten
+    steps do not grow to 1e-9."""
+    environment = {**os.environ, "NUMBA_DISABLE_JIT": "1"}
+    script = Path(__file__).with_name("short_run.py")
+    result = subprocess.run([sys.executable, str(script)], env=environment, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    pure_python = json.loads(result.stdout)
+    for name, compiled in short_run().items():
+        np.testing.assert_allclose(pure_python[name], compiled, rtol=1e-9, atol=1e-12, err_msg=name)

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from llvmlite import ir
 from numba import prange, types
@@ -63,6 +64,16 @@ def borrowed(typingctx, arrays):
         return context.make_tuple(builder, arrays, views)
 
     return arrays(arrays), codegen
+
+
+def _arrays_as_given(arrays):
+    """:func:`borrowed` for the pure-Python model (``NUMBA_DISABLE_JIT=1``): an intrinsic does not run
+    there, and Python's own reference counts are not numba's to spare, so the arrays pass as given."""
+    return arrays
+
+
+if numba.config.DISABLE_JIT:
+    borrowed = _arrays_as_given
 
 
 @kernel

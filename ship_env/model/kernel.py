@@ -3,7 +3,8 @@
 Every equation of the model is a plain Python function of floats, compiled with numba so that one
 ship steps at C speed from Python and a batch of ships steps in one compiled call over numpy arrays.
 Set the environment variable ``NUMBA_DISABLE_JIT=1`` to run the same code as pure Python (slow, but
-debuggable with pdb).
+debuggable with pdb; the same numbers: ``tests/test_model_simulator.py``). numpy then warns of the
+integer overflow that the random stream's hashing wraps on purpose (:mod:`ship_env.model.noise`).
 """
 
 from __future__ import annotations

@@ -7,11 +7,17 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
+import pytest
 
+from ship_env.model import Conditions
+from ship_env.model import state as S
 from ship_env.model.simulator import PARALLEL_SHIPS
 
 #: Keys of a single env's info that the vector env reports in its own way.
 EPISODE_KEYS = ("scenario", "score")
+#: A speed-loss gain of 50 (the container ship's: 0.8): hard over, the turn slows the ship past a
+#: standstill (u* > 1) within minutes; a gentle rudder keeps it valid.
+DIVERGING_SHIP = {"ship_parameters": {"speed_loss.gain": 50.0}}
 
 
 def sail(env: gym.Env, actions: np.ndarray, seed: int, options: dict | None = None) -> list:
@@ -113,3 +119,56 @@ def assert_all_core_vector_truncates_like_a_single_env(
     assert (rewards == 0.0).all() and info["_scenario"].all()
     steps = sail(single, actions[:3, -1], seed=9 + PARALLEL_SHIPS - 1)
     np.testing.assert_array_equal(np.array(observations)[:4, -1], [step[0] for step in steps])
+
+
+def assert_a_diverging_ship_ends_alone(
+    vector_class: type, single: gym.Env, seed: int, conditions: Conditions | None = None, **options: Any
+) -> None:
+    """Ship 1 of three, hard over in a ``DIVERGING_SHIP`` (sailing ``conditions`` if given, such as a
+    larger K*), leaves the model's validity: only its episode ends (truncated, ``info["diverged"]``, a
+    finite observation and reward) and restarts at the next step, while ships 0 and 2 sail bit for bit
+    as in a batch whose ship 1 steers a gentle course; the ``single`` environment (made with the same
+    options) raises instead."""
+    options = {**DIVERGING_SHIP, **options}
+    diverging, gentle = vector_class(num_envs=3, **options), vector_class(num_envs=3, **options)
+    hard_over = np.array([[0.2], [1.0], [-0.2]], dtype=np.float32)
+    steady = np.array([[0.2], [0.1], [-0.2]], dtype=np.float32)
+    others = [0, 2]
+    observations, _ = diverging.reset(seed=seed)
+    gentle.reset(seed=seed)
+    single.reset(seed=seed + 1)
+    if conditions is not None:  # ship 1 starts again in these conditions
+        restart = {"reset_mask": np.array([False, True, False]), "conditions": conditions}
+        observations, _ = diverging.reset(options=restart)
+        gentle.reset(options=restart)
+        single.reset(options={"conditions": conditions})
+    diverged_at = None
+    for k in range(600):
+        previous = observations
+        observations, rewards, terminated, truncated, info = diverging.step(hard_over)
+        expected = gentle.step(steady)
+        for item, other in zip((observations, rewards, terminated, truncated), expected[:4], strict=True):
+            np.testing.assert_array_equal(item[others], other[others])
+        np.testing.assert_array_equal(info["state"][others], expected[4]["state"][others])
+        assert "diverged" not in expected[4]
+        if diverged_at is not None:  # the step after: ship 1 starts a new episode
+            assert info["_scenario"][1] and rewards[1] == 0.0 and not truncated[1] and "diverged" not in info
+            assert np.isfinite(observations[1]).all() and np.isfinite(info["state"][1]).all()
+            break
+        if "diverged" in info:
+            diverged_at = k
+            np.testing.assert_array_equal(info["diverged"], [False, True, False])
+            np.testing.assert_array_equal(info["_diverged"], [False, True, False])
+            assert truncated[1] and not terminated[1]
+            assert np.isfinite(observations[1]).all() and np.isfinite(rewards[1])
+            state = info["state"][1]
+            assert not np.isfinite(state).all() or state[S.SPEED_LOSS] > 1.0, state
+            if diverging.task.decision_interval == 1:  # the observation of the step before, reward 0
+                np.testing.assert_array_equal(observations[1], previous[1])
+                assert rewards[1] == 0.0
+        else:
+            assert not truncated[1]
+    assert diverged_at is not None, "ship 1 did not diverge"
+    with pytest.raises(FloatingPointError, match="left the model's validity"):
+        for _ in range(diverged_at + 1):
+            single.step(hard_over[1])

@@ -8,7 +8,13 @@ import gymnasium as gym
 import numba
 import numpy as np
 import pytest
-from env_contract import assert_same_steps, assert_vector_equals_singles, sail
+from env_contract import (
+    DIVERGING_SHIP,
+    assert_a_diverging_ship_ends_alone,
+    assert_same_steps,
+    assert_vector_equals_singles,
+    sail,
+)
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.course_change import CourseChangeEnv
@@ -89,6 +95,11 @@ def test_make_vec_uses_the_vector_entry_point_with_next_step_autoreset():
     observations, rewards, _, truncated, info = envs.step(hard_over)
     assert not truncated.any() and (rewards == 0.0).all() and info["_scenario"].all()
     np.testing.assert_array_equal(observations[:, 2], 0.0)  # a new episode: rudder amidships
+
+
+def test_a_diverging_ship_ends_only_its_own_episode():
+    single = CourseChangeEnv(**DIVERGING_SHIP, disturbance="calm")
+    assert_a_diverging_ship_ends_alone(CourseChangeVectorEnv, single, seed=8, disturbance="calm")
 
 
 def test_zero_rudder_in_calm_water_with_a_current_drifts_with_the_current():
@@ -268,3 +279,27 @@ def test_ppo_trains_on_the_vector_env_through_the_sb3_adapter():
     model = PPO("MlpPolicy", VecMonitor(adapter), n_steps=32, batch_size=64, n_epochs=1, seed=0)
     model.learn(256)
     assert model.num_timesteps == 256 and len(model.ep_info_buffer) > 0
+
+
+def test_the_sb3_adapter_restarts_a_diverged_ship_alone_and_says_so():
+    pytest.importorskip("stable_baselines3")
+    from stable_baselines3.common.vec_env import VecMonitor
+
+    from ship_env.envs.sb3_adapter import SB3VecEnvAdapter
+
+    adapter = VecMonitor(
+        SB3VecEnvAdapter(CourseChangeVectorEnv(num_envs=3, disturbance="calm", **DIVERGING_SHIP)),
+        info_keywords=("diverged",),
+    )
+    adapter.seed(8)
+    adapter.reset()
+    hard_over = np.array([[0.2], [1.0], [-0.2]], dtype=np.float32)
+    for _ in range(600):
+        observations, rewards, dones, infos = adapter.step(hard_over)
+        if dones.any():
+            break
+    np.testing.assert_array_equal(dones, [False, True, False])
+    assert infos[1]["diverged"] and infos[1]["TimeLimit.truncated"] and infos[1]["episode"]["diverged"]
+    assert np.isfinite(infos[1]["terminal_observation"]).all() and np.isfinite(rewards).all()
+    assert np.isfinite(observations).all() and observations[1, 2] == 0.0  # a new episode: rudder amidships
+    assert infos[0] == {} and infos[2] == {}

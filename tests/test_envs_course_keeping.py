@@ -8,6 +8,8 @@ import gymnasium as gym
 import numpy as np
 import pytest
 from env_contract import (
+    DIVERGING_SHIP,
+    assert_a_diverging_ship_ends_alone,
     assert_all_core_vector_truncates_like_a_single_env,
     assert_vector_equals_singles,
 )
@@ -53,6 +55,13 @@ def test_vector_env_equals_single_envs_seeded_s_plus_i_across_resets():
 
 def test_make_vec_uses_the_vector_entry_point_on_all_cores_like_single_envs():
     assert_all_core_vector_truncates_like_a_single_env(ENV_ID, CourseKeepingVectorEnv, CourseKeepingEnv(), 4)
+
+
+@pytest.mark.parametrize("decision_interval", [1, 3])
+def test_a_diverging_ship_ends_only_its_own_episode(decision_interval):
+    options = {"disturbance": "calm", "decision_interval": decision_interval}
+    single = CourseKeepingEnv(**DIVERGING_SHIP, **options)
+    assert_a_diverging_ship_ends_alone(CourseKeepingVectorEnv, single, seed=5, **options)
 
 
 def test_still_water_with_the_rudder_amidships_costs_nothing():

@@ -8,6 +8,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 from env_contract import (
+    assert_a_diverging_ship_ends_alone,
     assert_all_core_vector_truncates_like_a_single_env,
     assert_vector_equals_singles,
 )
@@ -32,7 +33,7 @@ from ship_env.envs.tracks import (
     reference_track,
     steady_turn_radius,
 )
-from ship_env.model import ShipModel, Simulator
+from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
 
 ENV_ID = "ship_env/TrackFollow-v0"
@@ -250,6 +251,15 @@ def test_vector_env_equals_single_envs_through_terminations_and_autoresets():
     episodes, elapsed = assert_vector_equals_singles(vector, singles, policy, 3000, seed, partial_reset_at=100)
     assert episodes.tolist() == [1, 1, 1], "every ship should have finished its track once"
     assert len(set(elapsed)) == num_envs, "the ships should have finished at different steps"
+
+
+def test_a_ship_with_twice_the_gain_diverges_and_ends_only_its_own_episode():
+    """With a speed-loss gain of 5 (the preset's 0.8) the reference tracks' turns at the rudder limit stay
+    valid; a ship of twice the K* (as ``ship_variation`` may draw) turns too tight for the model."""
+    options = {"ship_parameters": {"speed_loss.gain": 5.0}, "disturbance": "calm"}
+    assert_a_diverging_ship_ends_alone(
+        TrackFollowVectorEnv, TrackFollowEnv(**options), seed=4, conditions=Conditions(yaw_gain_factor=2.0), **options
+    )
 
 
 def test_vector_env_truncates_and_the_parallel_update_equals_the_serial_one():

@@ -30,7 +30,7 @@ from ship_env.envs.sensors import MEASUREMENT_NAMES, MEASUREMENT_SIZE, measure, 
 from ship_env.envs.task import ShipTask
 from ship_env.model import Conditions, Simulator
 from ship_env.model import state as S
-from ship_env.model.integrators import borrowed
+from ship_env.model.integrators import borrowed, is_valid
 from ship_env.model.kernel import kernel
 from ship_env.model.simulator import batch_loop
 
@@ -158,6 +158,10 @@ class ShipBatch:
 
     After ``restart`` or a simulator step, ``update`` fills each ship's ``episodes`` record
     (``observation``, ``measurement``, ``reward``, ``terminated``) and its running ``metrics``.
+
+    A ship whose state leaves the model's validity (``Simulator.step`` raises ``FloatingPointError``)
+    stops the batch, unless ``end_diverged_episodes``: then only that ship's episode ends, marked in
+    ``diverged`` (see :meth:`sail`), and the other ships sail on as if it were not there.
     """
 
     task_fields: ClassVar[Sequence[tuple]]
@@ -165,10 +169,14 @@ class ShipBatch:
     update_serial: ClassVar[Callable[..., None]]
     update_parallel: ClassVar[Callable[..., None]]
 
-    def __init__(self, task: ShipTask, num_ships: int) -> None:
+    def __init__(self, task: ShipTask, num_ships: int, end_diverged_episodes: bool = False) -> None:
         self.task = task
         self.simulator = Simulator(task.model, num_ships=num_ships, dt=task.dt)
         self.num_ships = self.simulator.num_ships
+        self.end_diverged_episodes = end_diverged_episodes
+        #: The ships whose state left the model's validity in the last :meth:`sail`, and that state.
+        self.diverged = np.zeros(self.num_ships, dtype=np.bool_)
+        self.diverged_states = np.zeros_like(self.simulator.state)
         self.scenarios: list[Any] = [None] * self.num_ships
         self.episodes = np.zeros(self.num_ships, dtype=episode_dtype(task.observation_space.shape[0], self.task_fields))
         self.metrics = np.zeros(self.num_ships, dtype=self.metrics_dtype)
@@ -176,19 +184,24 @@ class ShipBatch:
 
     def restart(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
         """Start new episodes for ``ships`` (sorted indices), one scenario each; the others sail on."""
+        self._start_simulator(ships, scenarios)
+        episodes = self.episodes
+        episodes["wave_yaw"][ships] = [scenario.conditions.wave_height > 0.0 for scenario in scenarios]
+        episodes["restarted"][ships] = True
+        self.diverged[ships] = False
+        episodes["terminated"][ships] = False
+        for ship, scenario in zip(ships, scenarios, strict=True):
+            self.start_episode(episodes[ship], scenario)
+            self.scenarios[ship] = scenario
+
+    def _start_simulator(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
+        """Start the simulator's ``ships`` as their ``scenarios`` start them."""
         self.simulator.reset(
             seed=[scenario.seed for scenario in scenarios],
             conditions=[scenario.conditions for scenario in scenarios],
             heading=np.asarray([scenario.initial_heading for scenario in scenarios]),
             ships=ships,
         )
-        episodes = self.episodes
-        episodes["wave_yaw"][ships] = [scenario.conditions.wave_height > 0.0 for scenario in scenarios]
-        episodes["restarted"][ships] = True
-        episodes["terminated"][ships] = False
-        for ship, scenario in zip(ships, scenarios, strict=True):
-            self.start_episode(episodes[ship], scenario)
-            self.scenarios[ship] = scenario
 
     def start_episode(self, episode: np.void, scenario: Any) -> None:
         """Write a new episode's task fields into its record."""
@@ -218,13 +231,28 @@ class ShipBatch:
         sails on until its restart). ``restart`` (the vector environment's autoreset) starts new
         episodes for the ``restarting`` ships (a bool mask) after the last simulator step, before
         the last update: those get their first observation and reward 0.
+
+        With ``end_diverged_episodes``, a ship whose state leaves the model's validity at a simulator
+        step is marked in ``diverged`` and keeps the records of the step before (a finite
+        observation), its reward the sum over the steps before that one (0 with a
+        ``decision_interval`` of 1); its state is kept in ``diverged_states`` and its simulator row
+        starts afresh from its scenario, so no state outside the validity is stepped or measured
+        again before its restart. The other ships' numbers do not depend on it.
         """
         interval = self.task.decision_interval
+        if self.end_diverged_episodes:
+            self.diverged[:] = False
         if interval == 1:  # the plain step: nothing to hold or sum
-            self.simulator.step(orders)
+            diverged = self._step_simulator(orders, restarting)
             if restart is not None:
                 restart()
+            if diverged is None:
+                self.update()
+                return
+            last_episodes, last_metrics = self.episodes[diverged], self.metrics[diverged]
             self.update()
+            self.episodes[diverged], self.metrics[diverged] = last_episodes, last_metrics
+            self.episodes["reward"][diverged] = 0.0
             return
         restarting = np.zeros(self.num_ships, dtype=np.bool_) if restarting is None else restarting
         history = self.task.observation_history
@@ -235,9 +263,13 @@ class ShipBatch:
         held_episodes = self.episodes.copy()
         held_metrics = self.metrics.copy()
         for step in range(interval):
-            self.simulator.step(orders)
+            diverged = self._step_simulator(orders, ended)
             if restart is not None and step == interval - 1:
                 restart()
+            if diverged is not None:  # it keeps the records of the step before
+                held_episodes[diverged] = self.episodes[diverged]
+                held_metrics[diverged] = self.metrics[diverged]
+                ended |= diverged
             self._update_records(False)
             sailing = ~ended
             total[sailing] += self.episodes["reward"][sailing]
@@ -251,6 +283,27 @@ class ShipBatch:
         self.episodes["reward"][~restarting] = total[~restarting]
         if history:
             self._remember(previous, ~restarting, restarting)
+
+    def _step_simulator(self, orders: float | np.ndarray, ended: np.ndarray | None) -> np.ndarray | None:
+        """One simulator step. A ship whose state leaves the model's validity raises
+        ``FloatingPointError`` unless ``end_diverged_episodes``: then every such ship's row starts
+        afresh from its scenario, and those whose episode had not ``ended`` (a mask; None: none had)
+        are marked in ``diverged``, their states kept in ``diverged_states``, and returned as a mask
+        (None if there are none; :meth:`sail`)."""
+        try:
+            self.simulator.step(orders)
+            return None
+        except FloatingPointError:
+            state = self.simulator.state
+            invalid = np.array([not is_valid(row, row.shape[0]) for row in state])
+            if not (self.end_diverged_episodes and invalid.any()):
+                raise
+        diverged = invalid if ended is None else invalid & ~ended
+        self.diverged_states[diverged] = state[diverged]
+        self.diverged |= diverged
+        ships = np.flatnonzero(invalid)
+        self._start_simulator(ships, [self.scenarios[ship] for ship in ships])
+        return diverged if diverged.any() else None
 
     def _update_records(self, restarted_only: bool) -> None:
         """The task's compiled update of every ship's records, or of the restarted ones only."""
@@ -295,16 +348,20 @@ class ShipBatch:
         """The step's information for one ship (an index: scalars) or all (``slice(None)``: arrays).
 
         ``measurement``: the bridge's instruments (``sensors.MEASUREMENT_NAMES``); ``state``: the
-        ship's true state (layout ``ship_env.model.state``); ``metrics``: the episode's metrics so
+        ship's true state (layout ``ship_env.model.state``; of a ship that diverged in the last
+        :meth:`sail`, the state that left the model's validity); ``metrics``: the episode's metrics so
         far (final at its last step); then the task's own keys (:meth:`task_info`). Arrays are
         copies (the measurements and metrics views of one copy of the records).
         """
         episodes = snapshot(self.episodes, ships)
         metrics = snapshot(self.metrics, ships)
         measurements = episodes["measurement"][ships].T
+        state = pick(self.simulator.state, ships)
+        if isinstance(ships, slice) and self.diverged.any():
+            state[self.diverged] = self.diverged_states[self.diverged]
         return {
             "measurement": {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)},
-            "state": pick(self.simulator.state, ships),
+            "state": state,
             "metrics": {name: metrics[name][ships] for name in self.metrics_dtype.names or ()},
             **self.task_info(episodes, ships),
         }

@@ -93,7 +93,8 @@ class CourseChangeEnv(ShipEnv):
     The episode is truncated after ``max_episode_steps`` (600 in the registration: 600 s at the
     default step). It never terminates: a course change has no terminal state. A model driven
     outside its validity (a non-finite state or negative forward speed, which the presets do not
-    reach within their rudder limit) is a divergence: the simulator raises ``FloatingPointError``.
+    reach within their rudder limit) is a divergence: the simulator raises ``FloatingPointError``;
+    the vector environment truncates that ship's episode alone (``info["diverged"]``).
 
     ## Information
 

@@ -11,8 +11,10 @@ class CourseChangeVectorEnv(ShipVectorEnv):
 
     Sub-environment i equals a :class:`~ship_env.envs.course_change.CourseChangeEnv` seeded
     ``s + i``; autoreset, seeding, ``reset_mask`` and the info layout are those of
-    :class:`~ship_env.envs.vector_env.ShipVectorEnv`. A course change never terminates: episodes
-    end by truncation after ``max_episode_steps`` (default 600).
+    :class:`~ship_env.envs.vector_env.ShipVectorEnv`. A course change never terminates: episodes end
+    by truncation after ``max_episode_steps`` (default 600), or when its ship leaves the model's
+    validity (``info["diverged"]``: Episode end in
+    :class:`~ship_env.envs.vector_env.ShipVectorEnv`).
     """
 
     task_class = CourseChangeTask

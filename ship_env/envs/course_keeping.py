@@ -66,8 +66,10 @@ class CourseKeepingEnv(ShipEnv):
 
     ## Episode End
 
-    A fixed duration: the episode is truncated after ``max_episode_steps`` (600 in the
-    registration: 10 minutes at the default 1-s step). It never terminates.
+    A fixed duration: the episode is truncated after ``max_episode_steps`` (600 in the registration:
+    10 minutes at the default 1-s step). It never terminates. A ship driven outside the model's
+    validity (a non-finite state or negative forward speed) raises ``FloatingPointError``; the
+    vector environment truncates that ship's episode alone.
 
     ## Information
 

@@ -12,7 +12,8 @@ class CourseKeepingVectorEnv(ShipVectorEnv):
     Sub-environment i equals a :class:`~ship_env.envs.course_keeping.CourseKeepingEnv` seeded
     ``s + i``; autoreset, seeding, ``reset_mask`` and the info layout are those of
     :class:`~ship_env.envs.vector_env.ShipVectorEnv`. Episodes end by truncation after
-    ``max_episode_steps`` (default 600).
+    ``max_episode_steps`` (default 600), or when its ship leaves the model's validity
+    (``info["diverged"]``: Episode end in :class:`~ship_env.envs.vector_env.ShipVectorEnv`).
     """
 
     task_class = CourseKeepingTask

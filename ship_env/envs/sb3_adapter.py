@@ -15,7 +15,9 @@ observation in ``info["terminal_observation"]``, and infos are a list of dicts.
     model.learn(100_000)
 
 Per-step infos are not forwarded (SB3 does not read them); at an episode's end the env's info
-holds ``terminal_observation``, ``TimeLimit.truncated`` and the episode's ``metrics``.
+holds ``terminal_observation``, ``TimeLimit.truncated``, the episode's ``metrics`` and ``diverged``
+(whether its ship left the model's validity: a truncation, so SB3 bootstraps from the terminal
+observation; ``VecMonitor(..., info_keywords=("diverged",))`` counts them).
 """
 
 from __future__ import annotations
@@ -63,11 +65,13 @@ class SB3VecEnvAdapter(VecEnv):
         infos: list[dict[str, Any]] = [{} for _ in range(self.num_envs)]
         if dones.any():
             metrics = info.get("metrics", {})
+            diverged = info.get("diverged", np.zeros(self.num_envs, dtype=np.bool_))
             for i in np.flatnonzero(dones):
                 infos[i] = {
                     "terminal_observation": observations[i].copy(),
                     "TimeLimit.truncated": bool(truncated[i] and not terminated[i]),
                     "metrics": {name: float(values[i]) for name, values in metrics.items() if not name.startswith("_")},
+                    "diverged": bool(diverged[i]),
                 }
             observations, _ = self.vector_env.reset(options={"reset_mask": dones})
         return observations, rewards.astype(np.float32), dones, infos

@@ -96,10 +96,12 @@ class TrackFollowEnv(ShipEnv):
 
     ## Episode End
 
-    The episode terminates when the ship passes the last waypoint (crosses the perpendicular to
-    the last leg there); the step that does so adds ``info["score"]``. It is truncated after
-    ``max_episode_steps`` (3600 in the registration: one hour at the default 1-s step; a track
-    takes 44 to 48 minutes in the thesis's current).
+    The episode terminates when the ship passes the last waypoint (crosses the perpendicular to the
+    last leg there); the step that does so adds ``info["score"]``. It is truncated after
+    ``max_episode_steps`` (3600 in the registration: one hour at the default 1-s step; a track takes
+    44 to 48 minutes in the thesis's current). A ship driven outside the model's validity (a
+    non-finite state or negative forward speed) raises ``FloatingPointError``; the vector
+    environment truncates that ship's episode alone.
 
     ## Information
 

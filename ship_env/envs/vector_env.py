@@ -32,17 +32,30 @@ class ShipVectorEnv(VectorEnv):
     its own generator, so the trajectories equal N single environments' with those seeds.
 
     Autoreset follows Gymnasium's ``AutoresetMode.NEXT_STEP``: the step that ends an episode
-    (termination, or truncation after ``max_episode_steps``) returns its last observation; the next
-    ``step`` restarts that sub-environment, ignores its action and returns the first observation of
-    the new episode with reward 0 and the reset's information (with ``scenario``).
+    (termination or truncation, see Episode end) returns its last observation; the next ``step``
+    restarts that sub-environment, ignores its action and returns the first observation of the new
+    episode with reward 0 and the reset's information (with ``scenario``).
     ``reset(options={"reset_mask": mask})`` restarts only the masked sub-environments.
 
     Infos are dicts of arrays, each key with its boolean ``_key`` mask (Gymnasium's vector
     layout); ``scenario`` is an object array, set for the sub-environments that started an
-    episode at that call; the keys a terminating step adds are masked to the terminated ones.
+    episode at that call; the keys a terminating step adds are masked to the terminated ones, and
+    ``diverged`` to the diverged ones.
     After ``reset`` the masks mark the sub-environments it restarted.
 
-    A ship driven outside its model's validity raises ``FloatingPointError`` for the whole batch.
+    Episode end: a sub-environment's episode terminates where its task says, or is truncated after
+    ``max_episode_steps``, or is truncated when its ship leaves the model's validity (a state not
+    finite, or the forward speed negative: where the single environment and ``Simulator.step``
+    raise ``FloatingPointError``). Only that sub-environment's episode ends: ``info["diverged"]``
+    (a bool array, with its ``_diverged`` mask, present at a step where a ship diverged) marks it,
+    its observation and information are those of its last valid simulator step (``state``: the
+    state that left the validity), its reward the sum over the simulator steps before the diverging
+    one (0 with a ``decision_interval`` of 1), and it restarts at the next step like any ended
+    episode; the other ships sail on with the numbers they would have without it. Truncated, not
+    terminated: leaving the model's validity is a limit of the simulation, not a state of the task
+    (a real ship sails on), as Gymnasium's ``truncated`` covers "an agent physically going out of
+    bounds"; a learner then bootstraps from the last observation, as after the time limit, so a
+    policy gains nothing by driving a ship out of the model.
 
     Args:
         num_envs: N, the number of ships.
@@ -69,7 +82,7 @@ class ShipVectorEnv(VectorEnv):
             max_episode_steps = self.default_max_episode_steps
         self.max_episode_steps = check_whole_number("max_episode_steps", max_episode_steps, 1)
         self.task = self.task_class(**task_options)
-        self.batch = self.batch_class(self.task, num_envs)
+        self.batch = self.batch_class(self.task, num_envs, end_diverged_episodes=True)
         self.num_envs = self.batch.num_ships
         self.single_observation_space = self.task.observation_space
         self.single_action_space = self.task.action_space
@@ -133,11 +146,14 @@ class ShipVectorEnv(VectorEnv):
 
         self.batch.sail(orders, self._autoreset.copy(), restart)
         observations, rewards, terminated = self.batch.outcomes()
-        truncated = self._elapsed_steps >= self.max_episode_steps
+        diverged = self.batch.diverged.copy()
+        truncated = (self._elapsed_steps >= self.max_episode_steps) | diverged
         self._autoreset = terminated | truncated
         info = self._info(ships, scenarios, self._all_envs)
         if terminated.any():
             info.update(_with_masks(self.batch.end_info(slice(None)), terminated))
+        if diverged.any():
+            info.update(_with_masks({"diverged": diverged}, diverged))
         return observations, rewards, terminated, truncated, info
 
     def _restart(self, ships: np.ndarray, options: dict[str, Any]) -> list[Any]:

@@ -57,9 +57,9 @@ def test_make_vec_uses_the_vector_entry_point_on_all_cores_like_single_envs():
     assert_all_core_vector_truncates_like_a_single_env(ENV_ID, CourseKeepingVectorEnv, CourseKeepingEnv(), 4)
 
 
-@pytest.mark.parametrize("decision_interval", [1, 3])
-def test_a_diverging_ship_ends_only_its_own_episode(decision_interval):
-    options = {"disturbance": "calm", "decision_interval": decision_interval}
+@pytest.mark.parametrize(("decision_interval", "history"), [(1, 0), (1, 2), (3, 2)])
+def test_a_diverging_ship_ends_only_its_own_episode(decision_interval, history):
+    options = {"disturbance": "calm", "decision_interval": decision_interval, "observation_history": history}
     single = CourseKeepingEnv(**DIVERGING_SHIP, **options)
     assert_a_diverging_ship_ends_alone(CourseKeepingVectorEnv, single, seed=5, **options)
 

@@ -1,0 +1,156 @@
+"""Policy files read without running their code: the shipped ones act as SB3's own load makes them
+act; a file whose pickles carry code is refused unless its code is trusted, and then the code runs."""
+
+from __future__ import annotations
+
+import base64
+import collections
+import json
+import pickle
+import shutil
+import zipfile
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from stable_baselines3 import PPO
+from torch import nn
+
+import ship_env  # noqa: F401  (registers the environments)
+from ship_env.cli import main
+from ship_env.envs.task import observation_keywords
+from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE
+from ship_env.rl.policy_file import PolicyFileError, read_policy_file
+from ship_env.rl.shipped import POLICIES_DIR
+
+COURSE_CHANGE_POLICY = POLICIES_DIR / "CourseChange-v0" / "ppo" / "seed0"
+SHIPPED = [
+    COURSE_CHANGE_POLICY,
+    POLICIES_DIR / "CourseChange-v0" / "ppo" / "seed3",
+    POLICIES_DIR / "TrackFollow-v0" / "ppo" / "seed0",
+    POLICIES_DIR / "TrackFollow-v0" / "ppo" / "nominal_ship" / "seed1",
+]
+
+
+class TouchOnUnpickling:
+    """Unpickles to ``Path(marker).touch()``: a file appears if the pickle is run."""
+
+    def __init__(self, marker: Path) -> None:
+        self.marker = marker
+
+    def __reduce__(self):
+        return (Path.touch, (self.marker,))
+
+
+def rewritten_policy(folder: Path, entry: str, pickled: bytes, source: Path = COURSE_CHANGE_POLICY) -> Path:
+    """A copy of the ``source`` run (zip and metadata) whose ``data`` entry ``entry`` holds ``pickled``
+    in place of its own pickle; its readable fields are left as they were."""
+    folder.mkdir(parents=True)
+    shutil.copy(source / METADATA_FILE, folder / METADATA_FILE)
+    with zipfile.ZipFile(source / MODEL_FILE) as original, zipfile.ZipFile(folder / MODEL_FILE, "w") as copy:
+        for name in original.namelist():
+            content = original.read(name)
+            if name == "data":
+                data = json.loads(content)
+                data[entry][":serialized:"] = base64.b64encode(pickled).decode()
+                content = json.dumps(data).encode()
+            copy.writestr(name, content)
+    return folder / MODEL_FILE
+
+
+@pytest.mark.parametrize("run", SHIPPED, ids=lambda run: str(run.relative_to(POLICIES_DIR)))
+def test_a_shipped_policy_read_without_its_code_acts_bit_for_bit_as_sb3_loads_it(run):
+    safe, trusted = read_policy_file(run), read_policy_file(run, trust_policy_code=True)
+    assert safe.policy_class is trusted.policy_class and safe.policy_kwargs == trusted.policy_kwargs
+    for space, expected in (
+        (safe.observation_space, trusted.observation_space),
+        (safe.action_space, trusted.action_space),
+    ):
+        assert space.shape == expected.shape and space.dtype == expected.dtype
+        np.testing.assert_array_equal(space.low, expected.low)
+        np.testing.assert_array_equal(space.high, expected.high)
+    env = gym.make(safe.env_id, **observation_keywords(safe.metadata.env_kwargs))
+    env.action_space.seed(0)
+    env.observation_space.seed(0)
+    # episode starts, and random observations over the whole space (saturated actions included)
+    observations = np.stack(
+        [env.reset(seed=seed)[0] for seed in range(8)] + [env.observation_space.sample() for _ in range(8)]
+    )
+    safe_actions, _ = safe.policy().predict(observations, deterministic=True)
+    trusted_actions, _ = trusted.policy().predict(observations, deterministic=True)
+    assert np.array_equal(safe_actions, trusted_actions)
+    assert len(np.unique(safe_actions)) > 2  # the observations ask for different rudders
+
+
+def test_a_pickled_payload_is_refused_and_never_run_unless_its_code_is_trusted(tmp_path):
+    marker = tmp_path / "payload-ran"
+    path = rewritten_policy(tmp_path / "payload", "observation_space", pickle.dumps(TouchOnUnpickling(marker)))
+    pattern = r"payload/model\.zip: cannot be read without running code.*"
+    pattern += r"observation_space: its pickle refers to pathlib\.Path\.touch"
+    with pytest.raises(PolicyFileError, match=pattern) as refused:
+        read_policy_file(path)
+    assert "--trust-policy-code" in str(refused.value) and "runs any code" in str(refused.value)
+    assert not marker.exists()
+
+    with pytest.raises(PolicyFileError, match=r"its observation_space is None, not a gymnasium space"):
+        read_policy_file(path, trust_policy_code=True)
+    assert marker.exists()  # trusting the file ran its code, as the option says
+
+
+def test_the_leaderboard_refuses_a_payload_without_running_it(tmp_path, capsys):
+    marker = tmp_path / "payload-ran"
+    path = rewritten_policy(tmp_path / "payload", "observation_space", pickle.dumps(TouchOnUnpickling(marker)))
+    with pytest.raises(SystemExit) as raised:
+        main(["leaderboard", "--policies", str(path.parent), "--tracks", "--out", str(tmp_path / "out")])
+    assert raised.value.code == 2
+    err = capsys.readouterr().err
+    assert "argument --policies: policy file" in err and "pathlib.Path.touch" in err and "--trust-policy-code" in err
+    assert not marker.exists() and not (tmp_path / "out").exists()
+
+
+def test_a_policy_class_outside_the_allow_list_is_named(tmp_path):
+    path = rewritten_policy(tmp_path / "other_class", "policy_class", pickle.dumps(collections.OrderedDict))
+    with pytest.raises(
+        PolicyFileError, match=r"policy_class: the class collections\.OrderedDict is not among the allowed"
+    ):
+        read_policy_file(path)
+
+
+def test_a_policy_class_pickled_with_a_call_is_refused(tmp_path):
+    marker = tmp_path / "payload-ran"
+    path = rewritten_policy(tmp_path / "call", "policy_class", pickle.dumps(TouchOnUnpickling(marker)))
+    with pytest.raises(PolicyFileError, match=r"policy_class: its pickle is not one reference to a class .*REDUCE"):
+        read_policy_file(path)
+    assert not marker.exists()
+
+
+def test_a_class_in_the_policy_keywords_is_read_from_its_printed_name(tmp_path):
+    folder = tmp_path / "relu"
+    folder.mkdir()
+    env = gym.make("ship_env/CourseChange-v0")
+    PPO("MlpPolicy", env, n_steps=64, device="cpu", policy_kwargs={"net_arch": [8], "activation_fn": nn.ReLU}).save(
+        folder / MODEL_FILE
+    )
+    safe, trusted = read_policy_file(folder), read_policy_file(folder, trust_policy_code=True)
+    assert safe.policy_kwargs == {"net_arch": [8], "activation_fn": nn.ReLU} == trusted.policy_kwargs
+    observations = np.stack([env.observation_space.sample() for _ in range(8)])
+    safe_actions, _ = safe.policy().predict(observations, deterministic=True)
+    assert np.array_equal(safe_actions, trusted.policy().predict(observations, deterministic=True)[0])
+
+
+def test_a_keyword_class_outside_the_allow_list_is_named(tmp_path):
+    folder = tmp_path / "hardtanh"
+    folder.mkdir()
+    PPO(
+        "MlpPolicy",
+        gym.make("ship_env/CourseChange-v0"),
+        n_steps=64,
+        device="cpu",
+        policy_kwargs={"activation_fn": nn.Hardtanh},
+    ).save(folder / MODEL_FILE)
+    with pytest.raises(
+        PolicyFileError, match=r"policy_kwargs: its pickle refers to torch\.nn\.modules\.activation\.Hardtanh"
+    ):
+        read_policy_file(folder)
+    assert read_policy_file(folder, trust_policy_code=True).policy_kwargs == {"activation_fn": nn.Hardtanh}

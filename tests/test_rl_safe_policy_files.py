@@ -98,15 +98,29 @@ def test_a_pickled_payload_is_refused_and_never_run_unless_its_code_is_trusted(t
     assert marker.exists()  # trusting the file ran its code, as the option says
 
 
-def test_the_leaderboard_refuses_a_payload_without_running_it(tmp_path, capsys):
-    marker = tmp_path / "payload-ran"
+def test_the_leaderboard_refuses_a_payload_without_running_it_unless_trusted(tmp_path, capsys):
+    marker, out = tmp_path / "payload-ran", tmp_path / "out"
     path = rewritten_policy(tmp_path / "payload", "observation_space", pickle.dumps(TouchOnUnpickling(marker)))
     with pytest.raises(SystemExit) as raised:
-        main(["leaderboard", "--policies", str(path.parent), "--tracks", "--out", str(tmp_path / "out")])
+        main(["leaderboard", "--policies", str(path.parent), "--tracks", "--out", str(out)])
     assert raised.value.code == 2
     err = capsys.readouterr().err
     assert "argument --policies: policy file" in err and "pathlib.Path.touch" in err and "--trust-policy-code" in err
-    assert not marker.exists() and not (tmp_path / "out").exists()
+    assert not marker.exists() and not out.exists()
+
+    with pytest.raises(SystemExit):
+        main(["leaderboard", "--policies", str(path.parent), "--trust-policy-code", "--tracks", "--out", str(out)])
+    assert marker.exists() and "its observation_space is None" in capsys.readouterr().err
+
+
+def test_the_trust_option_is_documented_as_running_the_files_code(capsys):
+    with pytest.raises(SystemExit):
+        main(["leaderboard", "--help"])
+    help_text = " ".join(capsys.readouterr().out.split())
+    assert (
+        "--trust-policy-code read the --policies files with stable-baselines3's unpickling, which RUNS ANY CODE"
+        in help_text
+    )
 
 
 def test_a_policy_class_outside_the_allow_list_is_named(tmp_path):

@@ -9,6 +9,7 @@ import json
 import pickle
 import shutil
 import zipfile
+from collections.abc import Callable
 from pathlib import Path
 
 import gymnasium as gym
@@ -43,20 +44,32 @@ class TouchOnUnpickling:
         return (Path.touch, (self.marker,))
 
 
-def rewritten_policy(folder: Path, entry: str, pickled: bytes, source: Path = COURSE_CHANGE_POLICY) -> Path:
-    """A copy of the ``source`` run (zip and metadata) whose ``data`` entry ``entry`` holds ``pickled``
-    in place of its own pickle; its readable fields are left as they were."""
+def copied_policy(folder: Path, edit_data: Callable[[dict], object], left_out: tuple[str, ...] = ()) -> Path:
+    """A copy of the shipped CourseChange run (zip and metadata) with ``edit_data`` applied to its
+    ``data`` document and the zip's files ``left_out`` left out."""
     folder.mkdir(parents=True)
-    shutil.copy(source / METADATA_FILE, folder / METADATA_FILE)
-    with zipfile.ZipFile(source / MODEL_FILE) as original, zipfile.ZipFile(folder / MODEL_FILE, "w") as copy:
-        for name in original.namelist():
+    shutil.copy(COURSE_CHANGE_POLICY / METADATA_FILE, folder / METADATA_FILE)
+    with (
+        zipfile.ZipFile(COURSE_CHANGE_POLICY / MODEL_FILE) as original,
+        zipfile.ZipFile(folder / MODEL_FILE, "w") as copy,
+    ):
+        for name in set(original.namelist()) - set(left_out):
             content = original.read(name)
             if name == "data":
                 data = json.loads(content)
-                data[entry][":serialized:"] = base64.b64encode(pickled).decode()
+                edit_data(data)
                 content = json.dumps(data).encode()
             copy.writestr(name, content)
     return folder / MODEL_FILE
+
+
+def replacing_pickle(entry: str, pickled: bytes) -> Callable[[dict], None]:
+    """An edit of ``data``: ``pickled`` in place of ``entry``'s pickle, its readable fields as they were."""
+
+    def edit(data: dict) -> None:
+        data[entry][":serialized:"] = base64.b64encode(pickled).decode()
+
+    return edit
 
 
 @pytest.mark.parametrize("run", SHIPPED, ids=lambda run: str(run.relative_to(POLICIES_DIR)))
@@ -83,11 +96,15 @@ def test_a_shipped_policy_read_without_its_code_acts_bit_for_bit_as_sb3_loads_it
     assert len(np.unique(safe_actions)) > 2  # the observations ask for different rudders
 
 
-def test_a_pickled_payload_is_refused_and_never_run_unless_its_code_is_trusted(tmp_path):
+@pytest.mark.parametrize("protocol, called", [(5, r"pathlib\.Path\.touch"), (0, r"__builtin__\.getattr")])
+def test_a_pickled_payload_is_refused_and_never_run_unless_its_code_is_trusted(tmp_path, protocol, called):
+    """Pickle protocol 5 (SB3's) refers to the method by its qualified name; protocol 0 fetches it with getattr."""
     marker = tmp_path / "payload-ran"
-    path = rewritten_policy(tmp_path / "payload", "observation_space", pickle.dumps(TouchOnUnpickling(marker)))
-    pattern = r"payload/model\.zip: cannot be read without running code.*"
-    pattern += r"observation_space: its pickle refers to pathlib\.Path\.touch"
+    payload = pickle.dumps(TouchOnUnpickling(marker), protocol=protocol)
+    path = copied_policy(tmp_path / "payload", replacing_pickle("observation_space", payload))
+    pattern = (
+        rf"payload/model\.zip: cannot be read without running code.*observation_space: its pickle refers to {called}"
+    )
     with pytest.raises(PolicyFileError, match=pattern) as refused:
         read_policy_file(path)
     assert "--trust-policy-code" in str(refused.value) and "runs any code" in str(refused.value)
@@ -100,7 +117,9 @@ def test_a_pickled_payload_is_refused_and_never_run_unless_its_code_is_trusted(t
 
 def test_the_leaderboard_refuses_a_payload_without_running_it_unless_trusted(tmp_path, capsys):
     marker, out = tmp_path / "payload-ran", tmp_path / "out"
-    path = rewritten_policy(tmp_path / "payload", "observation_space", pickle.dumps(TouchOnUnpickling(marker)))
+    path = copied_policy(
+        tmp_path / "payload", replacing_pickle("observation_space", pickle.dumps(TouchOnUnpickling(marker)))
+    )
     with pytest.raises(SystemExit) as raised:
         main(["leaderboard", "--policies", str(path.parent), "--tracks", "--out", str(out)])
     assert raised.value.code == 2
@@ -124,7 +143,9 @@ def test_the_trust_option_is_documented_as_running_the_files_code(capsys):
 
 
 def test_a_policy_class_outside_the_allow_list_is_named(tmp_path):
-    path = rewritten_policy(tmp_path / "other_class", "policy_class", pickle.dumps(collections.OrderedDict))
+    path = copied_policy(
+        tmp_path / "other_class", replacing_pickle("policy_class", pickle.dumps(collections.OrderedDict))
+    )
     with pytest.raises(
         PolicyFileError, match=r"policy_class: the class collections\.OrderedDict is not among the allowed"
     ):
@@ -133,7 +154,7 @@ def test_a_policy_class_outside_the_allow_list_is_named(tmp_path):
 
 def test_a_policy_class_pickled_with_a_call_is_refused(tmp_path):
     marker = tmp_path / "payload-ran"
-    path = rewritten_policy(tmp_path / "call", "policy_class", pickle.dumps(TouchOnUnpickling(marker)))
+    path = copied_policy(tmp_path / "call", replacing_pickle("policy_class", pickle.dumps(TouchOnUnpickling(marker))))
     with pytest.raises(PolicyFileError, match=r"policy_class: its pickle is not one reference to a class .*REDUCE"):
         read_policy_file(path)
     assert not marker.exists()
@@ -168,3 +189,23 @@ def test_a_keyword_class_outside_the_allow_list_is_named(tmp_path):
     ):
         read_policy_file(folder)
     assert read_policy_file(folder, trust_policy_code=True).policy_kwargs == {"activation_fn": nn.Hardtanh}
+
+
+@pytest.mark.parametrize(
+    "edit_data, left_out, named",
+    [
+        (lambda data: data["observation_space"].pop("low"), (), r"observation_space: no readable 'low' field.*--trust"),
+        (
+            lambda data: data["action_space"].update({":type:": "<class 'gymnasium.spaces.dict.Dict'>"}),
+            (),
+            r"action_space: a <class 'gymnasium\.spaces\.dict\.Dict'> is not read without its code.*--trust",
+        ),
+        (lambda data: data.pop("policy_class"), (), r"data: no policy_class.*--trust"),
+        (lambda data: None, ("policy.pth",), r"not a stable-baselines3 model: no policy\.pth"),
+    ],
+    ids=["field", "space", "entry", "weights"],
+)
+def test_what_the_safe_reading_lacks_is_named(tmp_path, edit_data, left_out, named):
+    path = copied_policy(tmp_path / "lacking", edit_data, left_out)
+    with pytest.raises(PolicyFileError, match=rf"lacking/model\.zip: .*{named}"):
+        read_policy_file(path)

@@ -130,18 +130,23 @@ def pickled_globals(entry: str, pickled: bytes) -> list[str]:
                 memo[argument] = stack[-1]
             elif opcode.name in ("GET", "BINGET", "LONG_BINGET"):
                 stack.append(memo[argument])
-            elif opcode.name in ("GLOBAL", "STACK_GLOBAL"):
-                module, name = argument.split(" ", 1) if opcode.name == "GLOBAL" else (stack.pop(-2), stack.pop())
+            elif opcode.name == "STACK_GLOBAL":
+                module, name = stack.pop(-2), stack.pop()
                 found.append(f"{module}.{name}" if isinstance(module, str) and isinstance(name, str) else "?")
                 stack.append(None)
             else:
+                if opcode.name in ("GLOBAL", "INST"):  # their argument is "module name"
+                    found.append(argument.replace(" ", "."))
+                elif opcode.name.startswith("EXT"):  # a global by its copyreg extension code
+                    found.append("?")
                 before = opcode.stack_before
                 if pickletools.markobject in before:
                     while stack.pop() is not _MARK:
                         pass
                     before = before[: before.index(pickletools.markobject)]
                 del stack[len(stack) - len(before) :]
-                stack += [_MARK if kind is pickletools.markobject else argument for kind in opcode.stack_after]
+                constant = argument if opcode.stack_after == [pickletools.pyunicode] else None  # a str, kept
+                stack += [_MARK if kind is pickletools.markobject else constant for kind in opcode.stack_after]
     except (ValueError, IndexError, KeyError) as error:
         raise UnreadableEntry(f"{entry}: not a pickle ({error})") from None
     return found

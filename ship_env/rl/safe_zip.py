@@ -275,6 +275,8 @@ def read_saved_policy(archive: zipfile.ZipFile) -> SavedPolicy:
         data = json.loads(archive.read("data"))
     except (UnicodeDecodeError, json.JSONDecodeError) as error:
         raise UnreadableEntry(f"data: not JSON ({error})") from None
+    if not isinstance(data, dict):
+        raise UnreadableEntry("data: not a JSON object of the agent's attributes")
     missing = [key for key in ("policy_class", "observation_space", "action_space") if key not in data]
     if missing:
         raise UnreadableEntry(f"data: no {', '.join(missing)}")

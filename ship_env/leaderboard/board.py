@@ -130,11 +130,14 @@ def run_leaderboard(
     backend: str = "local",
     progress: bool = True,
     ray_address: str | None = None,
+    trust_policy_code: bool = False,
 ) -> Leaderboard:
     """Sail ``spec``'s suites with the classic baselines, the shipped policies (if ``shipped``) and
     the policies at ``policies`` (each a file, a run's folder or a folder of seeds' runs), every
     learned entrant with each of its training seeds; ``PolicyFileError`` before anything sails if
-    one does not fit. ``backend`` ``"ray"`` runs the jobs on Ray (at ``ray_address``)."""
+    one does not fit or cannot be read without running its code. ``trust_policy_code`` reads the
+    files at ``policies`` by unpickling them, which runs any code they carry. ``backend`` ``"ray"``
+    runs the jobs on Ray (at ``ray_address``)."""
     suites = spec.suites()
     env_kwargs = {suite.env_id: suite.env_kwargs for suite in suites}
     env_spaces = {}
@@ -142,7 +145,7 @@ def run_leaderboard(
         env = gym.make(env_id, **kwargs)
         env_spaces[env_id] = (env.observation_space, env.action_space)
         env.close()
-    entrants = classic_entrants(list(env_kwargs)) + policy_entrants(policies, env_spaces, shipped)
+    entrants = classic_entrants(list(env_kwargs)) + policy_entrants(policies, env_spaces, shipped, trust_policy_code)
     start = time.perf_counter()
     results = evaluate(jobs_for(suites, entrants), backend, progress, ray_address)
     wall_time = time.perf_counter() - start

@@ -50,6 +50,7 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
             args.backend,
             progress=not args.no_progress,
             ray_address=args.ray_address,
+            trust_policy_code=args.trust_policy_code,
         )
     except PolicyFileError as error:
         args.command_parser.error(f"argument --policies: {error}")
@@ -81,6 +82,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="PATH",
         help="SB3 policies to rank beside the others, one entrant each: a model.zip, a training run's folder, "
         "or a folder of one run per training seed (seed<S>/, as ship-env train --seeds writes them)",
+    )
+    parser.add_argument(
+        "--trust-policy-code",
+        action="store_true",
+        help="read the --policies files with stable-baselines3's unpickling, which RUNS ANY CODE THEY CARRY: only for "
+        "files you trust that the default reading (no code run: spaces, allowed policy classes, tensors) refuses",
     )
     parser.add_argument("--no-shipped", action="store_true", help="leave out the policies shipped with ship_env")
     parser.add_argument(

@@ -63,9 +63,9 @@ class DesignedTask:
 
 
 @cache
-def _policy(path: Path) -> Any:
-    """The policy network of a policy file, loaded once per process."""
-    return read_policy_file(path).policy()
+def _policy(path: Path, trust_policy_code: bool) -> Any:
+    """The policy network of a policy file, loaded once per process (:func:`read_policy_file`)."""
+    return read_policy_file(path, trust_policy_code).policy()
 
 
 @dataclass(frozen=True)
@@ -80,6 +80,7 @@ class Entrant:
         training_seeds: their training seeds (from their metadata; without it, their positions).
         observation_kwargs: the observation options they were trained with (``track_preview``,
             ...), given to the environments they sail, as (keyword, value) pairs.
+        trust_policy_code: read its policy files by unpickling them, running any code they carry.
     """
 
     name: str
@@ -88,6 +89,7 @@ class Entrant:
     policies: tuple[Path, ...] = ()
     training_seeds: tuple[int, ...] = ()
     observation_kwargs: tuple[tuple[str, Any], ...] = ()
+    trust_policy_code: bool = False
 
     @property
     def runs(self) -> int:
@@ -97,7 +99,7 @@ class Entrant:
     def build(self, task: DesignedTask, run: int = 0) -> Controller:
         """A fresh controller for one episode of ``task`` (a learned entrant's ``run``-th seed)."""
         if self.policies:
-            return SB3Controller(_policy(self.policies[run]))
+            return SB3Controller(_policy(self.policies[run], self.trust_policy_code))
         return CLASSIC_BUILDERS[self.env_id][self.name](task)
 
 
@@ -115,7 +117,10 @@ def _training_seeds(policy_files: Sequence[PolicyFile]) -> tuple[int, ...]:
 
 
 def policy_entrants(
-    paths: Sequence[Path], env_spaces: Mapping[str, tuple[spaces.Space, spaces.Space]], shipped: bool = True
+    paths: Sequence[Path],
+    env_spaces: Mapping[str, tuple[spaces.Space, spaces.Space]],
+    shipped: bool = True,
+    trust_policy_code: bool = False,
 ) -> list[Entrant]:
     """Learned entrants: the shipped policies (if ``shipped``) and the policies at ``paths``.
 
@@ -126,16 +131,21 @@ def policy_entrants(
     environment of ``env_spaces`` (env id -> observation and action space) whose spaces it
     matches. A shipped entrant for an environment the leaderboard does not sail is left out;
     ``PolicyFileError`` names a given file that fits none of them (another environment, other
-    spaces) or whose seeds were trained on different environments.
+    spaces), whose seeds were trained on different environments, or that cannot be read without
+    running its code. With ``trust_policy_code`` the files at ``paths`` are read by unpickling them,
+    which runs any code they carry; the shipped ones are always read without.
     """
     labelled = []
     for folder in shipped_entrants() if shipped else []:
         files = [read_policy_file(path) for path in seed_models(folder)]
         if files[0].env_id in env_spaces:
-            labelled.append((files, "shipped"))
-    labelled += [([read_policy_file(path) for path in seed_models(path)], str(path)) for path in paths]
+            labelled.append((files, "shipped", False))
+    labelled += [
+        ([read_policy_file(path, trust_policy_code) for path in seed_models(path)], str(path), trust_policy_code)
+        for path in paths
+    ]
     entrants = []
-    for files, label in labelled:
+    for files, label, trusted in labelled:
         first = files[0]
         if len({policy_file.env_id for policy_file in files}) > 1:
             raise PolicyFileError(
@@ -166,7 +176,7 @@ def policy_entrants(
         policies = tuple(policy_file.path for policy_file in files)
         observed = tuple(sorted(observation_kwargs.items()))
         entrants += [
-            Entrant(f"{first.algo} ({label})", env_id, "learned", policies, _training_seeds(files), observed)
+            Entrant(f"{first.algo} ({label})", env_id, "learned", policies, _training_seeds(files), observed, trusted)
             for env_id in fitting
         ]
     return entrants

@@ -78,7 +78,7 @@ def run_train(args: argparse.Namespace) -> int:
     try:
         for run in runs:
             if run.trained_agent is not None:
-                read_policy_file(run.trained_agent)
+                read_policy_file(run.trained_agent, trust_policy_code=True)
     except PolicyFileError as error:
         args.command_parser.error(f"argument -i/--trained-agent: {error}")
     existing = trained_already(runs)
@@ -164,7 +164,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="continue training a saved agent (rl-zoo3's option): its model.zip or its run's folder, "
         "or with --seeds a folder of seeds' runs (each seed continues its own); its weights go into "
         "the config's policy (class and policy_kwargs: another class takes them where they fit exactly), "
-        "with the config's other hyper-parameters",
+        "with the config's other hyper-parameters; read as stable-baselines3 loads it, which runs any code "
+        "the zip's pickles carry: continue only agents you trust",
     )
     parser.add_argument("--force", action="store_true", help="overwrite runs already trained in those folders")
     add_backend_arguments(

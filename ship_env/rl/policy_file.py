@@ -5,14 +5,22 @@ A policy file is SB3's ``model.zip`` (any algorithm: PPO, SAC, A2C, TD3...), opt
 environment it was trained on. Only the policy network is rebuilt (its class, keyword arguments
 and weights from the zip), so a policy loads without knowing the algorithm that trained it.
 
+A policy file is read without running any code it carries (:mod:`ship_env.rl.safe_zip`): its
+spaces and keyword arguments from the zip's readable fields, its class from an allow-list, its
+weights as tensors alone. SB3's own load unpickles the zip's entries, which runs whatever code they
+hold; ``trust_policy_code=True`` (the leaderboard's ``--trust-policy-code``) reads a file that way,
+for a file its reader trusts that the safe reading cannot take.
+
 Everything that makes a file unusable raises :class:`PolicyFileError`, whose message names the
-file and the mismatch: not an SB3 zip, trained on another environment, or observation or action
-spaces that differ from the environment's.
+file and the mismatch: not an SB3 zip, not readable without running its code (what it lacks, and
+the option), trained on another environment, or observation or action spaces that differ from the
+environment's.
 """
 
 from __future__ import annotations
 
 import inspect
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -23,9 +31,15 @@ from stable_baselines3.common.policies import BasePolicy
 from stable_baselines3.common.save_util import load_from_zip_file
 
 from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE, PolicyMetadata
+from ship_env.rl.safe_zip import SavedPolicy, UnreadableEntry, read_saved_policy, read_state_dicts
 
-#: Saved attributes a policy does not need; not unpickled (their closures may not load elsewhere).
+#: Saved attributes a policy does not need; not unpickled by the trusted load (their closures may not load elsewhere).
 _SKIPPED_ATTRIBUTES = ("learning_rate", "lr_schedule", "clip_range", "clip_range_vf", "exploration_schedule")
+#: How to read a file the safe reading cannot take, and what doing so means.
+TRUST_OPTION = (
+    "--trust-policy-code (trust_policy_code=True in Python) reads it with stable-baselines3's unpickling, "
+    "which runs any code the file carries: only for a file you trust"
+)
 
 
 class PolicyFileError(ValueError):
@@ -42,16 +56,24 @@ class PolicyFile:
 
     Attributes:
         path: the ``model.zip``.
-        observation_space, action_space: the spaces the policy was trained with.
+        saved: its class, keyword arguments and spaces.
         metadata: the training run's ``metadata.json`` beside it, if there is one.
     """
 
     path: Path
-    observation_space: spaces.Space
-    action_space: spaces.Space
+    saved: SavedPolicy
     metadata: PolicyMetadata | None
-    _data: dict[str, Any] = field(repr=False)
     _parameters: dict[str, Any] = field(repr=False)
+
+    @property
+    def observation_space(self) -> spaces.Space:
+        """The observation space the policy was trained with."""
+        return self.saved.observation_space
+
+    @property
+    def action_space(self) -> spaces.Space:
+        """The action space the policy was trained with."""
+        return self.saved.action_space
 
     @property
     def env_id(self) -> str | None:
@@ -61,17 +83,17 @@ class PolicyFile:
     @property
     def algo(self) -> str:
         """The algorithm that trained it (``"PPO"``) from the metadata, or without it the policy's class name."""
-        return self.metadata.algo.upper() if self.metadata is not None else self._data["policy_class"].__name__
+        return self.metadata.algo.upper() if self.metadata is not None else self.policy_class.__name__
 
     @property
     def policy_class(self) -> type:
         """The saved policy's class."""
-        return self._data["policy_class"]
+        return self.saved.policy_class
 
     @property
     def policy_kwargs(self) -> dict[str, Any]:
         """The keyword arguments the saved policy was built with (its config's ``policy_kwargs``)."""
-        return dict(self._data.get("policy_kwargs") or {})
+        return dict(self.saved.policy_kwargs)
 
     @property
     def weights(self) -> dict[str, torch.Tensor]:
@@ -104,7 +126,7 @@ class PolicyFile:
         policy_class = self.policy_class
         kwargs = self.policy_kwargs
         if "use_sde" in inspect.signature(policy_class).parameters:
-            kwargs.setdefault("use_sde", bool(self._data.get("use_sde", False)))
+            kwargs.setdefault("use_sde", self.saved.use_sde)
         try:
             policy = policy_class(self.observation_space, self.action_space, _no_learning_rate, **kwargs)
             policy.load_state_dict(self.weights)
@@ -137,14 +159,8 @@ def seed_models(path: str | Path) -> list[Path]:
     return [model_path(path)]
 
 
-def read_policy_file(path: str | Path) -> PolicyFile:
-    """Read a policy file (or a training run's folder) and the metadata beside it.
-
-    ``PolicyFileError`` if it is missing, not a stable-baselines3 zip, or its metadata is unreadable.
-    """
-    path = model_path(path)
-    if not path.is_file():
-        raise PolicyFileError(f"policy file {path}: no such file")
+def _read_trusting(path: Path) -> tuple[SavedPolicy, dict[str, Any]]:
+    """The policy as stable-baselines3 loads it: every pickled entry of ``data`` unpickled, running its code."""
     try:
         data, parameters, _ = load_from_zip_file(
             path, custom_objects=dict.fromkeys(_SKIPPED_ATTRIBUTES, None), device=torch.device("cpu")
@@ -153,9 +169,51 @@ def read_policy_file(path: str | Path) -> PolicyFile:
         raise PolicyFileError(f"policy file {path}: not a stable-baselines3 model: {error}") from None
     if not data or not isinstance(data.get("policy_class"), type) or "policy" not in parameters:
         raise PolicyFileError(f"policy file {path}: not a stable-baselines3 model: no policy class and weights")
+    for name in ("observation_space", "action_space"):
+        if not isinstance(data.get(name), spaces.Space):
+            raise PolicyFileError(f"policy file {path}: its {name} is {data.get(name)!r}, not a gymnasium space")
+    saved = SavedPolicy(
+        policy_class=data["policy_class"],
+        policy_kwargs=dict(data.get("policy_kwargs") or {}),
+        observation_space=data["observation_space"],
+        action_space=data["action_space"],
+        use_sde=bool(data.get("use_sde", False)),
+    )
+    return saved, parameters
+
+
+def _read_safely(path: Path) -> tuple[SavedPolicy, dict[str, Any]]:
+    """The policy read without running any of its code (:mod:`ship_env.rl.safe_zip`)."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            try:
+                saved, parameters = read_saved_policy(archive), read_state_dicts(archive)
+            except UnreadableEntry as error:
+                raise PolicyFileError(
+                    f"policy file {path}: cannot be read without running code it may carry: {error}; {TRUST_OPTION}"
+                ) from None
+    except zipfile.BadZipFile as error:
+        raise PolicyFileError(f"policy file {path}: not a stable-baselines3 model: {error}") from None
+    if "policy" not in parameters:
+        raise PolicyFileError(f"policy file {path}: not a stable-baselines3 model: no policy.pth (its weights)")
+    return saved, parameters
+
+
+def read_policy_file(path: str | Path, trust_policy_code: bool = False) -> PolicyFile:
+    """Read a policy file (or a training run's folder) and the metadata beside it.
+
+    Without ``trust_policy_code`` nothing in the file is unpickled (:mod:`ship_env.rl.safe_zip`); with
+    it, stable-baselines3 unpickles the zip's entries, which runs any code they carry.
+    ``PolicyFileError`` if it is missing, not a stable-baselines3 zip, not readable without running
+    its code (naming what it lacks), or its metadata is unreadable.
+    """
+    path = model_path(path)
+    if not path.is_file():
+        raise PolicyFileError(f"policy file {path}: no such file")
+    saved, parameters = _read_trusting(path) if trust_policy_code else _read_safely(path)
     metadata_path = path.with_name(METADATA_FILE)
     try:
         metadata = PolicyMetadata.read(metadata_path) if metadata_path.is_file() else None
     except ValueError as error:
         raise PolicyFileError(f"policy file {path}: {error}") from None
-    return PolicyFile(path, data["observation_space"], data["action_space"], metadata, data, parameters)
+    return PolicyFile(path, saved, metadata, parameters)

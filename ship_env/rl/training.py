@@ -183,7 +183,8 @@ def train(
             config's own (``callback``).
         trained_agent: continue training the agent saved there (a ``model.zip`` or its run's
             folder: :func:`continue_agent`) instead of new weights; the metadata records it
-            (:func:`starting_agent`).
+            (:func:`starting_agent`). It is read, and loaded, as stable-baselines3 loads an agent,
+            which unpickles the zip's entries and so runs any code they carry: one's own agents only.
     """
     steps = config.n_timesteps if steps is None else steps
     out = Path(out)
@@ -195,7 +196,7 @@ def train(
         "device": "cpu",
         "tensorboard_log": str(out / TENSORBOARD_FOLDER) if tensorboard_installed() else None,
     }
-    saved = None if trained_agent is None else read_policy_file(trained_agent)
+    saved = None if trained_agent is None else read_policy_file(trained_agent, trust_policy_code=True)
     if saved is None:
         model = config.algorithm(config.policy, env, **run_keywords, **config.hyperparameters)
     else:

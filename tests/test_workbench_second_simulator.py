@@ -36,8 +36,10 @@ def hidden_logs(effects: tuple[str, ...], manoeuvres=SHORT_RUNS):
 
 def check_nothing_is_added(manoeuvres, refit: int | None) -> None:
     ladder = improve(base_model(), hidden_logs((), manoeuvres), OPTIONS, refit=refit)
-    print(f"\nno hidden effect: added {ladder.added}; stopped: {ladder.stopped}")
+    table = diagnosis_table(ladder.rungs[0].diagnosis).text()
+    print(f"\nno hidden effect: added {ladder.added}; stopped: {ladder.stopped}\n{table}")
     assert ladder.added == [], ladder.stopped
+    assert "rudder_offset absorbs a mismatch of size" in table, table
 
 
 def check_pair_is_found(effects: tuple[str, str], manoeuvres, refit: int | None) -> None:

@@ -1,7 +1,8 @@
 """An effect written outside ship_env, as a user would: its declaration and its contribution.
 
 A rudder that loses force in proportion to its angle (a quadratic loss of lift, as a rudder partly
-in the hull's wake shows): delta_e = delta (1 - k |delta|).
+in the hull's wake shows): delta_e = delta (1 - k |delta|). Its smallest physical size (``material``):
+k = 0.1 loses 3.5 % of the rudder force at 20 deg.
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ EFFECT = Effect(
         default=0.0,
         source="assumed: none",
         null=0.0,
+        material=0.1,
     ),
 )
 

@@ -12,7 +12,17 @@ base model leaves out (e.g. propeller astern) widens it when it is on.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, fields
+
+#: What a parameter's material size may be given per (``Parameter.material_per``): the ship's
+#: particulars it scales with, as a function of the length L (m) and the service speed U (m/s).
+MATERIAL_REFERENCES: dict[str, Callable[[float, float], float]] = {
+    "": lambda length, service_speed: 1.0,
+    "service_speed": lambda length, service_speed: service_speed,
+    "1/length^2": lambda length, service_speed: 1.0 / length**2,
+    "service_speed/length": lambda length, service_speed: service_speed / length,
+}
 
 # Units a YAML file may use, with the factor that converts them to the SI unit the model uses.
 UNIT_CONVERSIONS: dict[str, tuple[str, float]] = {
@@ -37,6 +47,12 @@ class Parameter:
             ``ship_env`` that the presets do not know), or None: the config must give it.
         source: where ``default`` comes from (required with a default: every number has a source).
         null: the value at which the effect vanishes, where there is one (a fit probes from it).
+        material: the smallest departure from ``null`` that means something physically (a rudder
+            offset of a few tenths of a degree), or None (not declared). In the SI unit, or per
+            unit of ``material_per``.
+        material_per: the ship's particulars ``material`` is given per, where the physical size
+            depends on the ship (a key of ``MATERIAL_REFERENCES``: "" for none, "service_speed" for
+            a current of 1.5 % of it, "1/length^2" for a coefficient in 1/m^2, ...).
     """
 
     name: str
@@ -48,6 +64,23 @@ class Parameter:
     default: float | None = None
     source: str = ""
     null: float | None = None
+    material: float | None = None
+    material_per: str = ""
+
+    def __post_init__(self) -> None:
+        if self.material is not None and not (math.isfinite(self.material) and self.material > 0.0):
+            raise ValueError(f"parameter {self.name!r}: material must be a positive number, got {self.material!r}")
+        if self.material_per not in MATERIAL_REFERENCES:
+            raise ValueError(
+                f"parameter {self.name!r}: material_per {self.material_per!r} is not one of "
+                f"{', '.join(repr(key) for key in MATERIAL_REFERENCES)}"
+            )
+
+    def material_size(self, length: float, service_speed: float) -> float | None:
+        """The material size in the SI unit for a ship of this length (m) and service speed (m/s), or None."""
+        if self.material is None:
+            return None
+        return self.material * MATERIAL_REFERENCES[self.material_per](length, service_speed)
 
     def convert(self, value: object, unit: str | None, where: str) -> float:
         """Check a value read from a config and convert it to this parameter's SI unit."""

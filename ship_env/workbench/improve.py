@@ -13,6 +13,8 @@ An effect *pays* (:func:`verdict`) when
    runs (or groups) left out, of the difference of the two scores -- a gain within it is noise;
 3. its fitted terms differ from their null values (an offset of 0) by more than ``TERM_SIGMAS``
    standard errors for at least one term (the larger of the Jacobian's and the jackknife's);
+   and by more than their material size for at least one term, where the effect declares one for
+   each (:mod:`~.materiality`: a smaller effect absorbs a mismatch, it is not a physical effect);
 4. with validation runs of another kind and ``require_validation``, it lowers their score by at
    least ``min_gain`` as well.
 
@@ -30,6 +32,7 @@ from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.fit import FitOptions, as_setup, one_thread
 from ship_env.workbench.logs import Log
+from ship_env.workbench.materiality import mismatch
 from ship_env.workbench.parallel import start as start_workers
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.validation import CrossValidation, cross_validate
@@ -190,6 +193,9 @@ def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorS
     weak = _terms_at_null(candidate)
     if weak is not None:
         return f"lowers the held-out score by {100.0 * gain:.1f}%, but {weak}: near the noise floor of these logs"
+    absorbed = mismatch(candidate.effects, validation.fit)
+    if absorbed is not None:
+        return f"lowers the held-out score by {100.0 * gain:.1f}%, but {absorbed}"
     if rules.require_validation and current.pooled_validation and validation.pooled_validation:
         before, after = current.pooled_validation.score(scales), validation.pooled_validation.score(scales)
         if after > (1.0 - rules.min_gain) * before:

@@ -14,7 +14,7 @@ and true wind, each with white noise (:class:`SensorNoise`).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -36,6 +36,22 @@ class SensorNoise:
     speed: float = 0.005
     wind_speed: float = 0.1
     wind_direction: float = math.radians(2.0)
+    #: The rudder indicator's resolution, rad: the logged rudder is rounded to it (0: not rounded).
+    rudder_resolution: float = 0.0
+
+
+#: Sea-trial sensors: GPS of a few metres, a compass of 0.5 deg, a rate gyro, a rudder indicator read
+#: to half a degree, a speed log and a ship's anemometer.
+SEA_TRIAL_NOISE = SensorNoise(
+    heading=math.radians(0.5),
+    rate_of_turn=math.radians(0.02),
+    position=3.0,
+    rudder=math.radians(0.1),
+    speed=0.05,
+    wind_speed=0.5,
+    wind_direction=math.radians(5.0),
+    rudder_resolution=math.radians(0.5),
+)
 
 
 @dataclass(frozen=True)
@@ -173,11 +189,18 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
     # actual rudder is that interval's order (the state sampled at its start still shows the last one).
     actual = true["rudder"] if truth.model.has("steering_machine") else orders
     rudder = actual if settings.rudder_kind == "actual" else orders
+
+    def indicated(values: np.ndarray) -> np.ndarray:
+        """The rudder indicator's reading: noisy, rounded to its resolution."""
+        read = sensed(values, noise.rudder)
+        step = noise.rudder_resolution
+        return step * np.round(read / step) if step > 0.0 else read
+
     return Log(
         name=manoeuvre.name,
         time=time,
         heading=sensed(true["heading"], noise.heading),
-        rudder=sensed(rudder, noise.rudder),
+        rudder=indicated(rudder),
         rudder_kind=settings.rudder_kind,
         rate_of_turn=sensed(true["rate_of_turn"], noise.rate_of_turn),
         north=sensed(true["north"], noise.position),
@@ -214,25 +237,45 @@ _PROGRAMME = (
 # fmt: on
 
 
-def model_test_programme(duration: float = 90.0) -> list[Manoeuvre]:
-    """Six runs like a free-running model test at 3 m scale: three zig-zags and three turns.
+#: The ship :data:`_PROGRAMME`'s numbers are written for: a 3 m model (L 3.0 m, U 0.35 m/s, D 0.084 m).
+PROGRAMME_SHIP = "esso_osaka_model"
+
+
+def model_test_programme(duration: float = 90.0, ship: str = PROGRAMME_SHIP) -> list[Manoeuvre]:
+    """Six runs like a free-running model test: three zig-zags and three turns, scaled to ``ship``.
 
     Two of the zig-zags and one turn accelerate from low speed (so propeller rate and speed vary
     independently, as in the Esso Osaka runs); rudders, sides, propeller rates and wind directions
     differ between runs so that no effect hides behind another, and every kind of run (steady or
     accelerating, zig-zag or turn) appears twice, so a fit that leaves one run out still sees its like.
+
+    The numbers (and ``duration``, s) are those of the 3 m model ``PROGRAMME_SHIP``; another ship sails
+    the same manoeuvres in its own units: times (duration, approach, acceleration) scale with its
+    L / U, speeds with its service speed U, propeller rates with U / D (the same advance ratio) and
+    the wind with sqrt(L) (Froude scaling: 1.8 m/s on the 3 m model is a 16 m/s breeze at 226 m).
     """
+    reference, scaled = ShipModel(PROGRAMME_SHIP), ShipModel(ship)
+
+    def diameter(model: ShipModel) -> float:
+        return model.parameter("propeller_slipstream.propeller_diameter")
+
+    speed = scaled.service_speed / reference.service_speed
+    time = (scaled.length / scaled.service_speed) / (reference.length / reference.service_speed)
+    propeller = speed * diameter(reference) / diameter(scaled)
+    wind = math.sqrt(scaled.length / reference.length)
     return [
         Manoeuvre(
             name,
             kind,
             math.radians(rudder),
-            duration,
+            duration * time,
+            approach=Manoeuvre.approach * time,
             zigzag_angle=math.radians(switch),
-            start_speed=start_speed,
-            final_speed=final_speed,
-            propeller_rate=propeller_rate,
-            wind_speed=wind_speed,
+            start_speed=start_speed * speed,
+            final_speed=final_speed * speed,
+            acceleration_time=Manoeuvre.acceleration_time * time,
+            propeller_rate=propeller_rate * propeller,
+            wind_speed=wind_speed * wind,
             wind_direction=math.radians(wind_from),
         )
         for name, kind, rudder, switch, start_speed, final_speed, propeller_rate, wind_speed, wind_from in _PROGRAMME
@@ -240,10 +283,16 @@ def model_test_programme(duration: float = 90.0) -> list[Manoeuvre]:
 
 
 #: Values the hidden-effect checks sail with where the preset's placeholder does not suit a truth
-#: (the esso_osaka_model preset's speed-loss gain of 0.8 stops the ship in a 35 deg turn), and
-#: the steady current (m/s north, east) for the current effect.
+#: (the esso_osaka_model preset's speed-loss gain of 0.8 stops the ship in a 35 deg turn).
 HIDDEN_VALUES: dict[str, float] = {"speed_loss.gain": 0.3}
-HIDDEN_CURRENT = (0.03, -0.04)
+#: The steady current (north, east) the hidden-effect checks sail in, per unit of the ship's service
+#: speed: 0.03 and -0.04 m/s for the 3 m model at 0.35 m/s.
+HIDDEN_CURRENT = (0.03 / 0.35, -0.04 / 0.35)
+
+
+def hidden_current(model: ShipModel) -> tuple[float, float]:
+    """The steady current (m/s north, east) the hidden-effect checks sail ``model`` in."""
+    return HIDDEN_CURRENT[0] * model.service_speed, HIDDEN_CURRENT[1] * model.service_speed
 
 
 def noise_scales(noise: SensorNoise) -> ErrorScales:
@@ -257,21 +306,26 @@ def hidden_effect_logs(
     seed: int = 1,
     manoeuvres: Sequence[Manoeuvre] | None = None,
     noise: SensorNoise = SensorNoise(),
+    values: Mapping[str, float] = HIDDEN_VALUES,
+    dt: float = LogSettings.dt,
 ) -> tuple[ReplayModel, list[Log]]:
     """Logs sailed by the speed-scheduled Nomoto ship plus the ``hidden`` effects: (truth, logs).
 
-    The logs record what the hidden effects need to show and no more: the ordered rudder when the
-    steering machine is hidden (its actual rudder would reveal it), no speed when the speed loss is
-    hidden (a measured speed would hold it).
+    The hidden effects take the preset's values but for ``values``; the logs are sampled every
+    ``dt`` seconds (default: the programme's; default manoeuvres: :func:`model_test_programme`
+    scaled to ``ship``). They record what the hidden effects need to show and no more: the ordered
+    rudder when the steering machine is hidden (its actual rudder would reveal it), no speed when the
+    speed loss is hidden (a measured speed would hold it).
     """
-    model = ShipModel(ship, [*REQUIRED_EFFECTS, *hidden], HIDDEN_VALUES)
-    truth = ReplayModel(model, *(HIDDEN_CURRENT if "current" in hidden else (0.0, 0.0)))
+    model = ShipModel(ship, [*REQUIRED_EFFECTS, *hidden], values)
+    truth = ReplayModel(model, *(hidden_current(model) if "current" in hidden else (0.0, 0.0)))
     settings = LogSettings(
+        dt=dt,
         noise=noise,
         rudder_kind="ordered" if "steering_machine" in hidden else "actual",
         measure_speed="speed_loss" not in hidden,
     )
-    return truth, sail_all(truth, model_test_programme() if manoeuvres is None else manoeuvres, seed, settings)
+    return truth, sail_all(truth, model_test_programme(ship=ship) if manoeuvres is None else manoeuvres, seed, settings)
 
 
 def noise_floor(truth: ReplayModel, logs: Sequence[Log], scales: ErrorScales) -> float:

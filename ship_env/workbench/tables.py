@@ -16,6 +16,7 @@ from ship_env.workbench.envelope import EnvelopeCheck
 from ship_env.workbench.errors import ErrorScales, RunErrors
 from ship_env.workbench.improve import Ladder
 from ship_env.workbench.logs import Log
+from ship_env.workbench.materiality import mismatch
 from ship_env.workbench.validation import CrossValidation
 
 
@@ -73,6 +74,13 @@ def _screened_mark(candidate: CandidateResult) -> str:
     return "(screened) " if candidate.screened is not None and candidate.cross_validation is None else ""
 
 
+def _absorbed(candidate: CandidateResult) -> str:
+    """'; ' and the words of an added effect that absorbs a mismatch (:mod:`~.materiality`), else ''."""
+    validation = candidate.cross_validation or candidate.screened
+    words = None if validation is None else mismatch(candidate.effects, validation.fit)
+    return "" if words is None else f"; {words}"
+
+
 def diagnosis_table(diagnosis: Diagnosis) -> Table:
     """The missing effects, best first: evidence, held-out score and its change, and the effect in words."""
     scales = diagnosis.scales
@@ -106,7 +114,7 @@ def diagnosis_table(diagnosis: Diagnosis) -> Table:
                 number(held_out.track) if held_out else "-",
                 number(score),
                 f"{100.0 * (score / baseline - 1.0):+.0f}%" if held_out else "-",
-                candidate.skipped or _screened_mark(candidate) + candidate.title,
+                candidate.skipped or _screened_mark(candidate) + candidate.title + _absorbed(candidate),
             )
         )
     return Table(

@@ -5,7 +5,8 @@ A *term* is one estimated number: a model parameter keyed ``effect.parameter`` (
 ``current.north`` / ``current.east`` in m/s (the current effect's speed and direction are
 conditions of a run, not parameters of the ship). Each term has a range, a scale (its typical size:
 the fitter works in units of it) and, where one exists, the null value at which its effect
-vanishes (an offset of 0, a slipstream coefficient of 0).
+vanishes (an offset of 0, a slipstream coefficient of 0) and the material size its effect declares
+for this ship (``Parameter.material``: the smallest departure from null that means something).
 
 Each effect names the terms fitted when it is added (``DEFAULT_TERMS``; an effect registered from
 outside ``ship_env`` has all its parameters fitted, in their declared ranges, with the declared
@@ -19,11 +20,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ship_env.model import EFFECTS, PRINCIPAL, ShipModel
+from ship_env.model.declarations import Parameter
+from ship_env.model.effects.current import STEADY_COMPONENT
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
 
@@ -123,6 +126,8 @@ class Term:
         scale: its typical size; the fitter estimates value / scale.
         lower, upper: its range.
         null: the value at which its effect vanishes, or None.
+        material: the smallest departure from ``null`` that means something physically, in ``unit``
+            for this ship (its effect's declared ``Parameter.material``), or None.
     """
 
     key: str
@@ -132,6 +137,7 @@ class Term:
     lower: float
     upper: float
     null: float | None
+    material: float | None = None
 
     @property
     def effect(self) -> str:
@@ -165,10 +171,12 @@ def _rule(key: str, minimum: float, maximum: float) -> TermRule:
     return TermRule(minimum, maximum, null, span / 100.0 if math.isfinite(span) and span > 0.0 else 1.0)
 
 
-def _declaration(key: str) -> tuple[str, str, float, float]:
-    """(unit, description, minimum, maximum) of a model parameter or principal particular."""
+def _declaration(key: str) -> Parameter:
+    """The declaration of a model parameter, a principal particular or a steady current's component."""
     if key in CURRENT_TERMS:
-        return "m/s", f"steady current towards the {key.split('.')[1]}, the same in every run", -math.inf, math.inf
+        towards = key.split(".")[1]
+        description = f"steady current towards the {towards}, the same in every run"
+        return replace(STEADY_COMPONENT, name=towards, description=description)
     principal = {parameter.name: parameter for parameter in PRINCIPAL}
     effect_name, _, name = key.partition(".")
     if not name and key in principal:
@@ -182,7 +190,7 @@ def _declaration(key: str) -> tuple[str, str, float, float]:
                 f"or {' / '.join(CURRENT_TERMS)}"
             )
         parameter = by_name[name]
-    return parameter.unit, parameter.description, parameter.minimum, parameter.maximum
+    return parameter
 
 
 def value_of(setup: ReplayModel, key: str) -> float:
@@ -196,7 +204,8 @@ def value_of(setup: ReplayModel, key: str) -> float:
 
 def make_term(key: str, setup: ReplayModel) -> Term:
     """The term ``key`` with its range and a scale fitted to the model's value and the ship's size."""
-    unit, description, minimum, maximum = _declaration(key)
+    declared = _declaration(key)
+    minimum, maximum = declared.minimum, declared.maximum
     rule = _rule(key, minimum, maximum)
     natural = {
         # A yaw acceleration from a wind of ten times the ship's speed comparable to (u/L)^2.
@@ -212,12 +221,13 @@ def make_term(key: str, setup: ReplayModel) -> Term:
         value = 0.0
     return Term(
         key=key,
-        unit=unit,
-        description=description,
+        unit=declared.unit,
+        description=declared.description,
         scale=max(value, natural, 1e-12),
         lower=max(rule.lower, minimum),
         upper=min(rule.upper, maximum),
         null=rule.null,
+        material=declared.material_size(setup.model.length, setup.model.service_speed),
     )
 
 

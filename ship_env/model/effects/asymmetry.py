@@ -13,6 +13,10 @@ estimates the offset, ``rudder_offset``). With c_p = alpha0 = alpha2 = 0 the eff
 Symbols: n propeller rate (rps), D propeller diameter (m, ``propeller_slipstream.propeller_diameter``),
 c_p side-force coefficient (positive turns the ship to port), alpha0 constant and alpha2 quadratic
 coefficients of H(r*).
+
+Smallest physical sizes (``material``): c_p = 0.003 is 3 % of the rudder moment K* u^2 delta at
+10 deg of rudder with K* = 1.5 and (n D / u)^2 = 3; alpha0 = 0.01 turns the ship like a rudder offset
+of 0.3 deg (K* delta_0, see ``rudder_offset``); alpha2 = 0.05 changes H(r*) by 2.5 % at r* = 0.5.
 """
 
 from __future__ import annotations
@@ -23,9 +27,14 @@ EFFECT = Effect(
     "asymmetry",
     "port-starboard asymmetry (propeller side force, asymmetric stern flow)",
     "(2.27), (2.54) with a propeller side force",
-    Parameter("side_force", "-", "c_p, propeller side force per (n D)^2 in the units of K* u^2 delta; + turns to port"),
-    Parameter("constant", "-", "alpha0 of H(r*): steady r* at zero rudder is -alpha0 / alpha1"),
-    Parameter("quadratic", "-", "alpha2 of H(r*): the ship turns tighter to port for alpha2 > 0"),
+    Parameter(
+        "side_force",
+        "-",
+        "c_p, propeller side force per (n D)^2 in the units of K* u^2 delta; + turns to port",
+        material=0.003,
+    ),
+    Parameter("constant", "-", "alpha0 of H(r*): steady r* at zero rudder is -alpha0 / alpha1", material=0.01),
+    Parameter("quadratic", "-", "alpha2 of H(r*): the ship turns tighter to port for alpha2 > 0", material=0.05),
 )
 
 

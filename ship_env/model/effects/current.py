@@ -7,6 +7,10 @@ optional: U_c(t) = U_c (1 + a sin(2 pi t / T)), psi_c(t) = psi_c + b sin(2 pi t 
 a = ``variation``, b = ``swing``, T = ``period``; a = b = 0 gives a steady current, whose
 U_c cos(psi_c) and U_c sin(psi_c) are the conditions ``current_north`` and ``current_east``, derived
 once where the conditions are written (``state.derive_conditions``).
+
+A steady current's components are conditions of a run, not parameters of the ship: a fit
+estimates them as declared by :data:`STEADY_COMPONENT`, whose smallest physical size (``material``)
+is 1.5 % of the service speed -- a set a navigator would not notice over a few ship lengths.
 """
 
 from __future__ import annotations
@@ -35,5 +39,15 @@ def drift(time, current_north, current_east, current_speed, current_direction, v
     direction = current_direction + swing * phase
     return speed * math.cos(direction), speed * math.sin(direction)
 
+
+#: A steady current's north or east component, as a fit estimates it (``current.north``, ``current.east``).
+STEADY_COMPONENT = Parameter(
+    "component",
+    "m/s",
+    "steady current's component, the same in every run",
+    null=0.0,
+    material=0.015,
+    material_per="service_speed",
+)
 
 CONTRIBUTIONS = (Contribution("ground_velocity", drift),)

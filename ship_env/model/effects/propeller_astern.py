@@ -20,6 +20,10 @@ effect widens the envelope to both propeller directions.
 
 Symbols: n propeller rate (rps, negative astern), D propeller diameter (m,
 ``propeller_slipstream.propeller_diameter``).
+
+Smallest physical sizes (``material``): c_a = 0.01 and c_w = 0.003 each change the rudder's inflow or
+moment by a few % at (n D / u)^2 = 3 and 10 deg of rudder with K* = 1.5 (as ``propeller_slipstream``
+and ``asymmetry``'s side force).
 """
 
 from __future__ import annotations
@@ -30,8 +34,15 @@ EFFECT = Effect(
     "propeller_astern",
     "propeller astern (the rudder loses its inflow; the propeller walks the stern sideways)",
     "u_R^2 = max(u_R^2 - c_a (n D)^2, 0) and a side moment c_w (n D)^2 for n < 0, in (2.54)",
-    Parameter("rudder_inflow", "-", "c_a, fraction of (n D)^2 taken from the rudder inflow astern", minimum=0.0),
-    Parameter("walk", "-", "c_w, propeller walk astern per (n D)^2 in the units of K* u^2 delta; + turns to port"),
+    Parameter(
+        "rudder_inflow", "-", "c_a, fraction of (n D)^2 taken from the rudder inflow astern", minimum=0.0, material=0.01
+    ),
+    Parameter(
+        "walk",
+        "-",
+        "c_w, propeller walk astern per (n D)^2 in the units of K* u^2 delta; + turns to port",
+        material=0.003,
+    ),
     envelope=Envelope(propeller_ahead_only=False),
 )
 

@@ -15,6 +15,9 @@ turning astern sends no slipstream over the rudder (see ``propeller_astern``).
 
 Symbols: n propeller rate (rps), D propeller diameter (m), c_s slipstream coefficient
 (about eta 8 K_T / pi, 0.1 to 0.5).
+
+Smallest physical size (``material``): c_s = 0.01 changes the rudder's effectiveness by a few %
+(3 %) at (n D / u)^2 = 3, a propeller's usual advance ratio u / (n D) of about 0.6.
 """
 
 from __future__ import annotations
@@ -25,7 +28,7 @@ EFFECT = Effect(
     "propeller_slipstream",
     "propeller slipstream over the rudder (more rudder effect at high propeller rate)",
     "rudder inflow u_R^2 = u^2 + c_s (n D)^2 in the rudder term of (2.54)",
-    Parameter("coefficient", "-", "c_s, fraction of (n D)^2 added to the rudder inflow", minimum=0.0),
+    Parameter("coefficient", "-", "c_s, fraction of (n D)^2 added to the rudder inflow", minimum=0.0, material=0.01),
     Parameter("propeller_diameter", "m", "D, propeller diameter", minimum=0.0),
 )
 

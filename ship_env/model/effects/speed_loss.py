@@ -10,6 +10,9 @@ turning circle even though r* itself rises monotonically (thesis Fig. 2.7).
 
 Symbols: u* relative speed loss, U0 service speed (m/s), tau_u* normalised time constant, K_u*
 normalised gain, beta3 cubic coefficient.
+
+Smallest physical sizes (``material``): K_u* = 0.04 loses 1 % of the speed in a steady turn at
+r* = 0.5; beta3 = 0.3 changes H_u by 3 % at a loss u* = 0.3 (a hard-over turn).
 """
 
 from __future__ import annotations
@@ -20,9 +23,9 @@ EFFECT = Effect(
     "speed_loss",
     "loss of forward speed in a turn (added resistance from turning)",
     "(2.55), (2.39), (2.53)",
-    Parameter("gain", "-", "K_u*, normalised gain from r*^2 to speed loss u*", minimum=0.0),
+    Parameter("gain", "-", "K_u*, normalised gain from r*^2 to speed loss u*", minimum=0.0, material=0.04),
     Parameter("time_constant", "-", "tau_u*, normalised time constant in ship lengths", minimum=1e-6),
-    Parameter("cubic", "-", "beta3 of H_u(u*) = u* + beta3 u*^3", minimum=0.0),
+    Parameter("cubic", "-", "beta3 of H_u(u*) = u* + beta3 u*^3", minimum=0.0, material=0.3),
 )
 
 

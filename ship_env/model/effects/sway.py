@@ -5,6 +5,9 @@
 so v = -u (gamma1* r* + gamma3* r*^3); with gamma3* = 0 this is v = -gamma r, gamma = gamma1* L
 (2.60, 2.63). The ship turning to starboard (r > 0) drifts to port (v < 0): its bow points inside
 the circle by the drift angle beta = atan(-v/u).
+
+Smallest physical sizes (``material``): gamma1* = 0.02 and gamma3* = 0.08 each give a drift angle of
+about 0.6 deg at r* = 0.5 (a track that drifts 1 % of the distance sailed).
 """
 
 from __future__ import annotations
@@ -15,8 +18,8 @@ EFFECT = Effect(
     "sway",
     "drift angle in a turn (Van Leeuwen sway velocity)",
     "(2.47)-(2.49), (2.60)",
-    Parameter("linear", "-", "gamma1*, sway per normalised rate of turn (gamma = gamma1* L)"),
-    Parameter("cubic", "-", "gamma3*, cubic coefficient of H_v(r*)"),
+    Parameter("linear", "-", "gamma1*, sway per normalised rate of turn (gamma = gamma1* L)", material=0.02),
+    Parameter("cubic", "-", "gamma3*, cubic coefficient of H_v(r*)", material=0.08),
 )
 
 

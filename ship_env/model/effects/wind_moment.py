@@ -25,6 +25,11 @@ beam-on; both flip sign with the side the wind comes from. A positive N_w' turns
 wind from forward of the beam; a positive N_b' turns the bow into the wind from either end (the
 centre of effort aft of midships, as behind a tanker's accommodation). The wind resistance only acts where the
 speed-loss equation (2.86) is on.
+
+Smallest physical sizes (``material``, per 1/L^2: the rudder's yaw acceleration scales with
+(u/L)^2): N_w' = N_b' = 5e-4 / L^2 make a yaw moment of 3 % of the rudder's at 10 deg of rudder
+(K*/tau* = 1) in a wind of three times the ship's speed; F_w' = 3e-4 / L^2 slows the ship by 1 %
+in a head wind of three times its speed (tau_u* = 4).
 """
 
 from __future__ import annotations
@@ -35,13 +40,27 @@ EFFECT = Effect(
     "wind_moment",
     "wind yaw moment and wind resistance",
     "(2.82)-(2.88)",
-    Parameter("yaw_coefficient", "rad/m^2", "N_w' of (2.87); sign: + turns the bow into the wind"),
+    Parameter(
+        "yaw_coefficient",
+        "rad/m^2",
+        "N_w' of (2.87); sign: + turns the bow into the wind",
+        material=5e-4,
+        material_per="1/length^2",
+    ),
     Parameter(
         "beam_coefficient",
         "rad/m^2",
         "N_b', yaw from a beam wind (centre of effort off midships); + bow into the wind",
+        material=5e-4,
+        material_per="1/length^2",
     ),
-    Parameter("surge_coefficient", "1/m^2", "F_w' of (2.88); + means a head wind slows the ship"),
+    Parameter(
+        "surge_coefficient",
+        "1/m^2",
+        "F_w' of (2.88); + means a head wind slows the ship",
+        material=3e-4,
+        material_per="1/length^2",
+    ),
 )
 
 

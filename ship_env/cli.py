@@ -614,6 +614,8 @@ def run_improve(args: argparse.Namespace) -> int:
     print("\nerror ladder (held out: leave one run out)")
     print(ladder_table(ladder).text())
     print(f"stopped: {ladder.stopped}")
+    if ladder.final.validation:
+        print(validation_coverage_text(ladder.final, options.scales))
     print("\nfinal model, fitted to all runs")
     print(estimate_table(ladder.final).text())
     report = write_report(ladder, logs, args.report, workers=options.workers)

@@ -216,6 +216,37 @@ def test_improve_does_not_add_an_effect_that_makes_the_validation_runs_worse():
     assert allowed.rungs[1].validation.score(scales) < 0.95 * allowed.rungs[0].validation.score(scales)
 
 
+@pytest.mark.slow
+def test_improve_on_the_command_line_says_why_it_stopped_and_reports_the_validation_runs(tmp_path, capsys):
+    fitted, turning, _ = norrbin_case()
+    for folder, logs in (("zigzag", fitted), ("turning", turning)):
+        (tmp_path / folder).mkdir()
+        for log in logs:
+            write_log(log, tmp_path / folder / f"{log.name}.csv")
+    arguments = [
+        "--validate-on",
+        str(tmp_path / "turning"),
+        "--candidates",
+        "norrbin",
+        "--pairs",
+        "0",
+        "--workers",
+        "1",
+    ]
+    scales = ["--heading-scale", "0.2", "--rate-scale", "0.05", "--position-scale", str(0.02 * math.sqrt(2.0))]
+    report = tmp_path / "report"
+    assert (
+        main(["improve", str(tmp_path / "zigzag"), *arguments, *scales, "--ship", SHIP, "--report", str(report)]) == 0
+    )
+    out = capsys.readouterr().out
+    stopped = next(line for line in out.splitlines() if line.startswith("stopped: "))
+    assert "norrbin: lowers the held-out score by" in stopped and "(--allow-worse-validation adds it)" in stopped
+    assert "validation change" in out and "validation runs beyond the fitted runs' coverage" in out
+    text = (report / "report.md").read_text()
+    assert "## Validation runs and the fitted runs' coverage" in text
+    assert (report / "final" / "turn_0.png").is_file()  # the validation runs drawn, with their band
+
+
 @needs_esso
 @pytest.mark.filterwarnings("ignore::ship_env.workbench.logs.LogWarning")
 def test_the_esso_turning_runs_lie_beyond_the_zigzags_rate_of_turn():

@@ -257,8 +257,9 @@ def coverage_text(
 
 
 def validation_coverage_text(validation: CrossValidation, scales: ErrorScales) -> str:
-    """The validation runs against the fitted runs' coverage (:func:`coverage_text`); empty without a coverage."""
-    if validation.coverage is None:
+    """The validation runs against the fitted runs' coverage (:func:`coverage_text`); empty without validation
+    runs or a coverage."""
+    if validation.coverage is None or not validation.validation_logs:
         return ""
     checks, logs, replays = validation.validation_checks(), validation.validation_logs, validation.validation_replays
     return coverage_text("validation runs", validation.coverage, checks, logs, replays, scales)

@@ -72,6 +72,7 @@ from ship_env.workbench import (
     plot_comparison,
     write_report,
 )
+from ship_env.workbench.coverage import check_coverage, fitted_coverage
 from ship_env.workbench.envelope import MIN_SEGMENT, EnvelopeCheck, check_envelope, inside_logs
 from ship_env.workbench.errors import RunErrors, pooled, run_errors
 from ship_env.workbench.fit import NUISANCE
@@ -82,12 +83,14 @@ from ship_env.workbench.parallel import usable_cores
 from ship_env.workbench.replay import Simulated
 from ship_env.workbench.signals import past_the_library, plot_signals
 from ship_env.workbench.tables import (
+    coverage_text,
     diagnosis_table,
     envelope_line,
     envelope_table,
     error_table,
     estimate_table,
     ladder_table,
+    validation_coverage_text,
 )
 from ship_env.workbench.terms import default_terms, with_values
 from ship_env.workbench.validation import CrossValidation
@@ -493,6 +496,10 @@ def _fit_json(validation: CrossValidation, scales: ErrorScales, runs: WorkbenchR
     }
     if validation.validation and validation.pooled_validation is not None:
         document["validation"] = {e.name: errors(e) for e in (*validation.validation, validation.pooled_validation)}
+    if validation.coverage is not None:
+        document["coverage"] = validation.coverage.as_dict()
+        checks = validation.validation_checks()
+        document["validation_coverage"] = {c.run: {"extrapolated": c.share, "why": c.reasons()} for c in checks}
     return document
 
 
@@ -503,6 +510,8 @@ def _print_validation_runs(validation: CrossValidation, runs: WorkbenchRuns, sca
     print("\nvalidation runs (another kind, never fitted), replayed by the fit to all runs")
     print(error_table(validation.validation, scales, validation.pooled_validation).text())
     _print_inside_outside("validation runs", validation.validation_logs, validation.validation_replays, runs, scales)
+    if validation.coverage is not None:
+        print(validation_coverage_text(validation, scales))
 
 
 def _workbench_start(args: argparse.Namespace) -> tuple[ReplayModel, FitOptions, WorkbenchRuns]:
@@ -527,7 +536,7 @@ def run_fit(args: argparse.Namespace) -> int:
         print("\neach run fitted on its own (in-sample)")
         print(error_table([f.errors[0] for f in fits], options.scales).text())
     if args.plot is not None:
-        plot_comparison(held_out_comparison(validation, logs), args.plot, "held out", options.workers)
+        plot_comparison(held_out_comparison(validation, logs), args.plot, "cross-validated fit", options.workers)
         print(f"\nplots written to {args.plot}/")
     if args.json is not None:
         args.json.write_text(json.dumps(_fit_json(validation, options.scales, runs), indent=2) + "\n")
@@ -543,6 +552,10 @@ def run_compare(args: argparse.Namespace) -> int:
     comparison = compare(setup, logs, options.initial_window)
     print(error_table(comparison.errors, options.scales, comparison.pooled).text())
     _print_inside_outside("RMS errors", logs, comparison.simulated, runs, options.scales)
+    coverage = fitted_coverage(args.parameters) if args.parameters is not None else None
+    if coverage is not None:
+        checks = [check_coverage(log, coverage, setup.model) for log in logs]
+        print(coverage_text("runs", coverage, checks, logs, comparison.simulated, options.scales))
     if args.plot is not None:
         plot_comparison(comparison, args.plot, f"{setup.model.ship.name}: {', '.join(setup.model.effects)}")
         print(f"\nplots written to {args.plot}/")
@@ -596,10 +609,13 @@ def run_improve(args: argparse.Namespace) -> int:
         groups=runs.groups,
         validate_on=runs.validation,
         require_validation=args.require_validation,
+        allow_worse_validation=args.allow_worse_validation,
     )
     print("\nerror ladder (held out: leave one run out)")
     print(ladder_table(ladder).text())
     print(f"stopped: {ladder.stopped}")
+    if ladder.final.validation:
+        print(validation_coverage_text(ladder.final, options.scales))
     print("\nfinal model, fitted to all runs")
     print(estimate_table(ladder.final).text())
     report = write_report(ladder, logs, args.report, workers=options.workers)
@@ -870,6 +886,12 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         "--require-validation",
         action="store_true",
         help="add an effect only if it also lowers the --validate-on runs' score by --min-gain",
+    )
+    parser.add_argument(
+        "--allow-worse-validation",
+        action="store_true",
+        help="add an effect even if it raises the --validate-on runs' score by more than --min-gain "
+        "(by default it is not added)",
     )
     parser.add_argument(
         "--report",

@@ -2,7 +2,9 @@
 
 Each run is replayed from its measured initial state (no per-run fitting). The drawing of a run
 (:func:`plot_run`) shows the measured and simulated heading, rate of turn and rudder against time,
-the tracks (measured, simulated freely, and replayed with the measured heading) and the residuals.
+the tracks (measured, simulated freely, and replayed with the measured heading) and the residuals;
+after a cross-validation, shaded around the simulated heading, rate of turn and track, the
+jackknife band of the fold models' replays (:mod:`.bands`): how sure the model is where it predicts.
 Drawn with matplotlib's object interface on the Agg canvas: no display needed, and the user's
 pyplot backend is left alone.
 """
@@ -16,18 +18,21 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure as Drawing
 
+from ship_env.workbench.bands import BAND_LABEL, Band, jackknife_bands
 from ship_env.workbench.errors import RunErrors, pooled, run_errors
 from ship_env.workbench.logs import Log
 from ship_env.workbench.outputs import save_drawing
 from ship_env.workbench.parallel import run_each
-from ship_env.workbench.replay import INITIAL_WINDOW, ReplayModel, Simulated, simulate
+from ship_env.workbench.replay import EAST, HEADING, INITIAL_WINDOW, NORTH, RATE, ReplayModel, Simulated, simulate
 from ship_env.workbench.validation import CrossValidation
 
 MEASURED_STYLE: dict[str, Any] = {"color": "black", "linewidth": 1.0, "label": "measured"}
 SIMULATED_STYLE: dict[str, Any] = {"color": "tab:red", "linewidth": 1.0, "label": "simulated"}
+BAND_STYLE: dict[str, Any] = {"color": "tab:red", "alpha": 0.2, "linewidth": 0.0}
 TRACK_STYLE: dict[str, Any] = {
     "color": "tab:blue",
     "linewidth": 1.0,
@@ -38,12 +43,19 @@ TRACK_STYLE: dict[str, Any] = {
 
 @dataclass(frozen=True)
 class Comparison:
-    """A model replayed on runs: the simulated series and the errors per run and pooled."""
+    """A model replayed on runs: the simulated series and the errors per run and pooled.
+
+    Attributes:
+        bands: per run, the jackknife band of its replay (empty: none, as for a model not cross-validated).
+        roles: per run, what its replay is where runs differ (e.g. a validation run; empty: all alike).
+    """
 
     setup: ReplayModel
     logs: tuple[Log, ...]
     simulated: tuple[Simulated, ...]
     errors: tuple[RunErrors, ...]
+    bands: tuple[Band, ...] = ()
+    roles: tuple[str, ...] = ()
 
     @property
     def pooled(self) -> RunErrors:
@@ -62,8 +74,18 @@ def compare(setup: ReplayModel, logs: Sequence[Log], window: float = INITIAL_WIN
 
 
 def held_out_comparison(validation: CrossValidation, logs: Sequence[Log]) -> Comparison:
-    """Each run replayed by the fit that left it out: what the held-out errors measure."""
-    return Comparison(validation.fit.setup, tuple(logs), validation.replays, validation.held_out)
+    """Each run replayed by the fit that left it out (what the held-out errors measure), then each validation
+    run replayed by the fit to all runs; each with its jackknife band (every fold's model, one batch)."""
+    every = (*logs, *validation.validation_logs)
+    return Comparison(
+        validation.fit.setup,
+        every,
+        (*validation.replays, *validation.validation_replays),
+        (*validation.held_out, *validation.validation),
+        tuple(jackknife_bands(validation.folds, every, validation.window)),
+        ("held out: replayed by the fit that left it out",) * len(logs)
+        + ("validation run: replayed by the fit to all runs",) * len(validation.validation),
+    )
 
 
 def file_name(run: str) -> str:
@@ -71,18 +93,40 @@ def file_name(run: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", run)
 
 
-def plot_run(log: Log, simulated: Simulated, errors: RunErrors, title: str, path: Path) -> Path:
-    """Draw one run, measured against simulated, into a PNG file."""
+def _band_label(band: Band) -> str:
+    return f"{BAND_LABEL} (+-1 s.d., {band.replays} fold fits)"
+
+
+def _track_band(axes: Axes, band: Band) -> None:
+    """Shade the band around the fold replays' mean track: +-its position s.d. across the track's direction."""
+    north, east = band.centre[:, NORTH], band.centre[:, EAST]
+    heading = np.arctan2(np.gradient(east), np.gradient(north))
+    across_north, across_east = -np.sin(heading) * band.radius, np.cos(heading) * band.radius
+    outline_east = np.concatenate([east + across_east, (east - across_east)[::-1]])
+    outline_north = np.concatenate([north + across_north, (north - across_north)[::-1]])
+    axes.fill(outline_east, outline_north, label=_band_label(band), **BAND_STYLE)
+
+
+def plot_run(
+    log: Log, simulated: Simulated, errors: RunErrors, title: str, path: Path, band: Band | None = None
+) -> Path:
+    """Draw one run, measured against simulated (with its jackknife ``band`` where given), into a PNG file."""
     drawing = Drawing(figsize=(13, 8.5))
     FigureCanvasAgg(drawing)
     grid = drawing.add_gridspec(3, 2, width_ratios=(1.6, 1.0))
     time = log.time - log.time[0]
+    band = band if band is not None and band.replays > 1 else None  # one replay has no spread to show
     heading_axes = drawing.add_subplot(grid[0, 0])
+    if band is not None:
+        low, high = np.degrees(band.low(HEADING)), np.degrees(band.high(HEADING))
+        heading_axes.fill_between(time, low, high, label=_band_label(band), **BAND_STYLE)
     heading_axes.plot(time, np.degrees(log.heading), **MEASURED_STYLE)
     heading_axes.plot(time, np.degrees(simulated.heading), **SIMULATED_STYLE)
     heading_axes.set_ylabel("heading [deg]")
     heading_axes.legend(loc="best", fontsize=8)
     rate_axes = drawing.add_subplot(grid[1, 0], sharex=heading_axes)
+    if band is not None:
+        rate_axes.fill_between(time, np.degrees(band.low(RATE)), np.degrees(band.high(RATE)), **BAND_STYLE)
     if log.rate_of_turn is not None:
         rate_axes.plot(time, np.degrees(log.rate_of_turn), **MEASURED_STYLE)
     rate_axes.plot(time, np.degrees(simulated.rate_of_turn), **SIMULATED_STYLE)
@@ -108,6 +152,8 @@ def plot_run(log: Log, simulated: Simulated, errors: RunErrors, title: str, path
     residual_axes.legend(loc="best", fontsize=8)
     track_axes = drawing.add_subplot(grid[:, 1])
     if log.north is not None and log.east is not None:
+        if band is not None:
+            _track_band(track_axes, band)
         track_axes.plot(log.east, log.north, **MEASURED_STYLE)
         track_axes.plot(simulated.east, simulated.north, **SIMULATED_STYLE)
         track_axes.plot(simulated.track_east, simulated.track_north, **TRACK_STYLE)
@@ -127,11 +173,19 @@ def plot_run(log: Log, simulated: Simulated, errors: RunErrors, title: str, path
     return save_drawing(drawing, path, dpi=90)
 
 
-def run_drawings(comparison: Comparison, folder: Path, title: str) -> list[tuple[Log, Simulated, RunErrors, str, Path]]:
-    """The arguments of :func:`plot_run` for each run: one PNG per run in ``folder``, named after the run."""
+def run_drawings(
+    comparison: Comparison, folder: Path, title: str
+) -> list[tuple[Log, Simulated, RunErrors, str, Path, Band | None]]:
+    """The arguments of :func:`plot_run` for each run: one PNG per run in ``folder``, named after the run (the
+    title followed by the run's role where runs differ)."""
+    count = len(comparison.logs)
+    bands: Sequence[Band | None] = comparison.bands or (None,) * count
+    roles = comparison.roles or ("",) * count
     return [
-        (log, simulated, errors, title, folder / f"{file_name(log.name)}.png")
-        for log, simulated, errors in zip(comparison.logs, comparison.simulated, comparison.errors, strict=True)
+        (log, simulated, errors, f"{title}; {role}" if role else title, folder / f"{file_name(log.name)}.png", band)
+        for log, simulated, errors, band, role in zip(
+            comparison.logs, comparison.simulated, comparison.errors, bands, roles, strict=True
+        )
     ]
 
 

@@ -16,7 +16,13 @@ An effect *pays* (:func:`verdict`) when
    and by more than their material size for at least one term, where the effect declares one for
    each (:mod:`~.materiality`: a smaller effect absorbs a mismatch, it is not a physical effect);
 4. with validation runs of another kind and ``require_validation``, it lowers their score by at
-   least ``min_gain`` as well.
+   least ``min_gain`` as well;
+5. with validation runs, it does not raise their score by more than ``min_gain`` (the 5 % rule
+   mirrored): an effect fitted on one kind of run that makes the other kind materially worse
+   extrapolates badly -- typically a term such as Norrbin's cubic fitted on zig-zags whose rates of
+   turn never reach the turning runs' (the stop reason names the quantities in which the
+   validation runs go beyond the fitted runs' coverage, :mod:`.coverage`). ``allow_worse_validation``
+   turns this rule off; ``require_validation`` (4) is the stricter one.
 
 Near the noise floor the gains fail 2 or 3: the ladder says so and stops.
 """
@@ -28,6 +34,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from ship_env.model import ShipModel
+from ship_env.workbench.coverage import beyond_in_words
 from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in_words, pairs
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.fit import FitOptions, as_setup, one_thread
@@ -105,6 +112,7 @@ def improve(
     groups: Sequence[str] | None = None,
     validate_on: Sequence[Log] = (),
     require_validation: bool = False,
+    allow_worse_validation: bool = False,
 ) -> Ladder:
     """Climb the error ladder greedily (see the module docstring).
 
@@ -121,6 +129,8 @@ def improve(
         groups: per run, the group it is left out with (default: each run alone).
         validate_on: runs of another kind, never fitted, scored by each rung's all-run fit.
         require_validation: an effect must also lower the validation runs' score by ``min_gain``.
+        allow_worse_validation: add an effect even where it raises the validation runs' score by more than
+            ``min_gain`` (by default it is not added).
     """
     options = options or FitOptions()
     start_workers(options.workers)
@@ -130,7 +140,7 @@ def improve(
     say(f"start: {', '.join(validation.fit.setup.model.effects)}; held-out score {validation.score(scales):.3g}")
     rungs: list[Rung] = []
     added: tuple[str, ...] = ()
-    rules = Rules(min_gain, require_validation and bool(validate_on))
+    rules = Rules(min_gain, require_validation and bool(validate_on), allow_worse_validation)
     while True:
         if max_steps is not None and len(rungs) >= max_steps:
             rungs.append(Rung(added, validation))
@@ -143,6 +153,12 @@ def improve(
             tried_pairs = pairs(diagnosis, logs, options, pair_width)
             best = _best_paying(tried_pairs, validation, scales, rules)
         rungs.append(Rung(added, validation, diagnosis, tuple(tried_pairs)))
+        for candidate in [c for c in tried + tried_pairs if c.cross_validation is not None]:
+            # Say where the validation runs alone kept a better candidate out.
+            worse = _worsens_validation(candidate, validation, scales, rules)
+            better = best is None or candidate.refitted.score(scales) < best.refitted.score(scales)
+            if worse and better and verdict(candidate, validation, scales, rules) == worse:
+                say(f"not added: {candidate.effect}: {worse}")
         if best is None:
             refitted = [c for c in tried + tried_pairs if c.cross_validation is not None]
             leading = sorted(refitted, key=lambda c: c.refitted.score(scales))
@@ -162,10 +178,12 @@ def improve(
 
 @dataclass(frozen=True)
 class Rules:
-    """When an effect pays: the smallest relative gain, and whether validation runs must gain too."""
+    """When an effect pays: the smallest relative gain, whether validation runs must gain too, and whether
+    they may get worse."""
 
     min_gain: float = MIN_GAIN
     require_validation: bool = False
+    allow_worse_validation: bool = False
 
 
 def _best_paying(
@@ -203,7 +221,30 @@ def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorS
                 f"lowers the held-out score by {100.0 * gain:.1f}% but changes the validation runs' score by "
                 f"{100.0 * (after / before - 1.0):+.1f}% (needs -{100.0 * rules.min_gain:.0f}%)"
             )
+    worse = _worsens_validation(candidate, current, scales, rules)
+    if worse:
+        return worse
     return ""
+
+
+def _worsens_validation(
+    candidate: CandidateResult, current: CrossValidation, scales: ErrorScales, rules: Rules
+) -> str | None:
+    """Words saying that the candidate raises the validation runs' score by more than ``min_gain`` (rule 5),
+    naming where they lie beyond the fitted runs' coverage; None if it does not, or where that is allowed."""
+    validation = candidate.refitted
+    if rules.allow_worse_validation or not (current.pooled_validation and validation.pooled_validation):
+        return None
+    before, after = current.pooled_validation.score(scales), validation.pooled_validation.score(scales)
+    if not after > (1.0 + rules.min_gain) * before:
+        return None
+    gain = 1.0 - validation.score(scales) / current.score(scales)
+    beyond = beyond_in_words(current.validation_checks())
+    return (
+        f"lowers the held-out score by {100.0 * gain:.1f}% but raises the validation runs' score by "
+        f"{100.0 * (after / before - 1.0):.1f}% (more than {100.0 * rules.min_gain:.0f}%"
+        f"{'; validation runs ' + beyond if beyond else ''}): not added (--allow-worse-validation adds it)"
+    )
 
 
 def _terms_at_null(candidate: CandidateResult) -> str | None:

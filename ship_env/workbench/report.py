@@ -18,16 +18,19 @@ from matplotlib.ticker import FormatStrFormatter
 
 from ship_env.workbench.compare import held_out_comparison, plot_run, run_drawings
 from ship_env.workbench.diagnose import Diagnosis
+from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.improve import Ladder
 from ship_env.workbench.logs import Log
 from ship_env.workbench.outputs import save_drawing
 from ship_env.workbench.parallel import run_each
 from ship_env.workbench.tables import (
+    coverage_sections,
     diagnosis_table,
     estimate_table,
     ladder_table,
     log_table,
 )
+from ship_env.workbench.validation import CrossValidation
 
 
 def plot_ladder(ladder: Ladder, path: Path) -> Path:
@@ -55,6 +58,22 @@ def plot_ladder(ladder: Ladder, path: Path) -> Path:
     score_axes.grid(True, which="both", alpha=0.3)
     errors_axes.set_title("Error ladder: held-out error (leave one run out) after each added effect")
     return save_drawing(drawing, path, dpi=90)
+
+
+def _coverage_lines(validation: CrossValidation, scales: ErrorScales) -> list[str]:
+    """The validation runs against the fitted runs' coverage, as Markdown (none without validation runs)."""
+    if validation.coverage is None or not validation.validation:
+        return []
+    checks, logs = validation.validation_checks(), validation.validation_logs
+    sections = coverage_sections(
+        "Validation runs", validation.coverage, checks, logs, validation.validation_replays, scales
+    )
+    lines = ["## Validation runs and the fitted runs' coverage (final model)", ""]
+    for heading, table in sections:
+        lines += [heading[:1].upper() + heading[1:] + ("." if table is None else ":"), ""]
+        if table is not None:
+            lines += [table.markdown(), ""]
+    return lines
 
 
 def _figure_links(paths: Sequence[Path], folder: Path) -> list[str]:
@@ -94,6 +113,7 @@ def write_report(
         "",
         *_figure_links([ladder_plot], folder),
         "",
+        *_coverage_lines(last.validation, scales),
         "## Final model",
         "",
         f"Effects: {', '.join(last.effects)}. Fitted to all runs:",
@@ -127,7 +147,7 @@ def write_report(
         run_drawings(
             held_out_comparison(rung.validation, logs),
             folder / label,
-            f"{label} model, held out: {', '.join(rung.effects)}",
+            f"{label} model: {', '.join(rung.effects)}",
         )
         for label, rung in shown
     ]

@@ -11,12 +11,14 @@ from collections.abc import Sequence
 
 from ship_env.model.declarations import Envelope
 from ship_env.text_table import Table
+from ship_env.workbench.coverage import QUANTITIES, Coverage, CoverageCheck, errors_inside_beyond
 from ship_env.workbench.diagnose import CandidateResult, Diagnosis
 from ship_env.workbench.envelope import EnvelopeCheck
-from ship_env.workbench.errors import ErrorScales, RunErrors
+from ship_env.workbench.errors import ErrorScales, RunErrors, pooled
 from ship_env.workbench.improve import Ladder
 from ship_env.workbench.logs import Log
 from ship_env.workbench.materiality import mismatch
+from ship_env.workbench.replay import Simulated
 from ship_env.workbench.validation import CrossValidation
 
 
@@ -137,7 +139,7 @@ def ladder_table(ladder: Ladder) -> Table:
     """The error ladder: each model's held-out errors, the score's change from the rung before, and
     beside them the validation runs' errors and score where there are validation runs."""
     rows = []
-    previous = None
+    previous = previous_validation = None
     validated = bool(ladder.rungs[0].validation.validation)
     for rung in ladder.rungs:
         held_out = rung.validation.pooled
@@ -145,7 +147,10 @@ def ladder_table(ladder: Ladder) -> Table:
         extra: tuple[str, ...] = ()
         other = rung.validation.pooled_validation
         if validated and other is not None:
-            extra = (number(math.degrees(other.heading)), number(other.track), number(other.score(ladder.scales)))
+            other_score = other.score(ladder.scales)
+            change = "" if previous_validation is None else f"{100.0 * (other_score / previous_validation - 1.0):+.0f}%"
+            extra = (number(math.degrees(other.heading)), number(other.track), number(other_score), change)
+            previous_validation = other_score
         rows.append(
             (
                 rung.label,
@@ -158,7 +163,7 @@ def ladder_table(ladder: Ladder) -> Table:
         previous = score
     header = ("model", *(f"held-out {h}" for h in ERROR_HEADER), "change")
     if validated:
-        header += ("validation heading [deg]", "validation track [m]", "validation score")
+        header += ("validation heading [deg]", "validation track [m]", "validation score", "validation change")
     return Table((*header, "effects / effect added"), tuple(rows))
 
 
@@ -199,3 +204,70 @@ def envelope_line(envelope: Envelope) -> str:
     if envelope.maximum_rate is not None:
         parts.append(f"rate of turn <= {math.degrees(envelope.maximum_rate):.3g} deg/s")
     return ", ".join(parts) or "no limits stated"
+
+
+def coverage_table(checks: Sequence[CoverageCheck], coverage: Coverage) -> Table:
+    """Per run, the share of samples beyond the fitted runs' coverage, and per quantity of the coverage the
+    run's extreme against the fitted runs' limit with the share of samples beyond it ('2.30x (58 %)')."""
+    keys = list(coverage.ranges)
+
+    def cell(check: CoverageCheck, key: str) -> str:
+        parts = [e for e in check.exceedances if e.quantity == key]
+        return "; ".join(f"{e.ratio() or ('above' if e.above else 'below')} ({100.0 * e.share:.0f} %)" for e in parts)
+
+    rows = tuple(
+        (check.run, str(check.samples), number(100.0 * check.share, 0), *(cell(check, key) or "-" for key in keys))
+        for check in checks
+    )
+    return Table(("run", "samples", "extrapolated [%]", *(QUANTITIES[key].words for key in keys)), rows)
+
+
+def coverage_sections(
+    title: str,
+    coverage: Coverage,
+    checks: Sequence[CoverageCheck],
+    logs: Sequence[Log],
+    replays: Sequence[Simulated],
+    scales: ErrorScales,
+) -> list[tuple[str, Table | None]]:
+    """The runs checked against the fitted runs' coverage: a line of the ranges, the share of each run
+    extrapolated and why, and its errors inside and beyond the coverage (where any run goes beyond)."""
+    sections: list[tuple[str, Table | None]] = [
+        (
+            f"coverage of the fitted runs (percentiles {100.0 - coverage.percentile:g} to {coverage.percentile:g} "
+            f"of their samples): {coverage.describe()}",
+            None,
+        ),
+        (
+            f"{title} beyond the fitted runs' coverage, where the model extrapolates: the share of samples, and per "
+            "quantity the run's extreme (1st or 99th percentile) against the fitted runs' limit (share beyond it)",
+            coverage_table(checks, coverage),
+        ),
+    ]
+    if any(check.exceedances for check in checks):
+        for label, errors in zip(("inside", "beyond"), errors_inside_beyond(logs, replays, checks), strict=True):
+            table = error_table(errors, scales, pooled(errors))
+            sections.append((f"{title}, RMS errors over the samples {label} the fitted runs' coverage", table))
+    return sections
+
+
+def coverage_text(
+    title: str,
+    coverage: Coverage,
+    checks: Sequence[CoverageCheck],
+    logs: Sequence[Log],
+    replays: Sequence[Simulated],
+    scales: ErrorScales,
+) -> str:
+    """:func:`coverage_sections` as text for the terminal."""
+    sections = coverage_sections(title, coverage, checks, logs, replays, scales)
+    return "\n".join(f"\n{heading}" + ("" if table is None else f"\n{table.text()}") for heading, table in sections)
+
+
+def validation_coverage_text(validation: CrossValidation, scales: ErrorScales) -> str:
+    """The validation runs against the fitted runs' coverage (:func:`coverage_text`); empty without validation
+    runs or a coverage."""
+    if validation.coverage is None or not validation.validation_logs:
+        return ""
+    checks, logs, replays = validation.validation_checks(), validation.validation_logs, validation.validation_replays
+    return coverage_text("validation runs", validation.coverage, checks, logs, replays, scales)

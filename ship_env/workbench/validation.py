@@ -16,7 +16,8 @@ step of the bounded fit another one), that fold is refitted in full. The held-ou
 fold run in one compiled batch.
 
 Runs of another kind (``validate_on``: fit on zig-zags, score on turning runs) are replayed by the
-all-run fit: they are *validation runs*, never fitted.
+all-run fit: they are *validation runs*, never fitted. The cross-validation records the ranges the
+fitted runs covered (:mod:`.coverage`), against which the validation runs' extrapolation is checked.
 """
 
 from __future__ import annotations
@@ -29,11 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ship_env.model import ShipModel
+from ship_env.workbench.coverage import Coverage, CoverageCheck, check_coverage, coverage_of
 from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
 from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup, one_thread
 from ship_env.workbench.logs import Log
 from ship_env.workbench.parallel import pool
-from ship_env.workbench.replay import ReplayModel, Simulated, simulate
+from ship_env.workbench.replay import INITIAL_WINDOW, ReplayModel, Simulated, simulate
 from ship_env.workbench.terms import default_terms, with_values
 
 
@@ -65,6 +67,8 @@ class CrossValidation:
         validation_replays: those replays.
         groups: per run, the group it was left out with.
         validation_logs: the validation runs.
+        coverage: the ranges the fitted runs covered (None: not recorded).
+        window: seconds at a run's start from which its replays' initial state was estimated.
     """
 
     fit: FitResult
@@ -75,6 +79,8 @@ class CrossValidation:
     validation_replays: tuple[Simulated, ...] = ()
     groups: tuple[str, ...] = ()
     validation_logs: tuple[Log, ...] = ()
+    coverage: Coverage | None = None
+    window: float = INITIAL_WINDOW
 
     @property
     def pooled(self) -> RunErrors:
@@ -88,6 +94,13 @@ class CrossValidation:
 
     def score(self, scales: ErrorScales) -> float:
         return self.pooled.score(scales)
+
+    def validation_checks(self) -> list[CoverageCheck]:
+        """Each validation run against the fitted runs' coverage (none without a coverage)."""
+        if self.coverage is None:
+            return []
+        model = self.fit.setup.model
+        return [check_coverage(log, self.coverage, model) for log in self.validation_logs]
 
     def score_jackknife(self, scales: ErrorScales, other: CrossValidation | None = None) -> float:
         """Jackknife standard error, over the groups of runs, of the held-out score (or its difference to ``other``'s).
@@ -359,6 +372,8 @@ class _Plan:
             validation_replays=tuple(validation_replays),
             groups=tuple(labels),
             validation_logs=tuple(job.validate_on),
+            coverage=coverage_of(logs, self.everything.setup.model),
+            window=job.options.initial_window,
         )
 
 

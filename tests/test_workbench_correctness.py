@@ -8,13 +8,14 @@ import warnings
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from ship_env.cli import _fit_json
 from ship_env.model import ShipModel
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, fit, simulate
 from ship_env.workbench.diagnose import CandidateResult
 from ship_env.workbench.errors import ErrorScales, pooled, run_errors
-from ship_env.workbench.fit import Problem
+from ship_env.workbench.fit import Problem, unknown_variances
 from ship_env.workbench.improve import Rules, _terms_at_null, verdict
 from ship_env.workbench.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
 from ship_env.workbench.tables import error_table, estimate_table
@@ -126,3 +127,13 @@ def test_numerical_warnings_of_a_fit_are_counted_not_shown():
     ((message, count),) = fitted.warnings
     assert "overflow" in message and count == problem.overflows > 0
     assert fitted.warnings_line() == f"{count} numerical warnings while fitting ({count} x {message})"
+
+
+def test_the_variances_of_a_long_jacobian_are_those_of_the_normal_equations():
+    """A log's Jacobian has as many rows as samples and channels (10^5): the decomposition keeps it thin."""
+    jacobian = np.random.default_rng(2).normal(size=(100_000, 3))
+    expected = np.diag(np.linalg.inv(jacobian.T @ jacobian))
+    np.testing.assert_allclose(unknown_variances(jacobian), expected, rtol=1e-10)
+    jacobian[:, 2] = 2.0 * jacobian[:, 0]  # two terms that move the replays only together: neither is determined
+    determined = np.linalg.inv(jacobian[:, :2].T @ jacobian[:, :2])[1, 1]  # the third adds nothing to the second's
+    assert list(unknown_variances(jacobian)) == [math.inf, pytest.approx(determined, rel=1e-10), math.inf]

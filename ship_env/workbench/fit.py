@@ -504,10 +504,10 @@ def unknown_variances(jacobian: np.ndarray) -> np.ndarray:
     """
     if jacobian.shape[1] == 0:
         return np.zeros(0)
-    _, singular, right = np.linalg.svd(jacobian, full_matrices=True)  # singular values in falling order
+    _, singular, right = np.linalg.svd(jacobian, full_matrices=False)  # singular values in falling order
     tolerance = (singular[0] if len(singular) else 0.0) * max(jacobian.shape) * np.finfo(float).eps
     rank = int(np.count_nonzero(singular > tolerance))
-    null_share = np.sum(right[rank:] ** 2, axis=0)
+    null_share = 1.0 - np.sum(right[:rank] ** 2, axis=0)  # V's rows are orthonormal: the rest is the null space
     variances = np.sum(right[:rank] ** 2 / singular[:rank, np.newaxis] ** 2, axis=0)
     return np.where(null_share > NULL_SHARE, math.inf, variances)
 

@@ -14,9 +14,8 @@ notebook's, a script's), the fits run here, one after another.
 
 A spawned worker imports the main script again. A script that does its work without the
 ``if __name__ == "__main__":`` guard would start it again in every worker, and the workers die
-while starting; the worker then says so (a worker never starts workers of its own), and so does
-this process (:class:`WorkerStartError`, naming the script and the fix), not a bare
-``BrokenProcessPool``.
+while starting; such a worker says so (it never starts workers of its own), and so does this
+process (:class:`WorkerStartError`, naming the script and the fix), not a bare ``BrokenProcessPool``.
 """
 
 from __future__ import annotations
@@ -133,6 +132,8 @@ def _started(fingerprint: Future[str]) -> str:
     try:
         return fingerprint.result()
     except BrokenProcessPool:
+        if _pool is not None:
+            _pool[1].shutdown(wait=False)
         _pool = None
         raise WorkerStartError(f"the worker processes stopped while starting: {_guard_advice()}") from None
 

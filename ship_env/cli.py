@@ -465,6 +465,8 @@ def _claim_outputs(args: argparse.Namespace) -> None:
 def _print_validation(validation: CrossValidation, scales: ErrorScales) -> None:
     fitted = validation.fit
     print(f"\nfitted terms ({fitted.evaluations} evaluations; {fitted.message})")
+    if fitted.warnings:
+        print(f"fit: {fitted.warnings_line()}")
     print(estimate_table(validation).text())
     print("\nin-sample RMS errors (fitted to all runs)")
     print(error_table(fitted.errors, scales, fitted.pooled).text())
@@ -481,13 +483,21 @@ def _fit_json(validation: CrossValidation, scales: ErrorScales, runs: WorkbenchR
     fitted = validation.fit
 
     def errors(errors: RunErrors) -> dict:
-        return {**errors.in_display_units(), "score": errors.score(scales), "samples": errors.samples}
+        diverged_at = errors.diverged_at if math.isfinite(errors.diverged_at) else None
+        return {
+            **errors.in_display_units(),
+            "score": errors.score(scales),
+            "samples": errors.samples,
+            "diverged_runs": errors.diverged,
+            "diverged_at_s": diverged_at,
+        }
 
     document = {
         "ship": fitted.setup.model.ship.name,
         "effects": list(fitted.setup.model.effects),
         "values": fitted.values(),
-        "std_errors": {e.term.key: e.std_error for e in fitted.estimates},
+        # An infinite standard error (a term the data do not determine) is null: JSON has no infinity.
+        "std_errors": {e.term.key: e.std_error if math.isfinite(e.std_error) else None for e in fitted.estimates},
         "units": {e.term.key: e.term.unit for e in fitted.estimates},
         "error_units": {"heading": "deg", "rate_of_turn": "deg/s", "position": "m", "track": "m"},
         "envelope": {name: {"outside": check.share, "why": check.reasons()} for name, check in runs.checks.items()},

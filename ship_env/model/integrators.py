@@ -31,7 +31,7 @@ from numba.np.arrayobj import make_array
 
 from ship_env.model import state as S
 from ship_env.model.dynamics import actual_rudder, derivatives, draw_white_noise, held_yaw_acceleration, state_size
-from ship_env.model.kernel import kernel, parallel_kernel
+from ship_env.model.kernel import inlined_kernel, kernel, parallel_kernel
 
 RK4 = 0
 EULER = 1
@@ -90,7 +90,7 @@ def limit_order(ordered_rudder, rudder_limit):
 
 @kernel
 def step_ship(state, ordered_rudder, conditions, noise_key, step_index, draws, params, dt, method, work):
-    """Advance one ship's ``state`` in place by ``dt`` seconds.
+    """Advance one ship's ``state`` in place by ``dt`` seconds, drawing its white noise.
 
     Args:
         state: the ship's state (layout ``ShipModel.state_names``).
@@ -110,12 +110,22 @@ def step_ship(state, ordered_rudder, conditions, noise_key, step_index, draws, p
     """
     # Borrowed: passing the arrays on to the effects' composed pieces then costs no reference counting.
     state, conditions, draws, work = borrowed((state, conditions, draws, work))
+    white_noise = work[WORK_NOISE]
+    draw_white_noise(state, conditions, noise_key, step_index, dt, params[0], white_noise)
+    return step_ship_with_noise(state, ordered_rudder, conditions, white_noise, draws, params, dt, method, work)
+
+
+@inlined_kernel
+def step_ship_with_noise(state, ordered_rudder, conditions, white_noise, draws, params, dt, method, work):
+    """``step_ship`` with the white noise given: ``white_noise`` holds one channel per noise-driven state
+    (already divided by sqrt(dt)), held over the step. A replay of a measured run passes zeros, the
+    noise's expected value: it meets no random numbers. ``work``'s rows other than ``WORK_NOISE`` are
+    overwritten."""
+    state, conditions, white_noise, draws, work = borrowed((state, conditions, white_noise, draws, work))
     p = params[0]
     size = state_size(p)  # == state.shape[0]; a constant, so the loops below unroll
     order = limit_order(ordered_rudder, p["rudder_limit"])
     rudder = state[S.RUDDER]
-    white_noise = work[WORK_NOISE]
-    draw_white_noise(state, conditions, noise_key, step_index, dt, p, white_noise)
     held = held_yaw_acceleration(state, conditions, draws, dt, p)
     rudder_end = actual_rudder(state, rudder, order, dt, conditions, p)
     k1 = work[0]

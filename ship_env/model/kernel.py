@@ -16,3 +16,7 @@ kernel = numba.njit(cache=True, fastmath=False, error_model="numpy")
 
 #: Decorator for the batched step: the same, looping over ships on all cores.
 parallel_kernel = numba.njit(cache=True, fastmath=False, error_model="numpy", parallel=True)
+
+#: Decorator for a compiled piece its compiled callers take in whole (numba's IR inlining): no call, and
+#: nothing passed to it is reference-counted.
+inlined_kernel = numba.njit(cache=True, fastmath=False, error_model="numpy", inline="always")

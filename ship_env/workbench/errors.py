@@ -11,6 +11,13 @@ The **score** puts them on one scale: ``sqrt(mean_c (RMS_c / scale_c)^2)`` over 
 turn and track, where the scales are the errors one accepts (by default near sensor noise). The
 free position is reported but left out of the score: it integrates the heading error, which the
 heading channel already counts.
+
+A replay that leaves the model's validity (a state not finite, the ship going astern) is
+*diverged*: from the sample where it left, its outputs hold the last valid state
+(:mod:`ship_env.workbench.replay`). Its run keeps its place in the pooled errors and score, with
+the error of that held replay -- dropping it would reward a model for diverging -- and is flagged:
+``diverged_at`` says when it left, a pooled row counts its ``diverged`` runs, the tables and the
+fit's JSON show both, and the error ladder adds no effect whose held-out replays diverge.
 """
 
 from __future__ import annotations
@@ -53,7 +60,9 @@ class ErrorScales:
 class RunErrors:
     """RMS errors of one run (or pooled over runs), SI units; NaN where a channel is not measured.
 
-    ``samples`` counts the samples behind the RMS values (for pooling).
+    ``samples`` counts the samples behind the RMS values (for pooling); ``diverged`` the runs behind
+    them whose replay left the model's validity, and ``diverged_at`` when a run's did, s (NaN if it
+    did not, or for a pooled row).
     """
 
     name: str
@@ -62,6 +71,8 @@ class RunErrors:
     rate_of_turn: float
     position: float
     track: float
+    diverged: int = 0
+    diverged_at: float = math.nan
 
     def score(self, scales: ErrorScales) -> float:
         """sqrt(mean (RMS / scale)^2) over heading, rate of turn and track (those measured)."""
@@ -94,6 +105,7 @@ def run_errors(log: Log, simulated: Simulated, where: np.ndarray | None = None) 
     count = int(np.count_nonzero(keep))
     if count == 0:
         return RunErrors(name=log.name, samples=0, heading=nan, rate_of_turn=nan, position=nan, track=nan)
+    diverged_at = simulated.diverged_at
     position = track = nan
     if log.has_position:
         position = _rms(np.hypot(simulated.north - log.north, simulated.east - log.east)[keep])
@@ -105,6 +117,8 @@ def run_errors(log: Log, simulated: Simulated, where: np.ndarray | None = None) 
         rate_of_turn=nan if log.rate_of_turn is None else _rms((simulated.rate_of_turn - log.rate_of_turn)[keep]),
         position=position,
         track=track,
+        diverged=int(math.isfinite(diverged_at)),
+        diverged_at=diverged_at,
     )
 
 
@@ -124,4 +138,5 @@ def pooled(errors: Sequence[RunErrors], name: str = "pooled") -> RunErrors:
         rate_of_turn=pool("rate_of_turn"),
         position=pool("position"),
         track=pool("track"),
+        diverged=sum(e.diverged for e in errors),
     )

@@ -15,15 +15,19 @@ turn) absorb a poor start of a run in the fit; runs the fit did not see always s
 measured state.
 
 Uncertainty: cov = s^2 (J^T J)^-1 with s^2 = |residual|^2 / (m - n), the Gauss-Newton estimate at
-the optimum. Output-error residuals are correlated in time, so these standard errors are
-optimistic; the spread of the leave-one-run-out estimates (:mod:`.validation`) is the honest check.
+the optimum; a term the data do not determine (in the Jacobian's null space) gets an infinite
+standard error (:func:`unknown_variances`). Output-error residuals are correlated in time, so these
+standard errors are optimistic; the spread of the leave-one-run-out estimates (:mod:`.validation`) is the honest check.
 """
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
-from collections.abc import Callable, Mapping, Sequence
+import warnings
+from collections import Counter
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import ParamSpec, TypeVar
 
@@ -70,6 +74,9 @@ NUISANCE: dict[str, tuple[int, float, float]] = {
 FOLD_METHODS = ("linearised", "refit")
 #: Forward-difference step, in units of each term's scale.
 DIFFERENCE_STEP = 1e-4
+#: Share of an unknown's unit vector in the Jacobian's null space above which the data do not determine it
+#: (a singular vector's rounding error is of order sqrt(eps) where singular values lie close).
+NULL_SHARE = 1e-8
 
 
 #: A replay of a batch: (point, run, track replay?).
@@ -163,6 +170,8 @@ class FitResult:
         jacobian: its derivative by ``solution``.
         evaluations: cost evaluations used.
         message: the optimiser's verdict.
+        warnings: the numerical warnings the fit met (overflow, invalid values): each message and how
+            often it came; they are not shown while fitting (see :meth:`Problem.counting_warnings`).
     """
 
     setup: ReplayModel
@@ -174,10 +183,19 @@ class FitResult:
     jacobian: np.ndarray
     evaluations: int
     message: str
+    warnings: tuple[tuple[str, int], ...] = ()
 
     @property
     def pooled(self) -> RunErrors:
         return pooled(self.errors)
+
+    def warnings_line(self) -> str:
+        """The numerical warnings in one line ('' if none): how many, and which."""
+        if not self.warnings:
+            return ""
+        total = sum(count for _, count in self.warnings)
+        which = "; ".join(f"{count} x {message}" for message, count in self.warnings)
+        return f"{total} numerical warnings while fitting ({which})"
 
     def values(self) -> dict[str, float]:
         return {estimate.term.key: estimate.value for estimate in self.estimates}
@@ -207,14 +225,29 @@ class Problem:
         self._nuisance = [NUISANCE[name] for name in options.nuisance]
         self._cache: tuple[np.ndarray, np.ndarray] | None = None
         self._edges = np.concatenate([[0], np.cumsum([self.residual_length(run) for run in range(len(self.logs))])])
-        # Per term, whether it can move the free and the track replay (from the equations, and nothing where
-        # its effect cannot act on these logs), and whether it moves them (None until it moves one).
+        # Per term, whether it can move the free and the track replay: from the equations, and nothing where
+        # its effect cannot act on these logs. It holds at every point (numbers would not: a term may move
+        # a replay only once another term has grown from zero).
         self._can_move = [
             moved_replays(setup.model, key) if acts_on(key.partition(".")[0], self.logs) else (False, False)
             for key in keys
         ]
-        self._moves: list[tuple[bool, bool] | None] = [None] * len(self.terms)
         self.evaluations = 0
+        self.warnings: Counter[str] = Counter()
+
+    @contextlib.contextmanager
+    def counting_warnings(self) -> Iterator[None]:
+        """Count the numerical warnings (``RuntimeWarning``: overflow, invalid values) raised inside, by message,
+        instead of showing them: a diverging fit raises dozens, which the fit's summary line replaces. Other
+        warnings are shown as usual."""
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", RuntimeWarning)
+            yield
+        for record in caught:
+            if issubclass(record.category, RuntimeWarning):
+                self.warnings[str(record.message)] += 1
+            else:
+                warnings.warn_explicit(record.message, record.category, record.filename, record.lineno)
 
     # -- the unknowns ----------------------------------------------------------------------------
     @property
@@ -324,9 +357,9 @@ class Problem:
         current moves only the track, a yaw gain only the heading, the track being replayed on the
         measured heading -- leaves its part of the Jacobian exactly zero: those replays are not run
         where the model's equations show it (:func:`~.replay.moved_replays`) or the logs (an effect
-        that acts only with the propeller astern, :func:`~.terms.acts_on`), nor after the first
-        Jacobian where a term moved only one. (A term that moves nothing yet, such as a time constant
-        whose gain is at zero, is tried on what it can move until it moves one.)
+        that acts only with the propeller astern, :func:`~.terms.acts_on`). Every other replay is run
+        at every point: a term that moves nothing at one point (a time constant whose gain is at zero,
+        a current while the wind moment that couples it to the heading is zero) may move it at the next.
         """
         base = self.residual(x)
         _, upper = self.bounds()
@@ -340,12 +373,11 @@ class Problem:
             shifted[j] += steps[j]
             points.append(shifted)
             if j < len(self.terms):
-                requests += self._requests(j, all_runs, *(self._moves[j] or self._can_move[j]))
+                requests += self._requests(j, all_runs, *self._can_move[j])
             else:
                 requests += self._requests(j, [(j - len(self.terms)) // per_run], track=False)
         outputs, _ = self._outputs(points, requests)
         matrix = np.zeros((len(base), self.size))
-        moved = np.zeros((self.size, 2), dtype=bool)  # per column, whether it moved a free and a track replay
         replays_of: dict[tuple[int, bool], list[int]] = {}  # (run, track?) -> its requests
         for i, (_, run, track) in enumerate(requests):
             replays_of.setdefault((run, track), []).append(i)
@@ -356,10 +388,6 @@ class Problem:
             parts = self._track_part(run, replays) if track else self._free_part(run, replays)
             differences = (parts - base[rows]) / steps[columns, np.newaxis]
             matrix[rows, columns] = differences.T
-            moved[columns, int(track)] |= np.any(differences, axis=1)
-        for j, moves in enumerate(moved[: len(self.terms)]):
-            if self._moves[j] is None and moves.any():
-                self._moves[j] = (bool(moves[0]), bool(moves[1]))
         return matrix
 
     def residual_length(self, run: int) -> int:
@@ -388,20 +416,21 @@ class Problem:
         """Each run replayed (free and track) at its own point ``points[point_of_run[run]]``, in one batch."""
         runs = range(len(self.logs))
         requests = [(point_of_run[run], run, False) for run in runs] + [(point_of_run[run], run, True) for run in runs]
-        outputs, valid = self._outputs(points, requests)
-        return unpack(self.logs, outputs, valid)
+        outputs, valid_samples = self._outputs(points, requests)
+        return unpack(self.logs, outputs, valid_samples)
 
     def simulated(self, x: np.ndarray) -> list[Simulated]:
         """Each run replayed at ``x`` (with its nuisance terms)."""
         tasks = free_and_track_tasks(len(self.logs))
         requests = list(zip(tasks.record, tasks.run, tasks.track, strict=True))
-        outputs, valid = self._outputs([x], requests)
-        return unpack(self.logs, outputs, valid)
+        outputs, valid_samples = self._outputs([x], requests)
+        return unpack(self.logs, outputs, valid_samples)
 
     # -- the fit ---------------------------------------------------------------------------------
     def solve(self, x0: np.ndarray | None = None) -> FitResult:
         """Least squares from ``x0`` (default: the model's values); the fitted model and its errors."""
-        return self._result(*self.optimum(x0))
+        with self.counting_warnings():
+            return self._result(*self.optimum(x0))
 
     def optimum(self, x0: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, str]:
         """Least squares from ``x0`` (default: the model's values): the solution, its residual and Jacobian, the
@@ -412,31 +441,32 @@ class Problem:
         start = np.clip(self.start() if x0 is None else x0, lower, upper)
         if self.size == 0:
             return start, self.residual(start), np.zeros((len(self.residual(start)), 0)), "nothing to fit"
-        solution = least_squares(
-            self.residual,
-            start,
-            jac=self.jacobian,
-            bounds=(lower, upper),
-            method="trf",
-            x_scale=1.0,
-            ftol=self.options.tolerance,
-            xtol=self.options.tolerance,
-            gtol=self.options.tolerance,
-            max_nfev=self.options.max_evaluations,
-        )
+        with self.counting_warnings():
+            solution = least_squares(
+                self.residual,
+                start,
+                jac=self.jacobian,
+                bounds=(lower, upper),
+                method="trf",
+                x_scale=1.0,
+                ftol=self.options.tolerance,
+                xtol=self.options.tolerance,
+                gtol=self.options.tolerance,
+                max_nfev=self.options.max_evaluations,
+            )
         return solution.x, solution.fun, solution.jac, str(solution.message)
 
     def _result(self, x: np.ndarray, residual: np.ndarray, jacobian: np.ndarray, message: str) -> FitResult:
         lower, upper = self.bounds()
         degrees_of_freedom = max(len(residual) - self.size, 1)
         variance = float(residual @ residual) / degrees_of_freedom
-        covariance = variance * np.linalg.pinv(jacobian.T @ jacobian) if self.size else np.zeros((0, 0))
+        variances = variance * unknown_variances(jacobian)
         values = self._term_values(x)
         estimates = tuple(
             Estimate(
                 term=term,
                 value=float(value),
-                std_error=float(math.sqrt(max(covariance[j, j], 0.0)) * term.scale),
+                std_error=float(math.sqrt(variances[j]) * term.scale),
                 at_bound=bool(np.isclose(x[j], lower[j]) or np.isclose(x[j], upper[j])),
             )
             for j, (term, value) in enumerate(zip(self.terms, values, strict=True))
@@ -459,7 +489,27 @@ class Problem:
             jacobian=jacobian,
             evaluations=self.evaluations,
             message=str(message),
+            warnings=tuple(self.warnings.items()),
         )
+
+
+def unknown_variances(jacobian: np.ndarray) -> np.ndarray:
+    """The diagonal of (J^T J)^-1, infinite for an unknown the data do not determine.
+
+    From the singular value decomposition J = U S V^T: singular values below s_max max(m, n) eps
+    (numpy's rank rule) count as zero, and their right singular vectors span the null space, the
+    directions no residual sees. An unknown whose unit vector has a share above ``NULL_SHARE`` in
+    that space (a term that moves nothing, or only as another does) is not determined: infinite
+    variance, never the pseudo-inverse's 0. The others get sum_k V_jk^2 / s_k^2 over the rest.
+    """
+    if jacobian.shape[1] == 0:
+        return np.zeros(0)
+    _, singular, right = np.linalg.svd(jacobian, full_matrices=False)  # singular values in falling order
+    tolerance = (singular[0] if len(singular) else 0.0) * max(jacobian.shape) * np.finfo(float).eps
+    rank = int(np.count_nonzero(singular > tolerance))
+    null_share = 1.0 - np.sum(right[:rank] ** 2, axis=0)  # V's rows are orthonormal: the rest is the null space
+    variances = np.sum(right[:rank] ** 2 / singular[:rank, np.newaxis] ** 2, axis=0)
+    return np.where(null_share > NULL_SHARE, math.inf, variances)
 
 
 def as_setup(model: ShipModel | ReplayModel) -> ReplayModel:

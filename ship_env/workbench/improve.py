@@ -6,7 +6,8 @@ candidates are tried two at a time (some effects only pay together, :func:`~.dia
 the best pair is added if it does. Each rung of the ladder is a model and its held-out error; the
 diagnosis made on a rung says why the next effects were chosen.
 
-An effect *pays* (:func:`verdict`) when
+An effect *pays* (:func:`verdict`) when none of its held-out replays leaves the model's validity
+(diverges, see :mod:`.errors`) and
 
 1. it lowers the held-out score by at least ``min_gain`` (5 %);
 2. the fall exceeds its uncertainty: ``GAIN_SIGMAS`` times the jackknife standard error, over the
@@ -197,6 +198,9 @@ def _best_paying(
 def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorScales, rules: Rules) -> str:
     """Why the candidate does not pay (see the module docstring), or '' if it does."""
     validation = candidate.refitted
+    diverged = _diverged_replays(validation)
+    if diverged is not None:
+        return diverged
     score, new = current.score(scales), validation.score(scales)
     gain = 1.0 - new / score
     if gain < rules.min_gain:
@@ -244,6 +248,18 @@ def _worsens_validation(
         f"lowers the held-out score by {100.0 * gain:.1f}% but raises the validation runs' score by "
         f"{100.0 * (after / before - 1.0):.1f}% (more than {100.0 * rules.min_gain:.0f}%"
         f"{'; validation runs ' + beyond if beyond else ''}): not added (--allow-worse-validation adds it)"
+    )
+
+
+def _diverged_replays(validation: CrossValidation) -> str | None:
+    """Words naming the runs whose held-out replays left the model's validity, and when; None if none did."""
+    diverged = [e for e in validation.held_out if e.diverged]
+    if not diverged:
+        return None
+    shown = ", ".join(f"{e.name} at t = {e.diverged_at:.1f} s" for e in diverged)
+    return (
+        f"its held-out replays of {len(diverged)} run{'s' * (len(diverged) > 1)} leave the model's validity "
+        f"({shown}): not added, a model that diverges is not an improvement"
     )
 
 

@@ -11,7 +11,16 @@ file, the column and the offending value:
   log or at its start is an error;
 - an angle declared in radians that exceeds 2 pi (it looks like degrees), or a heading whose
   derivative is ~57 times the rate of turn;
-- a heading wrapped to +-180 deg or 0..360 deg is unwrapped (and the log says so in its notes).
+- a heading wrapped to +-180 deg or 0..360 deg is unwrapped (and the log says so in its notes);
+- a sample beyond a physical limit of its channel, for any ship from a model to a tanker (a speed
+  above ``MAX_SPEED``, a rate of turn above ``MAX_RATE_OF_TURN``, a wind above ``MAX_WIND_SPEED``,
+  a position that moves between two samples by more than ``MAX_SPEED`` allows plus
+  ``POSITION_TOLERANCE``) is an error naming its row; a sample of the ship's motion (heading, rate
+  of turn, position, speed: its inertia keeps them continuous) that is possible but jumps away from
+  both its neighbours and back (a spike: both changes beyond ``OUTLIER_DEVIATIONS`` robust standard
+  deviations of the channel's own sample-to-sample changes, in opposite directions) is a warning
+  naming its row. A manoeuvre changes the motion smoothly, never out and back in one sample, so it
+  does not warn; the inputs (rudder, propeller, wind) may step by nature and are not checked for spikes.
 
 The user's file is only read, never written.
 """
@@ -42,6 +51,19 @@ READERS = {".csv": pd.read_csv, ".parquet": pd.read_parquet, ".pq": pd.read_parq
 MAX_PLAUSIBLE_RATE = 1.0
 #: Fewest samples a log must keep.
 MIN_SAMPLES = 10
+#: No ship sails faster than this through the water or over the ground, m/s (about 97 kn).
+MAX_SPEED = 50.0
+#: No ship turns faster than this, rad/s: a rate of turn beyond it is not a measurement.
+MAX_RATE_OF_TURN = 3.0
+#: No true wind at sea blows harder than this, m/s.
+MAX_WIND_SPEED = 120.0
+#: A position fix may err by this much, m, beyond what the ship's largest speed moves it between samples.
+POSITION_TOLERANCE = 50.0
+#: Robust standard deviations (1.4826 MAD) of a channel's sample-to-sample change beyond which a spike warns
+#: (the Esso Osaka model tests' speed channel dips by up to 33 for one sample and back).
+OUTLIER_DEVIATIONS = 50.0
+#: The channels of the ship's motion, which its inertia keeps continuous: a spike in them is an outlier.
+CONTINUOUS_CHANNELS = ("heading", "rate_of_turn", "north", "east", "speed")
 
 
 class LogError(ValueError):
@@ -248,6 +270,76 @@ def _unwrap_heading(
     return np.unwrap(heading), [f"heading was wrapped: unwrapped {int(jumps.sum())} jumps of 2 pi"]
 
 
+#: The channels with a physical limit on their value (SI units): channel -> (largest magnitude, what it is).
+_VALUE_LIMITS: dict[str, tuple[float, str]] = {
+    "speed": (MAX_SPEED, f"{MAX_SPEED:g} m/s, faster than any ship"),
+    "rate_of_turn": (MAX_RATE_OF_TURN, f"{MAX_RATE_OF_TURN:g} rad/s, faster than any ship turns"),
+    "wind_speed": (MAX_WIND_SPEED, f"{MAX_WIND_SPEED:g} m/s, harder than any wind at sea"),
+}
+
+
+def _check_limits(values: dict[str, np.ndarray], table: pd.DataFrame, used: dict[str, str], source: str) -> None:
+    """A LogError for the first sample beyond a physical limit of its channel (see the module's docstring)."""
+    for channel, (limit, what) in _VALUE_LIMITS.items():
+        if channel in values:
+            beyond = np.flatnonzero(np.abs(values[channel]) > limit)
+            if len(beyond):
+                row = int(beyond[0])
+                raise LogError(
+                    f"{source}: column {used[channel]!r} ({channel}) holds {table[channel].iloc[row]:g} at row "
+                    f"{row + 1}, beyond {what}; correct or remove the sample"
+                )
+    steps = np.diff(values["time"])
+    for channel in ("north", "east"):
+        if channel in values:
+            allowed = MAX_SPEED * steps + POSITION_TOLERANCE
+            beyond = np.flatnonzero(np.abs(np.diff(values[channel])) > allowed)
+            if len(beyond):
+                row = int(beyond[0]) + 1
+                raw = table[channel]
+                raise LogError(
+                    f"{source}: column {used[channel]!r} ({channel}) jumps from {raw.iloc[row - 1]:g} to "
+                    f"{raw.iloc[row]:g} at row {row + 1} in {steps[row - 1]:g} s, farther than any ship sails "
+                    f"({MAX_SPEED:g} m/s, and {POSITION_TOLERANCE:g} m for the fix); correct or remove the sample"
+                )
+
+
+def _spikes(values: np.ndarray) -> np.ndarray:
+    """Indices of the samples that jump away from both neighbours and back (see ``OUTLIER_DEVIATIONS``).
+
+    The changes d_i = x_(i+1) - x_i are measured against their median m and robust standard deviation
+    s = 1.4826 median |d - m|, but not below the channel's resolution (its smallest change): sample i is
+    a spike where d_(i-1) - m and d_i - m both exceed ``OUTLIER_DEVIATIONS`` s and differ in sign.
+    """
+    changes = np.diff(values)
+    if len(changes) < 2 or not np.any(changes):
+        return np.zeros(0, dtype=int)
+    deviations = changes - np.median(changes)
+    resolution = float(np.min(np.abs(changes[changes != 0.0])))
+    scale = max(1.4826 * float(np.median(np.abs(deviations))), resolution)
+    before, after = deviations[:-1], deviations[1:]
+    spikes = (np.abs(before) > OUTLIER_DEVIATIONS * scale) & (np.abs(after) > OUTLIER_DEVIATIONS * scale)
+    return np.flatnonzero(spikes & (np.sign(before) != np.sign(after))) + 1
+
+
+def _warn_spikes(values: dict[str, np.ndarray], table: pd.DataFrame, used: dict[str, str], source: str) -> list[str]:
+    """A LogWarning (and a note) per channel with spikes, naming the first one's row and value."""
+    notes = []
+    for channel in (name for name in CONTINUOUS_CHANNELS if name in values):
+        rows = _spikes(values[channel])
+        if len(rows):
+            row = int(rows[0])
+            raw = table[channel]
+            others = f" and {len(rows) - 1} more" if len(rows) > 1 else ""
+            message = (
+                f"column {used[channel]!r} ({channel}) jumps to {raw.iloc[row]:g} at row {row + 1} and back "
+                f"(from {raw.iloc[row - 1]:g}, then {raw.iloc[row + 1]:g}){others}: an outlier? check the sample"
+            )
+            warnings.warn(f"{source}: {message}", LogWarning, stacklevel=4)
+            notes.append(message)
+    return notes
+
+
 def _check_rate_against_heading(log: Log, fmt: LogFormat, source: str) -> None:
     """A LogError when the heading's derivative and the rate of turn differ by a unit factor."""
     rate = log.rate_of_turn
@@ -296,12 +388,14 @@ def log_from_frame(
     values["heading"], unwrap_notes = _unwrap_heading(
         values["heading"], values["time"], used["heading"], fmt.columns["heading"].unit == "rad", source
     )
+    _check_limits(values, table, used, source)
+    spike_notes = _warn_spikes(values, table, used, source)
     log = Log(
         name=name,
         rudder_kind=fmt.rudder_kind,
         service_speed=service_speed,
         source=source,
-        notes=tuple(notes + unwrap_notes),
+        notes=tuple(notes + unwrap_notes + spike_notes),
         **values,
     )
     _check_rate_against_heading(log, fmt, source)

@@ -11,6 +11,11 @@ The pool is started once (``spawn``: the compiled replay's OpenMP threads do not
 ``fork``) and kept for the next calls with the same number of workers. A spawned worker knows the
 built-in effects and those of installed entry points; while this process has registered others (a
 notebook's, a script's), the fits run here, one after another.
+
+A spawned worker imports the main script again. A script that does its work without the
+``if __name__ == "__main__":`` guard would start it again in every worker, and the workers die
+while starting; such a worker says so (it never starts workers of its own), and so does this
+process (:class:`WorkerStartError`, naming the script and the fix), not a bare ``BrokenProcessPool``.
 """
 
 from __future__ import annotations
@@ -22,12 +27,33 @@ import signal
 import sys
 from collections.abc import Callable, Iterable
 from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from typing import Any, TypeVar
 
 Result = TypeVar("Result")
 
 #: The pool: its number of workers, the workers, and their effect registry's fingerprint (to come).
 _pool: tuple[int, ProcessPoolExecutor, Future[str]] | None = None
+
+
+class WorkerStartError(RuntimeError):
+    """The worker processes could not start (most often: a script without the ``__main__`` guard)."""
+
+
+def _guard_advice() -> str:
+    """What to do where the main script runs its work again in every spawned worker."""
+    script = getattr(sys.modules.get("__mp_main__", sys.modules.get("__main__")), "__file__", None)
+    which = f"the script {script}" if script else "the main script"
+    return (
+        f"{which} seems to do its work without the guard, so every worker process, which imports it, runs it "
+        'again: put the script\'s work under `if __name__ == "__main__":`, or use workers=1 (--workers 1)'
+    )
+
+
+def _importing_parents_script() -> bool:
+    """Whether this is a spawned process running its parent's main script: ``multiprocessing`` imports it as
+    ``__mp_main__``, which is the ``__main__`` module everywhere but while that import runs."""
+    return sys.modules.get("__mp_main__", sys.modules.get("__main__")) is not sys.modules.get("__main__")
 
 
 def usable_cores() -> int:
@@ -69,6 +95,8 @@ def start(workers: int) -> None:
 
 def _workers(count: int) -> ProcessPoolExecutor:
     global _pool
+    if _importing_parents_script():
+        raise WorkerStartError(f"a worker process was asked to start worker processes: {_guard_advice()}")
     if _pool is None or _pool[0] != count:
         if _pool is not None:
             _pool[1].shutdown()
@@ -93,9 +121,21 @@ def pool(workers: int, tasks: int = 2) -> ProcessPoolExecutor | _InProcess:
     worker, for fewer than two ``tasks`` or where the workers would not know this process's effects."""
     if workers > 1 and tasks > 1:
         executor = _workers(workers)
-        if _pool is not None and _pool[2].result() == _registry():
+        if _pool is not None and _started(_pool[2]) == _registry():
             return executor
     return _InProcess()
+
+
+def _started(fingerprint: Future[str]) -> str:
+    """The workers' effect registry's fingerprint, once they have started; a WorkerStartError if they died."""
+    global _pool
+    try:
+        return fingerprint.result()
+    except BrokenProcessPool:
+        if _pool is not None:
+            _pool[1].shutdown(wait=False)
+        _pool = None
+        raise WorkerStartError(f"the worker processes stopped while starting: {_guard_advice()}") from None
 
 
 def run_each(function: Callable[..., Result], arguments: Iterable[tuple[Any, ...]], workers: int) -> list[Result]:

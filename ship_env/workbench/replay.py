@@ -5,7 +5,8 @@ held over each interval (zero-order hold, as the simulator holds its conditions 
 kinds of replay:
 
 - **free**: the model's own heading, rate of turn and track, integrated by the simulator's
-  compiled step (``ship_env.model.integrators.step_ship``, RK4) from the run's initial state;
+  compiled step (``ship_env.model.integrators.step_ship_with_noise``, RK4, with zero white noise) from
+  the run's initial state;
 - **track**: the measured heading and rate of turn are imposed and only the track (and the speed
   loss) is integrated, by Heun's method on the model's own state derivative
   (``ship_env.model.dynamics.derivatives``). It isolates the track effects -- sway (2.47-2.49),
@@ -33,7 +34,7 @@ from ship_env.model import state as S
 from ship_env.model.contributions import WIND as WIND_QUANTITIES
 from ship_env.model.contributions import derivative_quantity
 from ship_env.model.dynamics import derivatives
-from ship_env.model.integrators import RK4, WORK_ROWS, borrowed, step_ship
+from ship_env.model.integrators import RK4, WORK_ROWS, borrowed, step_ship_with_noise
 from ship_env.model.kernel import kernel, parallel_kernel
 from ship_env.workbench.logs import Log
 
@@ -115,13 +116,14 @@ def moved_replays(model: ShipModel, key: str) -> tuple[bool, bool]:
     """Whether a change of the term ``key`` can move a free replay's heading and rate of turn, and a track
     replay's north and east -- from the model's equations, not from numbers.
 
-    A term moves a replay where some contribution (or white-noise intensity) of an effect of the model
-    reads it and what that contribution changes feeds the replay's outputs: the track replay imposes
-    the measured heading and rate of turn and holds the rudder, so a yaw term never moves it, and a
-    current (read as the conditions ``current_speed``, ``current_direction`` and those derived from
-    them, ``current_north``, ``current_east``) moves the heading only
-    where a yaw contribution reads the current or the velocity over the ground. A term that is not
-    an effect's parameter or the current (a principal particular) is taken to move both.
+    A term moves a replay where some contribution of an effect of the model reads it (a white-noise
+    intensity never does: a replay's white noise is zero) and what that contribution changes feeds
+    the replay's outputs: the track replay imposes the measured heading and rate of turn and holds
+    the rudder, so a yaw term never moves it, and a current (read as the conditions
+    ``current_speed``, ``current_direction`` and those derived from them, ``current_north``,
+    ``current_east``) moves the heading only where a yaw contribution reads the current or the
+    velocity over the ground. A term that is not an effect's parameter or the current (a principal
+    particular) is taken to move both.
     """
     effect, _, name = key.partition(".")
     if effect == "current":
@@ -132,10 +134,7 @@ def moved_replays(model: ShipModel, key: str) -> tuple[bool, bool]:
         return True, True
     writers: dict[str, list[tuple[str, tuple[str, ...]]]] = {}  # quantity -> (effect, what it reads)
     for entry in (EFFECTS.entry(effect_name) for effect_name in model.effects):
-        functions = [(c.quantity, c.function) for c in entry.contributions] + [
-            (derivative_quantity(state.name), state.white_noise) for state in entry.states if state.white_noise
-        ]
-        for quantity, function in functions:
+        for quantity, function in ((c.quantity, c.function) for c in entry.contributions):
             arguments = entry.arguments(function)
             if quantity == "ground_velocity" and not set(WIND_QUANTITIES).intersection(arguments):
                 quantity = _STILL_AIR_GROUND_VELOCITY
@@ -262,7 +261,7 @@ def _record(out, task, sample, state):
 
 
 @kernel
-def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid):
+def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid_samples):
     """Replay task ``task`` of ``_replay`` with the scratch space ``work`` and a row of conditions ``row``."""
     task_record, task_run, task_track, task_initial, task_current = tasks
     offsets, time, rudder, conditions, heading, rate = runs
@@ -274,7 +273,7 @@ def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid):
     step_work = work[:WORK_ROWS]
     slope = work[WORK_ROWS : WORK_ROWS + 2]
     stage = work[WORK_ROWS + 2]
-    white_noise = work[WORK_ROWS + 3]
+    white_noise = work[WORK_ROWS + 3]  # zero: a replay's white noise is its expected value
     state = work[WORK_ROWS + 4]
     params = records[task_record[task] : task_record[task] + 1]
     first = offsets[task_run[task]]
@@ -287,7 +286,8 @@ def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid):
     S.derive_conditions(row[np.newaxis])
     current_speed, current_direction = row[S.CURRENT_SPEED], row[S.CURRENT_DIRECTION]
     current_north, current_east = row[S.CURRENT_NORTH], row[S.CURRENT_EAST]
-    valid[task] = True
+    inside = True
+    valid_samples[task] = count
     _record(out, task, 0, state)
     for k in range(count - 1):
         i = first + k
@@ -297,16 +297,16 @@ def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid):
         row[S.CURRENT_DIRECTION] = current_direction
         row[S.CURRENT_NORTH] = current_north
         row[S.CURRENT_EAST] = current_east
-        if valid[task]:
+        if inside:
             if task_track[task]:
-                valid[task] = _track_step(
-                    state, i, row, time, heading, rate, params, slope, stage, white_noise, no_draws
-                )
+                inside = _track_step(state, i, row, time, heading, rate, params, slope, stage, white_noise, no_draws)
             else:
-                valid[task] = step_ship(
-                    state, rudder[i], row, np.uint64(0), 0, no_draws, params, time[i + 1] - time[i], RK4, step_work
+                inside = step_ship_with_noise(
+                    state, rudder[i], row, white_noise, no_draws, params, time[i + 1] - time[i], RK4, step_work
                 )
-        if valid[task]:
+            if not inside:
+                valid_samples[task] = k + 1
+        if inside:
             _record(out, task, k + 1, state)
         else:
             for j in range(OUTPUT_SIZE):
@@ -314,14 +314,16 @@ def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid):
 
 
 @parallel_kernel
-def _replay(records, tasks, runs, no_draws, out, valid):
+def _replay(records, tasks, runs, no_draws, out, valid_samples):
     """Replay every task (one run with one record) into ``out[task, sample, column]``.
 
     ``tasks`` holds the tasks' arrays (record index, run index, track flag, initial state, current),
     ``runs`` the packed runs' (offsets, time, rudder, conditions, heading, rate of turn).
-    A task whose state leaves the model's validity is flagged in ``valid`` and its outputs are
-    held at the last valid state, so that a fitter sees a large but finite error. A replayed log
-    meets no random numbers: its effects' draws (a random sea) are ``no_draws``, zeros.
+    ``valid_samples[task]`` receives how many samples the task's state stayed inside the model's
+    validity (the run's length if it never left); after that its outputs are held at the last valid
+    state, so that a fitter sees a large but finite error. A replayed log
+    meets no random numbers: its effects' draws (a random sea) are ``no_draws``, zeros, and their
+    white noise (gusts) is zero, its expected value.
     """
     size = tasks[3].shape[1]
     for task in prange(tasks[0].shape[0]):
@@ -335,7 +337,7 @@ def _replay(records, tasks, runs, no_draws, out, valid):
             runs,
             no_draws,
             out,
-            valid,
+            valid_samples,
         )
 
 
@@ -385,13 +387,13 @@ def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndar
         tasks: what to replay.
 
     Returns:
-        ``(outputs, valid)``: outputs of shape (tasks, longest run, 4) with columns north, east,
-        heading, rate of turn (samples beyond a task's run are zero), and whether each task stayed
-        inside the model's validity.
+        ``(outputs, valid_samples)``: outputs of shape (tasks, longest run, 4) with columns north, east,
+        heading, rate of turn (samples beyond a task's run are zero), and per task how many of its
+        samples lie inside the model's validity (all of them unless the replay diverged).
     """
     count = len(tasks.record)
     outputs = np.zeros((count, runs.longest, OUTPUT_SIZE))
-    valid = np.ones(count, dtype=np.bool_)
+    valid_samples = np.zeros(count, dtype=np.int64)
     initial = runs.initial_states[tasks.run]
     initial[:, : S.MOTION_SIZE] += tasks.initial_offset
     _replay(
@@ -400,14 +402,18 @@ def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndar
         (runs.offsets, runs.time, runs.rudder, runs.conditions, runs.heading, runs.rate_of_turn),
         np.zeros(draws.row_size(records)),
         outputs,
-        valid,
+        valid_samples,
     )
-    return outputs, valid
+    return outputs, valid_samples
 
 
 @dataclass(frozen=True)
 class Simulated:
-    """One run replayed: the free simulation and the track with the measured heading."""
+    """One run replayed: the free simulation and the track with the measured heading.
+
+    ``valid_samples`` counts the samples before either replay left the model's validity (all of
+    them if neither did); from there on its outputs hold the last valid state.
+    """
 
     time: np.ndarray
     heading: np.ndarray
@@ -416,7 +422,17 @@ class Simulated:
     east: np.ndarray
     track_north: np.ndarray
     track_east: np.ndarray
-    valid: bool
+    valid_samples: int
+
+    @property
+    def valid(self) -> bool:
+        """Whether both replays stayed inside the model's validity."""
+        return self.valid_samples == len(self.time)
+
+    @property
+    def diverged_at(self) -> float:
+        """The time of the first sample outside the model's validity, s; NaN if the replays stayed inside."""
+        return math.nan if self.valid else float(self.time[self.valid_samples])
 
 
 def free_and_track_tasks(count: int, record: int = 0, current: tuple[float, float] = (0.0, 0.0)) -> Tasks:
@@ -429,7 +445,7 @@ def free_and_track_tasks(count: int, record: int = 0, current: tuple[float, floa
     )
 
 
-def unpack(logs: Sequence[Log], outputs: np.ndarray, valid: np.ndarray) -> list[Simulated]:
+def unpack(logs: Sequence[Log], outputs: np.ndarray, valid_samples: np.ndarray) -> list[Simulated]:
     """The replays of :func:`free_and_track_tasks`, one :class:`Simulated` per run."""
     count = len(logs)
     results = []
@@ -444,7 +460,7 @@ def unpack(logs: Sequence[Log], outputs: np.ndarray, valid: np.ndarray) -> list[
                 east=free[:, EAST],
                 track_north=track[:, NORTH],
                 track_east=track[:, EAST],
-                valid=bool(valid[i] and valid[count + i]),
+                valid_samples=int(min(valid_samples[i], valid_samples[count + i])),
             )
         )
     return results
@@ -453,5 +469,5 @@ def unpack(logs: Sequence[Log], outputs: np.ndarray, valid: np.ndarray) -> list[
 def simulate(setup: ReplayModel, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> list[Simulated]:
     """Replay each log with one model from its measured initial state: free and track replays."""
     runs = pack_runs(logs, setup.model, window)
-    outputs, valid = replay(runs, setup.model.record, free_and_track_tasks(len(logs), current=setup.current))
-    return unpack(logs, outputs, valid)
+    outputs, valid_samples = replay(runs, setup.model.record, free_and_track_tasks(len(logs), current=setup.current))
+    return unpack(logs, outputs, valid_samples)

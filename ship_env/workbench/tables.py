@@ -31,6 +31,11 @@ def significant(value: float, digits: int = 4) -> str:
     return "-" if not math.isfinite(value) else f"{value:.{digits}g}"
 
 
+def std_error_cell(value: float) -> str:
+    """A standard error, 'not determined' where it is infinite (the data do not determine the term)."""
+    return "not determined" if value == math.inf else significant(value, 2)
+
+
 ERROR_HEADER = ("heading [deg]", "rate [deg/s]", "position [m]", "track [m]", "score")
 
 
@@ -46,12 +51,22 @@ def error_cells(errors: RunErrors, scales: ErrorScales) -> tuple[str, ...]:
     )
 
 
+def diverged_words(errors: RunErrors) -> str:
+    """When a run's replay left the model's validity, or how many runs' did (pooled); '' if none."""
+    if not errors.diverged:
+        return ""
+    if math.isfinite(errors.diverged_at):
+        return f"diverged at t = {errors.diverged_at:.1f} s"
+    return f"{errors.diverged} run{'s' * (errors.diverged > 1)} diverged"
+
+
 def error_table(errors: Sequence[RunErrors], scales: ErrorScales, total: RunErrors | None = None) -> Table:
-    """Per-run RMS errors, and a pooled row if given."""
-    rows = [(e.name, *error_cells(e, scales)) for e in errors]
-    if total is not None:
-        rows.append((total.name, *error_cells(total, scales)))
-    return Table(("run", *ERROR_HEADER), tuple(rows))
+    """Per-run RMS errors, and a pooled row if given; a column says which replays diverged, where some did."""
+    shown = [*errors, *([] if total is None else [total])]
+    if not any(e.diverged for e in shown):
+        return Table(("run", *ERROR_HEADER), tuple((e.name, *error_cells(e, scales)) for e in shown))
+    rows = tuple((e.name, *error_cells(e, scales), diverged_words(e)) for e in shown)
+    return Table(("run", *ERROR_HEADER, "model validity"), rows)
 
 
 def estimate_table(validation: CrossValidation) -> Table:
@@ -61,7 +76,7 @@ def estimate_table(validation: CrossValidation) -> Table:
         (
             e.term.key,
             significant(e.value),
-            significant(e.std_error, 2),
+            std_error_cell(e.std_error),
             significant(jackknife[e.term.key], 2),
             e.term.unit,
             "at bound" if e.at_bound else "",
@@ -81,6 +96,22 @@ def _absorbed(candidate: CandidateResult) -> str:
     validation = candidate.cross_validation or candidate.screened
     words = None if validation is None else mismatch(candidate.effects, validation.fit)
     return "" if words is None else f"; {words}"
+
+
+def _diverged_note(held_out: RunErrors | None) -> str:
+    """'; N runs diverged (held out)' where some held-out replays left the model's validity, else ''."""
+    if held_out is None or not held_out.diverged:
+        return ""
+    return f"; {diverged_words(held_out)} (held out)"
+
+
+def _candidate_notes(candidate: CandidateResult) -> str:
+    """What went wrong with a candidate's refit: held-out replays that diverged, numerical warnings."""
+    validation = candidate.cross_validation or candidate.screened
+    if validation is None:
+        return ""
+    warnings = validation.fit.warnings_line()
+    return _diverged_note(validation.pooled) + (f"; {warnings}" if warnings else "")
 
 
 def diagnosis_table(diagnosis: Diagnosis) -> Table:
@@ -116,7 +147,8 @@ def diagnosis_table(diagnosis: Diagnosis) -> Table:
                 number(held_out.track) if held_out else "-",
                 number(score),
                 f"{100.0 * (score / baseline - 1.0):+.0f}%" if held_out else "-",
-                candidate.skipped or _screened_mark(candidate) + candidate.title + _absorbed(candidate),
+                candidate.skipped
+                or _screened_mark(candidate) + candidate.title + _absorbed(candidate) + _candidate_notes(candidate),
             )
         )
     return Table(
@@ -157,7 +189,7 @@ def ladder_table(ladder: Ladder) -> Table:
                 *error_cells(held_out, ladder.scales),
                 "" if previous is None else f"{100.0 * (score / previous - 1.0):+.0f}%",
                 *extra,
-                rung.title,
+                rung.title + _diverged_note(held_out),
             )
         )
         previous = score

@@ -175,6 +175,9 @@ def test_improve_json_holds_the_final_model_the_ladder_and_the_hull_and_compare_
     assert main(["compare", str(folder_with_a_run_outside), "--parameters", str(ladder_file)]) == 0
     out = capsys.readouterr().out
     assert f"{SHIP}: 3 runs; effects: {', '.join(document['effects'])}" in out
+    # fit starts from it: the fitted terms are those of its effects.
+    assert main(["fit", str(folder_with_a_run_outside), "--parameters", str(ladder_file), "--workers", "1"]) == 0
+    assert "rudder_offset.angle" in capsys.readouterr().out
 
 
 def test_improve_json_does_not_overwrite_a_file_without_force(folder_with_a_run_outside, tmp_path, capsys):

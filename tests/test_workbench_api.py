@@ -55,6 +55,9 @@ def test_the_mean_speed_weighs_samples_and_takes_the_service_speed_where_a_log_h
     expected = (np.sum(measured.speed) + 0.5 * unmeasured.samples) / (measured.samples + unmeasured.samples)
     assert mean_speed(model, [measured, unmeasured]) == pytest.approx(expected)
     assert mean_speed(model, [replace(unmeasured, service_speed=None)]) == pytest.approx(model.service_speed)
+    # Going astern, a ship sails its lengths as well.
+    astern = replace(measured, speed=-measured.speed)
+    assert mean_speed(model, [astern]) == pytest.approx(float(np.mean(measured.speed)))
     options = FitOptions().for_runs(model, [measured, unmeasured])
     assert options.scales == ErrorScales.for_ship(model.length, expected)
 

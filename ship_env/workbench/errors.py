@@ -104,12 +104,12 @@ class ErrorScales:
 
 
 def mean_speed(model: ShipModel, logs: Sequence[Log]) -> float:
-    """The mean speed through the water over all samples of ``logs``, m/s: the speed channel where a log has
-    one, else its service speed (or the ship's)."""
+    """The mean speed through the water over all samples of ``logs``, m/s: the speed channel's magnitude where a
+    log has one (a ship going astern sails its lengths too), else its service speed (or the ship's)."""
     total = samples = 0.0
     for log in logs:
         if log.speed is not None:
-            total += float(np.sum(log.speed))
+            total += float(np.sum(np.abs(log.speed)))
         else:
             total += log.samples * (log.service_speed if log.service_speed is not None else model.service_speed)
         samples += log.samples

@@ -496,7 +496,7 @@ def fit(
     """
     setup = as_setup(model)
     keys = default_terms(setup.model.effects) if terms is None else list(terms)
-    return Problem(setup, logs, keys, (options or FitOptions()).for_runs(setup.model, logs)).solve()
+    return Problem(setup, logs, keys, options or FitOptions()).solve()
 
 
 @one_thread

@@ -18,7 +18,7 @@ import re
 import sys
 import warnings
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import replace
 from pathlib import Path
 
 from tqdm import tqdm
@@ -73,14 +73,22 @@ from ship_env.workbench import (
     write_report,
 )
 from ship_env.workbench.coverage import check_coverage, fitted_coverage
-from ship_env.workbench.envelope import MIN_SEGMENT, EnvelopeCheck, check_envelope, inside_logs
-from ship_env.workbench.errors import RunErrors, pooled, run_errors
+from ship_env.workbench.documents import (
+    DocumentError,
+    fit_document,
+    ladder_document,
+    read_fitted_model,
+    write_document,
+)
+from ship_env.workbench.envelope import MIN_SEGMENT
+from ship_env.workbench.errors import pooled
 from ship_env.workbench.fit import NUISANCE
 from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
 from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
 from ship_env.workbench.parallel import usable_cores
 from ship_env.workbench.replay import Simulated
+from ship_env.workbench.runs import GroupingError, WorkbenchRuns, inside_outside_errors, prepare_runs
 from ship_env.workbench.signals import past_the_library, plot_signals
 from ship_env.workbench.tables import (
     coverage_text,
@@ -92,7 +100,7 @@ from ship_env.workbench.tables import (
     ladder_table,
     validation_coverage_text,
 )
-from ship_env.workbench.terms import default_terms, with_values
+from ship_env.workbench.terms import default_terms
 from ship_env.workbench.validation import CrossValidation
 
 #: The named effect sets of ``--effects``; anything else is a comma-separated list of effects.
@@ -294,6 +302,8 @@ MANOEUVRE_COMMAND = Command(
 
 
 # -- the measurement workbench: fit, compare, diagnose, improve -----------------------------------
+#: The ship the workbench's commands assume without ``--ship`` (and without ``--parameters``).
+WORKBENCH_SHIP = "esso_osaka_model"
 #: ``--model`` also takes "base": the required effects only, the speed-scheduled Nomoto ship (2.54).
 WORKBENCH_MODELS: dict[str, Callable[[str], ShipModel]] = {
     "base": lambda ship: ShipModel(ship, REQUIRED_EFFECTS),
@@ -317,38 +327,41 @@ _fraction = number("a number between 0 and 1", minimum=0.0, below=1.0)
 
 
 def _workbench_setup(args: argparse.Namespace) -> ReplayModel:
-    """The model to start from: ``--model`` plus ``--add``, or a fit's JSON (``--parameters``)."""
-    if getattr(args, "parameters", None) is not None:
-        return _setup_from_json(args.ship, args.parameters)
+    """The model to start from: ``--model`` on ``--ship``, or a fit's document (``--parameters``) on its hull;
+    plus ``--add``."""
+    added = tuple(name for names in args.add for name in names)
+    if args.parameters is not None:
+        try:
+            fitted = read_fitted_model(args.parameters, args.ship, added)
+        except DocumentError as error:
+            raise UsageError("--parameters", str(error)) from None
+        if fitted.note:
+            print(f"ship-env {args.command}: warning: {fitted.note}", file=sys.stderr)
+        return fitted.setup
+    ship = args.ship or WORKBENCH_SHIP
     try:
         if args.model in WORKBENCH_MODELS:
-            model = WORKBENCH_MODELS[args.model](args.ship)
+            model = WORKBENCH_MODELS[args.model](ship)
         else:
-            model = ShipModel(args.ship, args.model.split(","))
-        added = [name for names in args.add for name in names]
+            model = ShipModel(ship, args.model.split(","))
         return ReplayModel(model.with_effects(*added) if added else model)
     except (ValueError, TypeError) as error:
         raise UsageError("--add" if args.add else "--model", str(error)) from None
 
 
-def _setup_from_json(ship: str, path: Path) -> ReplayModel:
-    """A fitted model from the JSON written by ``ship-env fit --json``."""
-    try:
-        document = json.loads(path.read_text())
-        model = ShipModel(ship, document["effects"])
-        return with_values(ReplayModel(model), document["values"])
-    except OSError as error:
-        raise UsageError("--parameters", f"cannot read {str(path)!r}: {error.strerror}") from None
-    except (ValueError, KeyError, TypeError) as error:
-        raise UsageError("--parameters", f"{path} is not a fit written by 'ship-env fit --json': {error}") from None
-
-
-def _workbench_options(args: argparse.Namespace) -> FitOptions:
+def _workbench_options(args: argparse.Namespace, setup: ReplayModel, logs: Sequence[Log]) -> FitOptions:
+    """The fit options: scale-free error scales for the runs, each channel given in degrees or metres overriding."""
     nuisance = tuple(getattr(args, "nuisance", ()))
     unknown = [name for name in nuisance if name not in NUISANCE]
     if unknown:
         raise UsageError("--nuisance", f"unknown nuisance terms {unknown}; known: {', '.join(NUISANCE)}")
-    scales = ErrorScales(math.radians(args.heading_scale), math.radians(args.rate_scale), args.position_scale)
+    scales = ErrorScales.for_runs(setup.model, logs)
+    given = {
+        "heading": None if args.heading_scale is None else math.radians(args.heading_scale),
+        "rate_of_turn": None if args.rate_scale is None else math.radians(args.rate_scale),
+        "position": args.position_scale,
+    }
+    scales = replace(scales, **{name: value for name, value in given.items() if value is not None})
     return FitOptions(scales=scales, nuisance=nuisance, initial_window=args.window, workers=getattr(args, "workers", 1))
 
 
@@ -362,83 +375,28 @@ def _workbench_logs(args: argparse.Namespace, paths: Sequence[Path] | None = Non
     return [every_nth(log, args.every) for log in logs]
 
 
-@dataclass(frozen=True)
-class WorkbenchRuns:
-    """The runs a command works on, after the envelope check.
-
-    Attributes:
-        logs: the runs fitted and scored: whole runs, or with ``--inside`` their segments inside the envelope.
-        groups: per run in ``logs``, the group left out with it (None: each run alone).
-        validation: the ``--validate-on`` runs (never fitted), whole or cut like ``logs``.
-        checks: per whole run (fitted or validation), its envelope check.
-    """
-
-    logs: list[Log]
-    groups: list[str] | None
-    validation: list[Log]
-    checks: dict[str, EnvelopeCheck]
-
-
-def _group_of(log: Log, rule: str) -> str:
-    """The group of a run under ``--group-by``: its folder, or the part of its name the pattern matches."""
-    if rule == "folder":
-        return Path(log.source).parent.name
-    match = re.search(rule, log.name)
-    if match is None:
-        raise UsageError("--group-by", f"the pattern {rule!r} does not match the run {log.name!r}")
-    return match.group(1) if match.groups() else match.group(0)
-
-
 def _workbench_runs(args: argparse.Namespace, setup: ReplayModel) -> WorkbenchRuns:
-    """Load the logs, check them against the model's envelope (printed), and cut or group them as asked."""
+    """Load the logs, check them against the model's envelope, cut or group them as asked; print what was done."""
     logs = _workbench_logs(args)
-    validate_paths = getattr(args, "validate_on", None)
-    validation = _workbench_logs(args, validate_paths) if validate_paths else []
+    validation = _workbench_logs(args, args.validate_on) if args.validate_on else []
     model = setup.model
-    checks = {log.name: check_envelope(log, model.envelope, model.length) for log in (*logs, *validation)}
+    try:
+        runs = prepare_runs(logs, model, args.inside, args.min_segment, args.group_by, validation)
+    except GroupingError as error:
+        raise UsageError("--group-by", str(error)) from None
     print(f"envelope of {model.ship.name} with {', '.join(model.effects)}: {envelope_line(model.envelope)}")
-    print(envelope_table(list(checks.values())).text())
-    outside = [name for name, check in checks.items() if check.share == 1.0]
-    for name in outside:
-        print(
-            f"{name} lies wholly outside the model's envelope ({checks[name].reasons()}): left out; its errors would "
-            "say nothing about the model"
-        )
-    logs = [log for log in logs if log.name not in outside]
-    validation = [log for log in validation if log.name not in outside]
-    groups = None
-    if getattr(args, "inside", False):
-        length = sum(log.duration for log in logs)
-        logs, parents = inside_logs(logs, model.envelope, model.length, args.min_segment)
-        validation, _ = inside_logs(validation, model.envelope, model.length, args.min_segment)
-        print(
-            f"--inside: {len(logs)} segments inside the envelope ({sum(log.duration for log in logs):.0f} s of "
-            f"{length:.0f} s), each replayed from its measured state; a run's segments are left out together"
-        )
-        groups = parents
-    rule = getattr(args, "group_by", None)
-    if rule is not None:
-        groups = [_group_of(log, rule) for log in logs]
-        print(f"--group-by {rule}: {len(set(groups))} groups left out in turn: {', '.join(dict.fromkeys(groups))}")
-    if not logs:
-        raise UsageError("logs", "no run (or segment) lies inside the model's envelope; nothing to fit or score")
-    return WorkbenchRuns(logs, groups, validation, checks)
+    print(envelope_table(list(runs.checks.values())).text())
+    for message in runs.messages:
+        print(message)
+    return runs
 
 
 def _print_inside_outside(
     title: str, logs: Sequence[Log], replays: Sequence[Simulated], runs: WorkbenchRuns, scales: ErrorScales
 ) -> None:
     """RMS errors over the samples inside and outside the envelope, where a run has both."""
-    checks = [runs.checks.get(log.name) for log in logs]
-    if not any(check is not None and 0.0 < check.share for check in checks):
-        return
-    for label, pick in (("inside", lambda check: ~check.outside), ("outside", lambda check: check.outside)):
-        errors = [
-            run_errors(log, replay, pick(check))
-            for log, replay, check in zip(logs, replays, checks, strict=True)
-            if check is not None
-        ]
-        print(f"\n{title}, over the samples {label} the envelope")
+    for where, errors in inside_outside_errors(logs, replays, runs.checks).items():
+        print(f"\n{title}, over the samples {where} the envelope")
         print(error_table(errors, scales, pooled(errors)).text())
 
 
@@ -479,40 +437,6 @@ def _model_line(setup: ReplayModel, logs: Sequence[Log]) -> str:
     return f"{model.ship.name}: {len(logs)} runs; effects: {', '.join(model.effects)}"
 
 
-def _fit_json(validation: CrossValidation, scales: ErrorScales, runs: WorkbenchRuns) -> dict:
-    fitted = validation.fit
-
-    def errors(errors: RunErrors) -> dict:
-        diverged_at = errors.diverged_at if math.isfinite(errors.diverged_at) else None
-        return {
-            **errors.in_display_units(),
-            "score": errors.score(scales),
-            "samples": errors.samples,
-            "diverged_runs": errors.diverged,
-            "diverged_at_s": diverged_at,
-        }
-
-    document = {
-        "ship": fitted.setup.model.ship.name,
-        "effects": list(fitted.setup.model.effects),
-        "values": fitted.values(),
-        # An infinite standard error (a term the data do not determine) is null: JSON has no infinity.
-        "std_errors": {e.term.key: e.std_error if math.isfinite(e.std_error) else None for e in fitted.estimates},
-        "units": {e.term.key: e.term.unit for e in fitted.estimates},
-        "error_units": {"heading": "deg", "rate_of_turn": "deg/s", "position": "m", "track": "m"},
-        "envelope": {name: {"outside": check.share, "why": check.reasons()} for name, check in runs.checks.items()},
-        "in_sample": {e.name: errors(e) for e in (*fitted.errors, fitted.pooled)},
-        "held_out": {e.name: errors(e) for e in (*validation.held_out, validation.pooled)},
-    }
-    if validation.validation and validation.pooled_validation is not None:
-        document["validation"] = {e.name: errors(e) for e in (*validation.validation, validation.pooled_validation)}
-    if validation.coverage is not None:
-        document["coverage"] = validation.coverage.as_dict()
-        checks = validation.validation_checks()
-        document["validation_coverage"] = {c.run: {"extrapolated": c.share, "why": c.reasons()} for c in checks}
-    return document
-
-
 def _print_validation_runs(validation: CrossValidation, runs: WorkbenchRuns, scales: ErrorScales) -> None:
     """The --validate-on runs' errors under the all-run fit, whole and inside/outside the envelope."""
     if not validation.validation:
@@ -525,10 +449,13 @@ def _print_validation_runs(validation: CrossValidation, runs: WorkbenchRuns, sca
 
 
 def _workbench_start(args: argparse.Namespace) -> tuple[ReplayModel, FitOptions, WorkbenchRuns]:
-    """A workbench command's model, options and runs, its output files claimed before any work."""
-    setup, options = _workbench_setup(args), _workbench_options(args)
+    """A workbench command's model, runs and options (the error scales printed), its outputs claimed first."""
+    setup = _workbench_setup(args)
     _claim_outputs(args)
-    return setup, options, _workbench_runs(args, setup)
+    runs = _workbench_runs(args, setup)
+    options = _workbench_options(args, setup, runs.logs)
+    print(f"error scales: {options.error_scales.describe()}")
+    return setup, options, runs
 
 
 def run_fit(args: argparse.Namespace) -> int:
@@ -538,18 +465,18 @@ def run_fit(args: argparse.Namespace) -> int:
     keys = _terms(args, setup)
     print(_model_line(setup, logs) + f"; fitted terms: {', '.join(keys)}")
     validation = cross_validate(setup, logs, keys, options, groups=runs.groups, validate_on=runs.validation)
-    _print_validation(validation, options.scales)
-    _print_inside_outside("held-out RMS errors", logs, validation.replays, runs, options.scales)
-    _print_validation_runs(validation, runs, options.scales)
+    _print_validation(validation, options.error_scales)
+    _print_inside_outside("held-out RMS errors", logs, validation.replays, runs, options.error_scales)
+    _print_validation_runs(validation, runs, options.error_scales)
     if args.per_run:
         fits = fit_each_run(validation.fit.setup, logs, keys, options)
         print("\neach run fitted on its own (in-sample)")
-        print(error_table([f.errors[0] for f in fits], options.scales).text())
+        print(error_table([f.errors[0] for f in fits], options.error_scales).text())
     if args.plot is not None:
         plot_comparison(held_out_comparison(validation, logs), args.plot, "cross-validated fit", options.workers)
         print(f"\nplots written to {args.plot}/")
     if args.json is not None:
-        args.json.write_text(json.dumps(_fit_json(validation, options.scales, runs), indent=2) + "\n")
+        write_document(fit_document(validation, options.error_scales, runs.checks), args.json)
         print(f"fit written to {args.json}")
     return 0
 
@@ -560,12 +487,12 @@ def run_compare(args: argparse.Namespace) -> int:
     logs = [*runs.logs, *runs.validation]
     print(_model_line(setup, logs))
     comparison = compare(setup, logs, options.initial_window)
-    print(error_table(comparison.errors, options.scales, comparison.pooled).text())
-    _print_inside_outside("RMS errors", logs, comparison.simulated, runs, options.scales)
+    print(error_table(comparison.errors, options.error_scales, comparison.pooled).text())
+    _print_inside_outside("RMS errors", logs, comparison.simulated, runs, options.error_scales)
     coverage = fitted_coverage(args.parameters) if args.parameters is not None else None
     if coverage is not None:
         checks = [check_coverage(log, coverage, setup.model) for log in logs]
-        print(coverage_text("runs", coverage, checks, logs, comparison.simulated, options.scales))
+        print(coverage_text("runs", coverage, checks, logs, comparison.simulated, options.error_scales))
     if args.plot is not None:
         plot_comparison(comparison, args.plot, f"{setup.model.ship.name}: {', '.join(setup.model.effects)}")
         print(f"\nplots written to {args.plot}/")
@@ -582,8 +509,8 @@ def run_diagnose(args: argparse.Namespace) -> int:
     validation = cross_validate(
         setup, logs, _terms(args, setup), options, groups=runs.groups, validate_on=runs.validation
     )
-    _print_validation(validation, options.scales)
-    _print_validation_runs(validation, runs, options.scales)
+    _print_validation(validation, options.error_scales)
+    _print_validation_runs(validation, runs, options.error_scales)
     diagnosis = diagnose(validation, logs, options, args.candidates, args.refit)
     print(
         "\nmissing effects, best first "
@@ -625,11 +552,14 @@ def run_improve(args: argparse.Namespace) -> int:
     print(ladder_table(ladder).text())
     print(f"stopped: {ladder.stopped}")
     if ladder.final.validation:
-        print(validation_coverage_text(ladder.final, options.scales))
+        print(validation_coverage_text(ladder.final, options.error_scales))
     print("\nfinal model, fitted to all runs")
     print(estimate_table(ladder.final).text())
     report = write_report(ladder, logs, args.report, workers=options.workers)
     print(f"\nreport written to {report}")
+    if args.json is not None:
+        write_document(ladder_document(ladder, runs.checks), args.json)
+        print(f"final model and ladder written to {args.json}")
     return 0
 
 
@@ -645,9 +575,18 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     parser.add_argument(
         "--ship",
         type=_ship,
-        default="esso_osaka_model",
+        default=None,
         metavar="NAME",
-        help=f"ship preset ({', '.join(list_ships())}) or a YAML file (default: %(default)s)",
+        help=f"ship preset ({', '.join(list_ships())}) or a YAML file (default: {WORKBENCH_SHIP}; with "
+        "--parameters, the hull the fit was made on; another hull is refused)",
+    )
+    parser.add_argument(
+        "--parameters",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="start from the fitted model of 'ship-env fit --json FILE' or 'improve --json FILE' (replaces "
+        "--model; --add adds to it)",
     )
     parser.add_argument(
         "--model",
@@ -745,23 +684,24 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     parser.add_argument(
         "--heading-scale",
         type=_positive_number,
-        default=1.0,
+        default=None,
         metavar="DEG",
-        help="heading error worth one score unit (default: %(default)s)",
+        help="heading error worth one score unit (default: 1 deg)",
     )
     parser.add_argument(
         "--rate-scale",
         type=_positive_number,
-        default=0.1,
+        default=None,
         metavar="DEG/S",
-        help="rate-of-turn error worth one score unit (default: %(default)s)",
+        help="rate-of-turn error worth one score unit (default: 1 deg per ship length sailed, (1 deg) x U / L, "
+        "U the runs' mean speed through the water, L the ship's length)",
     )
     parser.add_argument(
         "--position-scale",
         type=_positive_number,
-        default=0.1,
+        default=None,
         metavar="M",
-        help="track error worth one score unit (default: %(default)s)",
+        help="track error worth one score unit (default: L / 30, a thirtieth of the ship's length)",
     )
 
 
@@ -843,13 +783,6 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         run_compare,
     )
     _add_workbench_arguments(parser, fitting=False)
-    parser.add_argument(
-        "--parameters",
-        type=Path,
-        default=None,
-        metavar="FILE",
-        help="the fitted model from 'ship-env fit --json FILE' (replaces --model and --add)",
-    )
     add_plot_argument(parser, "a PNG per run")
 
     parser = _workbench_parser(
@@ -910,6 +843,7 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         metavar="DIR",
         help="folder for report.md and its figures (default: %(default)s)",
     )
+    add_json_argument(parser, "the final model (as 'fit --json' does) and the ladder")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -5,15 +5,14 @@ from __future__ import annotations
 
 import math
 import warnings
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from ship_env.cli import _fit_json
 from ship_env.model import ShipModel
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, fit, simulate
 from ship_env.workbench.diagnose import CandidateResult
+from ship_env.workbench.documents import fit_document
 from ship_env.workbench.errors import ErrorScales, pooled, run_errors
 from ship_env.workbench.fit import Problem, unknown_variances
 from ship_env.workbench.improve import Rules, _terms_at_null, verdict
@@ -77,7 +76,7 @@ def test_a_term_that_moves_nothing_is_not_determined_and_not_added():
     reason = _terms_at_null(CandidateResult(("propeller_astern",), cross_validation=validation))
     assert reason is not None and "propeller_astern.walk 0.0" in reason
     assert "not determined" in estimate_table(validation).text()
-    document = _fit_json(validation, ErrorScales(), SimpleNamespace(checks={}))  # type: ignore[arg-type]
+    document = fit_document(validation, ErrorScales())
     assert document["std_errors"]["propeller_astern.walk"] is None
 
 

@@ -85,9 +85,10 @@ def jackknife_bands(folds: Sequence[Fold], logs: Sequence[Log], window: float = 
         track=[False] * len(pairs),
         current=np.array([setups[f].current for f, _ in pairs]),
     )
-    outputs, valid = replay(runs, records, tasks)
+    outputs, valid_samples = replay(runs, records, tasks)
     outputs = outputs.reshape(len(folds), len(logs), *outputs.shape[1:])
-    valid = valid.reshape(len(folds), len(logs))
+    # A fold whose replay of a run left the model's validity is left out of that run's band.
+    valid = valid_samples.reshape(len(folds), len(logs)) >= np.array([log.samples for log in logs])
     bands = []
     for run, log in enumerate(logs):
         bands.append(jackknife_band(outputs[valid[:, run], run, : log.samples]))

@@ -28,6 +28,7 @@ from ship_env.workbench.logs import Log
 from ship_env.workbench.outputs import save_drawing
 from ship_env.workbench.parallel import run_each
 from ship_env.workbench.replay import EAST, HEADING, INITIAL_WINDOW, NORTH, RATE, ReplayModel, Simulated, simulate
+from ship_env.workbench.runs import screen_runs
 from ship_env.workbench.validation import CrossValidation
 
 MEASURED_STYLE: dict[str, Any] = {"color": "black", "linewidth": 1.0, "label": "measured"}
@@ -63,7 +64,9 @@ class Comparison:
 
 
 def compare(setup: ReplayModel, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> Comparison:
-    """Replay every log with the model and measure the errors."""
+    """Replay every log with the model and measure the errors; a run wholly outside the model's envelope is
+    left out with a :class:`~.logs.LogWarning` (:func:`~.runs.screen_runs`)."""
+    logs, _, _ = screen_runs(setup.model, logs)
     simulated = simulate(setup, logs, window)
     return Comparison(
         setup,

@@ -239,7 +239,7 @@ def diagnose(
         effects: the candidate effects (default: every effect the model lacks that the logs can show).
         refit: refit only this many candidates, those with the most evidence (default: all).
     """
-    options = options or FitOptions()
+    options = (options or FitOptions()).for_runs(current.fit.setup.model, logs)
     possible, reasons = candidate_effects(current.fit.setup, logs)
     chosen = possible if effects is None else [effect for effect in effects if effect in possible]
     skipped = [
@@ -254,7 +254,7 @@ def diagnose(
     return Diagnosis(
         baseline=current,
         candidates=tuple(results + skipped),
-        scales=options.scales,
+        scales=options.error_scales,
         signals=residual_signals(current.fit.setup, logs),
     )
 
@@ -333,7 +333,7 @@ def screen_and_confirm(
     the one the residuals point to most is refitted whatever its screening says.
     """
     screened = screen(current, logs, founds, options)
-    best = _by_screened_score([c for c in screened if c.screened], options.scales)[:confirmed]
+    best = _by_screened_score([c for c in screened if c.screened], options.error_scales)[:confirmed]
     best += [c for c in screened[:1] if c.screened]
     chosen = [c for c in screened if any(c is b for b in best)]
     refitted = iter(refit(current, logs, chosen, options))
@@ -354,7 +354,7 @@ def pairs(
     (``propeller_slipstream``) is hidden behind a wind moment the model lacks, and the other way
     round. The pairs refitted in full, best held-out score first, then the screened ones.
     """
-    options = options or FitOptions()
+    options = (options or FitOptions()).for_runs(diagnosis.baseline.fit.setup.model, logs)
     strongest = sorted(
         ((c.effect, c.evidence) for c in diagnosis.candidates if c.evidence is not None and len(c.effects) == 1),
         key=lambda named: -named[1].variance_explained,

@@ -8,9 +8,8 @@ Channels (each an RMS over the run's samples):
   heading (see :mod:`ship_env.workbench.replay`): the error of the track effects alone.
 
 The **score** puts them on one scale: ``sqrt(mean_c (RMS_c / scale_c)^2)`` over heading, rate of
-turn and track, where the scales are the errors one accepts (by default near sensor noise). The
-free position is reported but left out of the score: it integrates the heading error, which the
-heading channel already counts.
+turn and track, where the scales are the errors one accepts. The free position is reported but left
+out of the score: it integrates the heading error, which the heading channel already counts.
 
 A replay that leaves the model's validity (a state not finite, the ship going astern) is
 *diverged*: from the sample where it left, its outputs hold the last valid state
@@ -18,6 +17,18 @@ A replay that leaves the model's validity (a state not finite, the ship going as
 the error of that held replay -- dropping it would reward a model for diverging -- and is flagged:
 ``diverged_at`` says when it left, a pooled row counts its ``diverged`` runs, the tables and the
 fit's JSON show both, and the error ladder adds no effect whose held-out replays diverge.
+
+By default the scales are **scale-free** (:meth:`ErrorScales.for_ship`), so that a score means the
+same on a 3 m model and a 320 m tanker: with L the ship's length and U the mean speed through the
+water over the runs' samples (:func:`mean_speed`),
+
+- heading: 1 deg (an angle is already free of the ship's size);
+- rate of turn: 1 deg per ship length sailed, (1 deg) x U / L;
+- track: L / 30.
+
+On the 3 m Esso Osaka model at 0.27 m/s these are 1 deg, 0.091 deg/s and 0.100 m; on a 320 m tanker
+at 7.7 m/s, 1 deg, 0.024 deg/s and 10.7 m. Absolute scales (``ErrorScales(heading, rate, position)``)
+may be given instead, channel by channel.
 """
 
 from __future__ import annotations
@@ -28,11 +39,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ship_env.model import ShipModel
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import Simulated
 
 #: The channels of an error report, with their display units.
 CHANNEL_UNITS = {"heading": "deg", "rate_of_turn": "deg/s", "position": "m", "track": "m"}
+#: Scale-free error scales: the heading error, rad, and the heading change per ship length sailed, rad,
+#: worth one unit; and the track error worth one unit as a fraction of the ship's length.
+SCALE_FREE_HEADING = math.radians(1.0)
+SCALE_FREE_TURN_PER_LENGTH = math.radians(1.0)
+SCALE_FREE_TRACK_LENGTHS = 1.0 / 30.0
 
 
 @dataclass(frozen=True)
@@ -43,17 +60,67 @@ class ErrorScales:
         heading: rad.
         rate_of_turn: rad/s.
         position: m, of the distance between measured and simulated track.
+        length, speed: the ship's length, m, and speed, m/s, that scale-free scales were derived from
+            (:meth:`for_ship`; None for absolute scales): they only explain the scales in words.
     """
 
     heading: float = math.radians(1.0)
     rate_of_turn: float = math.radians(0.1)
     position: float = 0.1
+    length: float | None = None
+    speed: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("heading", "rate_of_turn", "position"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"error scale {name!r} must be positive, got {value!r}")
+
+    @classmethod
+    def for_ship(cls, length: float, speed: float) -> ErrorScales:
+        """Scale-free scales for a ship of ``length`` (m) at ``speed`` (m/s): heading 1 deg, rate of turn
+        (1 deg) x U / L (1 deg per ship length sailed), track L / 30."""
+        if not (math.isfinite(length) and length > 0.0):
+            raise ValueError(f"error scales: the ship's length must be positive, got {length!r} m")
+        if not (math.isfinite(speed) and speed > 0.0):
+            raise ValueError(f"error scales: the mean speed through the water must be positive, got {speed!r} m/s")
+        return cls(
+            heading=SCALE_FREE_HEADING,
+            rate_of_turn=SCALE_FREE_TURN_PER_LENGTH * speed / length,
+            position=SCALE_FREE_TRACK_LENGTHS * length,
+            length=length,
+            speed=speed,
+        )
+
+    @classmethod
+    def for_runs(cls, model: ShipModel, logs: Sequence[Log]) -> ErrorScales:
+        """Scale-free scales for the model's ship sailing ``logs`` (:meth:`for_ship` at their :func:`mean_speed`)."""
+        return cls.for_ship(model.length, mean_speed(model, logs))
+
+    def describe(self) -> str:
+        """The scales in words, saying which are scale-free and what they were derived from."""
+        rate = f"rate of turn {math.degrees(self.rate_of_turn):.3g} deg/s"
+        track = f"track {self.position:.3g} m"
+        if self.length is not None and self.speed is not None:
+            per_length = self.rate_of_turn * self.length / self.speed
+            if math.isclose(per_length, SCALE_FREE_TURN_PER_LENGTH):
+                rate += f" (1 deg per ship length at {self.speed:.3g} m/s)"
+            if math.isclose(self.position, SCALE_FREE_TRACK_LENGTHS * self.length):
+                track += f" (L/{1.0 / SCALE_FREE_TRACK_LENGTHS:.0f}, L = {self.length:g} m)"
+        return f"heading {math.degrees(self.heading):.3g} deg, {rate}, {track}"
+
+
+def mean_speed(model: ShipModel, logs: Sequence[Log]) -> float:
+    """The mean speed through the water over all samples of ``logs``, m/s: the speed channel's magnitude where a
+    log has one (a ship going astern sails its lengths too), else its service speed (or the ship's)."""
+    total = samples = 0.0
+    for log in logs:
+        if log.speed is not None:
+            total += float(np.sum(np.abs(log.speed)))
+        else:
+            total += log.samples * (log.service_speed if log.service_speed is not None else model.service_speed)
+        samples += log.samples
+    return total / samples if samples else model.service_speed
 
 
 @dataclass(frozen=True)

@@ -28,7 +28,7 @@ import math
 import warnings
 from collections import Counter
 from collections.abc import Callable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, replace
 from typing import ParamSpec, TypeVar
 
 import numba
@@ -116,7 +116,9 @@ class FitOptions:
     """How to fit.
 
     Attributes:
-        scales: the error per channel that weighs one unit in the cost.
+        scales: the error per channel that weighs one unit in the cost; None (the default): scale-free,
+            ``ErrorScales.for_runs`` for the model's ship and the runs, set by each entry point
+            (:meth:`for_runs`) and the same for all the fits it makes.
         nuisance: per-run nuisance terms to fit, from ``NUISANCE`` (``heading``, ``rate_of_turn``).
         initial_window: seconds at a run's start from which its initial state is estimated.
         max_evaluations: most cost evaluations per fit (each is a batch of replays).
@@ -128,7 +130,7 @@ class FitOptions:
             sets more needs the ``if __name__ == "__main__":`` guard (the workers are spawned).
     """
 
-    scales: ErrorScales = field(default_factory=ErrorScales)
+    scales: ErrorScales | None = None
     nuisance: tuple[str, ...] = ()
     initial_window: float = INITIAL_WINDOW
     max_evaluations: int = 100
@@ -144,6 +146,17 @@ class FitOptions:
         unknown = [name for name in self.nuisance if name not in NUISANCE]
         if unknown:
             raise FitError(f"fit: unknown nuisance terms {unknown}; known: {', '.join(NUISANCE)}")
+
+    def for_runs(self, model: ShipModel, logs: Sequence[Log]) -> FitOptions:
+        """These options with their error scales chosen: those given, or the scale-free ones for the runs."""
+        return self if self.scales is not None else replace(self, scales=ErrorScales.for_runs(model, logs))
+
+    @property
+    def error_scales(self) -> ErrorScales:
+        """The error scales (set by :meth:`for_runs`)."""
+        if self.scales is None:
+            raise FitError("fit: the error scales are not chosen yet; call FitOptions.for_runs(model, logs)")
+        return self.scales
 
 
 @dataclass(frozen=True)
@@ -218,7 +231,7 @@ class Problem:
             raise FitError(f"fit: terms repeat in {list(keys)}")
         self.setup = setup
         self.logs = list(logs)
-        self.options = options
+        self.options = options.for_runs(setup.model, self.logs)
         self.terms = [make_term(key, setup) for key in keys]
         self.runs = pack_runs(self.logs, setup.model, options.initial_window)
         self._has_position = [log.has_position for log in self.logs]
@@ -311,7 +324,7 @@ class Problem:
     def _free_part(self, run: int, free: np.ndarray) -> np.ndarray:
         """The weighted heading and rate-of-turn residual of a free replay (or of a stack of them)."""
         log = self.logs[run]
-        scales = self.options.scales
+        scales = self.options.error_scales
         parts = [(free[..., : log.samples, HEADING] - log.heading) / scales.heading]
         if log.rate_of_turn is not None:
             parts.append((free[..., : log.samples, RATE] - log.rate_of_turn) / scales.rate_of_turn)
@@ -320,7 +333,7 @@ class Problem:
     def _track_part(self, run: int, track: np.ndarray) -> np.ndarray:
         """The weighted north and east residual of a track replay (or of a stack of them)."""
         log = self.logs[run]
-        position = self.options.scales.position
+        position = self.options.error_scales.position
         north = (track[..., : log.samples, NORTH] - log.north) / position
         return np.concatenate([north, (track[..., : log.samples, EAST] - log.east) / position], axis=-1)
 
@@ -546,4 +559,5 @@ def fit_each_run(
     """One fit per run (in-sample): how well the model can fit each run on its own."""
     setup = as_setup(model)
     keys = default_terms(setup.model.effects) if terms is None else list(terms)
-    return [Problem(setup, [log], keys, options or FitOptions()).solve() for log in logs]
+    options = (options or FitOptions()).for_runs(setup.model, logs)
+    return [Problem(setup, [log], keys, options).solve() for log in logs]

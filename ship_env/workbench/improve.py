@@ -43,6 +43,7 @@ from ship_env.workbench.logs import Log
 from ship_env.workbench.materiality import mismatch
 from ship_env.workbench.parallel import start as start_workers
 from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.runs import screen_runs
 from ship_env.workbench.validation import CrossValidation, cross_validate
 
 #: Smallest relative fall of the held-out score for which an effect is added.
@@ -119,8 +120,9 @@ def improve(
 
     Args:
         model: the starting model; its effects' default terms are fitted.
-        logs: the runs (at least two: the error is held out).
-        options: fit options (error scales, nuisance terms).
+        logs: the runs (at least two: the error is held out); a run wholly outside the model's envelope is
+            left out with a :class:`~.logs.LogWarning`, as the command line does (:func:`~.runs.screen_runs`).
+        options: fit options (error scales, default scale-free for the runs kept; nuisance terms).
         candidates: effects that may be added (default: all that the logs can show).
         min_gain: an effect is added if it lowers the held-out score by at least this fraction.
         max_steps: most effects to add.
@@ -133,11 +135,13 @@ def improve(
         allow_worse_validation: add an effect even where it raises the validation runs' score by more than
             ``min_gain`` (by default it is not added).
     """
-    options = options or FitOptions()
+    setup = as_setup(model)
+    logs, groups, validate_on = screen_runs(setup.model, logs, groups, validate_on)
+    options = (options or FitOptions()).for_runs(setup.model, logs)
     start_workers(options.workers)
     say = progress or (lambda text: None)
-    scales = options.scales
-    validation = cross_validate(as_setup(model), logs, options=options, groups=groups, validate_on=validate_on)
+    scales = options.error_scales
+    validation = cross_validate(setup, logs, options=options, groups=groups, validate_on=validate_on)
     say(f"start: {', '.join(validation.fit.setup.model.effects)}; held-out score {validation.score(scales):.3g}")
     rungs: list[Rung] = []
     added: tuple[str, ...] = ()

@@ -97,8 +97,7 @@ def write_report(
             "fitted to the other runs. *Track* is the track replayed with the measured heading (the error of the "
             "track effects alone), *position* the freely simulated track; both are distances between measured "
             "and simulated positions. The score is sqrt(mean((RMS / scale)^2)) over heading, rate of turn and "
-            f"track with scales {math.degrees(scales.heading):g} deg, {math.degrees(scales.rate_of_turn):g} deg/s, "
-            f"{scales.position:g} m."
+            f"track with the error scales {scales.describe()}."
         ),
         "",
         "## Runs",

@@ -36,6 +36,7 @@ from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_
 from ship_env.workbench.logs import Log
 from ship_env.workbench.parallel import pool
 from ship_env.workbench.replay import INITIAL_WINDOW, ReplayModel, Simulated, simulate
+from ship_env.workbench.runs import screen_runs
 from ship_env.workbench.terms import default_terms, with_values
 
 
@@ -229,12 +230,16 @@ def cross_validate(
     model's own values and each of ``starts`` (values for some terms); the fit with the lowest
     cost is kept, and every fold starts from it.
 
+    A run wholly outside the model's envelope is left out, with a :class:`~.logs.LogWarning`
+    (:func:`~.runs.screen_runs`); the error scales default to the scale-free ones for the runs kept.
+
     Args:
         groups: per run, a label; the runs with one label are left out together (default: each run alone).
         validate_on: runs replayed by the all-run fit and never fitted (another manoeuvre type).
     """
-    options = options or FitOptions()
     setup = as_setup(model)
+    logs, groups, validate_on = screen_runs(setup.model, logs, groups, validate_on)
+    options = (options or FitOptions()).for_runs(setup.model, logs)
     keys = default_terms(setup.model.effects) if terms is None else list(terms)
     job = ValidationJob(setup, logs, keys, options, starts, groups, validate_on)
     outcome = cross_validate_each([job], options.workers)[0]

@@ -11,7 +11,7 @@ import yaml
 
 from ship_env.cli import main
 from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG
-from ship_env.leaderboard.board import run_leaderboard, write_leaderboard
+from ship_env.leaderboard.board import Leaderboard, run_leaderboard, write_leaderboard
 from ship_env.leaderboard.suites import (
     COURSE_CHANGE,
     COURSE_CHANGE_DISTURBANCES,
@@ -26,7 +26,7 @@ from ship_env.leaderboard.suites import (
     TRACK_FOLLOW,
     SuiteSpec,
 )
-from ship_env.leaderboard.tables import BETTER, TRAVEL_ALLOWANCE, comparisons
+from ship_env.leaderboard.tables import BETTER, TRAVEL_ALLOWANCE, WORSE, comparisons, learned_verdicts
 from ship_env.rl.policy_file import seed_models
 from ship_env.rl.shipped import shipped_folder
 
@@ -316,28 +316,33 @@ def shipped_track_follow():
     return run_leaderboard(spec, progress=False)
 
 
+def check_shipped_course_change_ppo_on_the_test_suite(board: Leaderboard) -> None:
+    """The shipped CourseChange PPO's verdicts on the test suite's 12 CourseChange suites (``board``)."""
+    verdicts = learned_verdicts(board.tables, SHIPPED_PPO)
+    print("\n".join(f"{name}: {c.verdict} {c}" for name, c in verdicts.items()))
+    better = {name for name, c in verdicts.items() if c.verdict == BETTER}
+    not_worse = {name for name, c in verdicts.items() if c.verdict != WORSE}
+    assert len(verdicts) == 12
+    assert better >= {f"CourseChange {d} | nominal" for d in COURSE_CHANGE_DISTURBANCES}
+    assert f"CourseChange calm | {K_TAU_HALF.name}" in better
+    assert not_worse >= {f"CourseChange {d} | {K_TAU_HALF.name}" for d in COURSE_CHANGE_DISTURBANCES}
+    assert len(not_worse) >= 8
+    assert board.headline_verdicts()[SHIPPED_PPO].verdict == BETTER
+
+
 @pytest.mark.slow
-def test_shipped_course_change_ppo_holds_first_place_on_and_off_the_nominal_ship():
-    """Five training seeds x the quick suite's 12 CourseChange suites (calm, wind and current, waves;
-    the nominal ship, K*, tau* halved and doubled, half speed): first, or inside the best classic
-    autopilot's interval, with at most 1.5 times its rudder travel and settling wherever a classic
-    autopilot settles, on every sea of the nominal ship, with K*, tau* halved and with them
-    doubled, and at half speed in wind and current: 10 suites (trained on the nominal ship only: 4)."""
+def test_shipped_course_change_ppo_on_the_held_out_test_suite():
+    """Five training seeds x the test suite's 12 CourseChange suites (calm, wind and current, waves; the
+    nominal ship, K*, tau* halved and doubled, half speed), each 12 course changes of 10 to 120 deg that
+    no screen sailed, with seeds no screen used; verdicts from the 95 % intervals of the probability of
+    improvement over the best classic autopilot. Measured: better on every sea of the nominal ship,
+    on all of them together (the headline) and with K*, tau* halved in calm water; tied in wind and
+    current and in waves with them halved, and in calm water and in wind and current with them doubled;
+    worse in waves with them doubled and at half speed in every sea: better on 4, tied on 4, worse on 4."""
     assert len(seed_models(shipped_folder("ship_env/CourseChange-v0", "ppo"))) == 5
-    board = run_leaderboard(SuiteSpec(tracks=()), progress=False)
-    verdicts = {
-        table.suite.name: comparison
-        for table in board.tables
-        for comparison in comparisons(table)
-        if comparison.learned == SHIPPED_PPO
-    }
-    held = sorted(name for name, comparison in verdicts.items() if comparison.holds_first)
-    print("\n".join(f"{name}: {verdicts[name]}" for name in verdicts))
-    assert len(verdicts) == 12 and len(held) >= 10
-    for disturbance in COURSE_CHANGE_DISTURBANCES:
-        for condition in ("nominal", K_TAU_HALF.name, K_TAU_DOUBLE.name):
-            assert f"CourseChange {disturbance} | {condition}" in held
-    assert f"CourseChange wind_current | {HALF_SPEED.name}" in held
+    check_shipped_course_change_ppo_on_the_test_suite(
+        run_leaderboard(dataclasses.replace(SUITE_SPECS["test"], tracks=()), progress=False)
+    )
 
 
 @pytest.mark.slow

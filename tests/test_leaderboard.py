@@ -97,7 +97,7 @@ def test_a_track_sailed_from_before_a_turn_has_no_thesis_navigator_rows():
 
 @pytest.fixture(scope="module")
 def nominal_course_changes():
-    """Every entrant on the quick suite's calm and wind-and-current course changes."""
+    """Every entrant on the dev suite's calm and wind-and-current course changes."""
     spec = SuiteSpec(tracks=(), conditions=(NOMINAL,), course_change_disturbances=("calm", "wind_current"))
     return run_leaderboard(spec, progress=False)
 
@@ -300,7 +300,7 @@ def test_a_folder_of_seeds_is_one_entrant_sailed_with_each_seed(tmp_path, capsys
 @pytest.mark.slow
 @pytest.mark.parametrize("disturbance", ["calm", "wind_current"])
 def test_shipped_ppo_beats_the_best_classic_baseline_on_the_full_suite(disturbance):
-    """Three times the quick suite's course changes, two of them with seeds the policy was never chosen on."""
+    """Three times the dev suite's course changes, two of them with seeds the policy was never chosen on."""
     spec = SuiteSpec(repetitions=3, tracks=(), conditions=(NOMINAL,), course_change_disturbances=(disturbance,))
     table = run_leaderboard(spec, progress=False).table(f"CourseChange {disturbance} | nominal")
     (comparison,) = [c for c in comparisons(table) if c.learned == SHIPPED_PPO]

@@ -1,5 +1,5 @@
 """The leaderboard's statistics on synthetic scores: rliable's IQM and probability of improvement,
-intervals that repeat to the last digit, "beats" only when the interval excludes parity, no made-up interval."""
+intervals that repeat to the last digit, better / tied / worse from the interval against parity, no made-up interval."""
 
 from __future__ import annotations
 
@@ -13,7 +13,16 @@ from rliable import metrics
 from ship_env.leaderboard.sailing import EpisodeResult
 from ship_env.leaderboard.statistics import PARITY
 from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, Suite, course_change_episodes
-from ship_env.leaderboard.tables import comparisons, first_place_markdown, markdown, rank, score_matrix
+from ship_env.leaderboard.tables import (
+    BETTER,
+    TIED,
+    WORSE,
+    comparisons,
+    markdown,
+    rank,
+    score_matrix,
+    verdicts_markdown,
+)
 
 REFERENCE = "PD, fixed gains"
 #: Ten course changes (15..105 deg both ways) in calm water.
@@ -88,25 +97,28 @@ def test_the_same_scores_give_the_same_table_and_intervals_to_the_last_digit():
     assert first.standings == second.standings
 
 
-def test_beats_only_when_the_interval_excludes_parity():
-    """1 % better with a 5 % spread: no winner. 30 % better with the same spread: a winner."""
+def test_better_only_when_the_interval_lies_above_parity():
+    """1 % better with a 5 % spread: tied. 30 % better with the same spread: better."""
     table = _board(_learned("PPO (close)", 0.99, 0.05), _learned("PPO (clear)", 0.70, 0.05))
     verdicts = {c.learned: c for c in comparisons(table)}
     close, clear = verdicts["PPO (close)"], verdicts["PPO (clear)"]
     assert close.score_ratio < 1.0  # better on the IQM...
     assert close.improvement.low <= PARITY <= close.improvement.high  # ...by less than the noise
-    assert not close.beats
-    assert clear.improvement.low > PARITY and clear.beats
+    assert close.verdict == TIED
+    assert clear.improvement.low > PARITY and clear.verdict == BETTER
     text = markdown(table)
     assert "PPO (close) against the best classic autopilot, PD, fixed gains" in text
-    assert text.count("beats it (the interval lies above parity, 0.5)") == 1
-    assert "does not beat it (the interval includes parity, 0.5)" in text
+    assert text.count("better (the interval lies above parity, 0.5)") == 1
+    assert "tied (the interval includes parity, 0.5)" in text
+    rows = {line.split(" | ")[1]: line for line in text.splitlines() if line.startswith("| ")}
+    assert "| tied |" in rows["PPO (close)"] and "| better |" in rows["PPO (clear)"]
+    assert "| tied |" not in rows[REFERENCE] and "| better |" not in rows[REFERENCE]  # no verdict on a classic row
 
 
 def test_a_clearly_worse_entrant_is_said_to_be_worse():
     (comparison,) = comparisons(table := _board(_learned("PPO (worse)", 1.3, 0.05)))
-    assert comparison.improvement.high < PARITY and not comparison.beats
-    assert "does not beat it (the interval lies below parity, 0.5: it is worse)" in markdown(table)
+    assert comparison.improvement.high < PARITY and comparison.verdict == WORSE
+    assert "worse (the interval lies below parity, 0.5)" in markdown(table)
 
 
 def test_a_classic_autopilots_interval_comes_from_its_episodes():
@@ -137,9 +149,9 @@ def test_one_seed_and_one_episode_get_no_interval():
     assert not standing.score.has_interval and standing.score.low is None
     assert standing.sample == "1 x 1: no interval"
     (comparison,) = comparisons(table)
-    assert comparison.improvement.value == 1.0 and not comparison.beats
+    assert comparison.improvement.value == 1.0 and comparison.verdict == TIED
     text = markdown(table)
-    assert "150.0 (no interval)" in text and "no verdict (no interval: a single score)" in text
+    assert "150.0 (no interval)" in text and "tied (no interval: a single score)" in text
 
 
 def _unsettled(results, training_seed, label):
@@ -152,31 +164,64 @@ def _unsettled(results, training_seed, label):
     ]
 
 
-def test_first_place_needs_the_rank_or_the_firsts_interval_the_travel_and_the_settling():
-    """Against an adaptive autopilot 5 % better than the reference with a spread: 4 % better is
-    inside its interval, 10 % worse is not; first with twice its rudder travel, or first with one
-    seed that never settles a course change the autopilots settle, does not hold first place; the
-    verdicts do not depend on the other learned entrants."""
+def _adaptive():
+    """An adaptive autopilot 5 % better than the reference, with a 5 % spread over the episodes."""
     spread = np.random.default_rng(3).normal(0.0, 0.05, len(CLASSIC_SCORES))
-    adaptive = _results("MRAC", "classic", CLASSIC_SCORES * 0.95 * (1.0 + spread), travel=150.0)
+    return CLASSIC_SCORES * 0.95 * (1.0 + spread)
+
+
+def test_worse_on_every_episode_is_worse_even_inside_the_best_classics_interval():
+    """2 % worse than the best classic autopilot on every episode, with five seeds: its normalised IQM
+    lies inside the autopilot's wide interval (where a rule on the IQM's interval, which fewer episodes
+    widen, would call it first), but it is worse on every episode: P(improvement) 0, worse."""
+    adaptive = _adaptive()
+    seeds = np.tile(adaptive * 1.02, (5, 1))
+    table = rank(
+        SUITE,
+        _results(REFERENCE, "classic", CLASSIC_SCORES)
+        + _results("MRAC", "classic", adaptive, travel=150.0)
+        + _results("PPO (close)", "learned", seeds, tuple(range(5)), travel=150.0),
+    )
+    mrac, learned = table.standing("MRAC").normalised, table.standing("PPO (close)").normalised
+    assert mrac.low < learned.value < mrac.high
+    (comparison,) = comparisons(table)
+    assert comparison.improvement.value == comparison.improvement.high == 0.0
+    assert comparison.verdict == WORSE
+
+
+def test_better_needs_the_interval_the_travel_and_the_settling_and_ties_are_counted_apart():
+    """Against the adaptive autopilot: better on half the episodes and worse on the other half is
+    tied (P(improvement) 0.5); half its score with twice its rudder travel, or with one seed that never
+    settles a course change the autopilots settle, is tied; half its score within the allowance is
+    better; 10 % worse than the reference everywhere is worse. Other learned entrants do not change
+    the verdict."""
+    adaptive = _adaptive()
+    halves = np.where(np.arange(len(CLASSIC_SCORES)) % 2 == 0, 0.99, 1.01)
     learned = {
-        "close": _learned("PPO (close)", 0.96, 0.002),
+        "even": _results("PPO (even)", "learned", np.tile(adaptive * halves, (5, 1)), tuple(range(5)), travel=150.0),
         "worse": _learned("PPO (worse)", 1.10, 0.002),
         "busy": _results("PPO (busy)", "learned", CLASSIC_SCORES * 0.5, (0,), travel=300.0),
         "unsettled": _unsettled(_learned("PPO (unsettled)", 0.5, 0.002), 3, "+45 deg"),
         "first": _learned("PPO (first)", 0.5, 0.002),
     }
-    table = rank(SUITE, _results(REFERENCE, "classic", CLASSIC_SCORES) + adaptive + sum(learned.values(), []))
+    mrac = _results("MRAC", "classic", adaptive, travel=150.0)
+    table = rank(SUITE, _results(REFERENCE, "classic", CLASSIC_SCORES) + mrac + sum(learned.values(), []))
     verdicts = {c.learned.split("(")[1][:-1]: c for c in comparisons(table)}
-    mrac = table.standing("MRAC").normalised
-    assert mrac.low < table.standing("PPO (close)").normalised.value < mrac.high
-    assert table.standing("PPO (close)").rank > table.standing("MRAC").rank
-    assert {name for name, c in verdicts.items() if c.within_first} == {"close", "busy", "unsettled", "first"}
-    assert verdicts["busy"].travel_ratio == 2.0 and verdicts["close"].travel_ratio == pytest.approx(200.0 / 150.0)
+    assert {c.classic for c in verdicts.values()} == {"MRAC"}
+    assert verdicts["even"].improvement.value == 0.5
+    assert verdicts["busy"].travel_ratio == 2.0 and verdicts["busy"].improvement.value == 1.0
     assert not verdicts["unsettled"].settles and table.standing("PPO (unsettled)").completed == 49
-    assert {name for name, c in verdicts.items() if c.holds_first} == {"close", "first"}
-    text = first_place_markdown([table])
-    assert "PPO (first) holds first place on 1 of the 1 ship_env/CourseChange-v0 suites." in text
-    assert "PPO (worse) holds first place on 0 of the 1" in text
-    alone = rank(SUITE, _results(REFERENCE, "classic", CLASSIC_SCORES) + adaptive + learned["close"])
-    assert [c.holds_first for c in comparisons(alone)] == [True]
+    assert {name: c.verdict for name, c in verdicts.items()} == {
+        "even": TIED,
+        "worse": WORSE,
+        "busy": TIED,
+        "unsettled": TIED,
+        "first": BETTER,
+    }
+    assert "with more than x1.5 the rudder travel" in verdicts["busy"].reason
+    assert "missing an episode a classic autopilot completes" in verdicts["unsettled"].reason
+    text = verdicts_markdown([table, table])
+    assert "PPO (first) on the ship_env/CourseChange-v0 suites: better on 2, tied on 0, worse on 0 of 2." in text
+    assert "PPO (even) on the ship_env/CourseChange-v0 suites: better on 0, tied on 2, worse on 0 of 2." in text
+    alone = rank(SUITE, _results(REFERENCE, "classic", CLASSIC_SCORES) + mrac + learned["first"])
+    assert [c.verdict for c in comparisons(alone)] == [BETTER]

@@ -1,7 +1,7 @@
 """The leaderboard: classic autopilots and learned policies on fixed, seeded suites.
 
 - :mod:`ship_env.leaderboard.suites`: the suites (CourseChange per disturbance, TrackFollow) and
-  the robustness conditions (K*, tau* off by 2x, half speed), quick and full;
+  the robustness conditions (K*, tau* off by 2x, half speed), dev (alias quick), full and test;
 - :mod:`ship_env.leaderboard.entrants`: the controllers (:mod:`ship_env.baselines.presys`, SB3 policy
   files, one per training seed);
 - :mod:`ship_env.leaderboard.sailing`: the seeded episode loop;

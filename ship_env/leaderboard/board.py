@@ -25,15 +25,17 @@ from ship_env.leaderboard.entrants import Entrant, classic_entrants, policy_entr
 from ship_env.leaderboard.evaluation import evaluate, jobs_for
 from ship_env.leaderboard.plots import plot_aggregate, plot_course_changes, plot_scores, plot_tracks
 from ship_env.leaderboard.sailing import EpisodeResult, sail_recorded
-from ship_env.leaderboard.statistics import REFERENCES, Estimate
+from ship_env.leaderboard.statistics import REFERENCES, Estimate, improvements
 from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, TRACK_FOLLOW, Suite, SuiteSpec
 from ship_env.leaderboard.tables import (
+    Comparison,
     Table,
-    first_place_markdown,
     grouped_estimates,
+    learned_verdicts,
     markdown,
     rank,
     score_matrix,
+    verdicts_markdown,
     write_csv,
     write_episodes_csv,
 )
@@ -75,15 +77,17 @@ class Leaderboard:
                 return table
         raise KeyError(f"no suite {suite_name!r}; suites: {', '.join(t.suite.name for t in self.tables)}")
 
-    def headline(self) -> dict[str, list[Estimate]]:
-        """Per CourseChange entrant, the IQM and the mean of the normalised score over every episode
-        of the nominal CourseChange suites, all seas together (rliable's aggregate over tasks), with
-        95 % stratified-bootstrap intervals; empty without those suites."""
+    def _nominal_course_changes(self) -> list[Table]:
+        """The nominal CourseChange suites' tables (none without episodes)."""
         tables = [t for t in self.tables if t.suite.env_id == COURSE_CHANGE and t.suite.condition == NOMINAL]
-        if not tables or not tables[0].suite.episodes:
-            return {}
+        return tables if tables and tables[0].suite.episodes else []
+
+    def _headline_scores(self) -> dict[str, np.ndarray]:
+        """Per CourseChange entrant, its normalised scores on every episode of the nominal CourseChange
+        suites side by side, (training seeds x episodes); empty without those suites or the reference."""
+        tables = self._nominal_course_changes()
         reference = REFERENCES[COURSE_CHANGE]
-        names = [s.entrant for s in tables[0].standings]
+        names = [s.entrant for s in tables[0].standings] if tables else []
         if reference not in names:
             return {}
         matrices = {}
@@ -95,31 +99,71 @@ class Leaderboard:
                     for n in (name, reference)
                 }
                 parts.append(score_matrix(table.suite, episodes[name]) / score_matrix(table.suite, episodes[reference]))
-            normalised = np.hstack(parts)
-            matrices[name] = [normalised, normalised]
-        return grouped_estimates(matrices, ["iqm", "mean"])
+            matrices[name] = np.hstack(parts)
+        return matrices
+
+    def headline(self) -> dict[str, list[Estimate]]:
+        """Per CourseChange entrant, the IQM and the mean of the normalised score over every episode
+        of the nominal CourseChange suites, all seas together (rliable's aggregate over tasks), with
+        95 % stratified-bootstrap intervals; empty without those suites."""
+        matrices = self._headline_scores()
+        return grouped_estimates({name: [matrix, matrix] for name, matrix in matrices.items()}, ["iqm", "mean"])
+
+    def headline_verdicts(self) -> dict[str, Comparison]:
+        """Per learned entrant, its verdict on the headline against the classic autopilot with the lowest
+        headline IQM: the probability of improvement over every nominal CourseChange episode together,
+        the rudder travel's mean over them, completing each episode a classic autopilot completes."""
+        tables, matrices, headline = self._nominal_course_changes(), self._headline_scores(), self.headline()
+        kinds = {s.entrant: s.kind for s in tables[0].standings} if matrices else {}
+        classic = [name for name in matrices if kinds[name] == "classic"]
+        learned = [name for name in matrices if kinds[name] == "learned"]
+        if not classic or not learned:
+            return {}
+        best = min(classic, key=lambda name: (headline[name][0].value, name))
+        chances = grouped_estimates({n: [improvements(matrices[n], matrices[best])] for n in learned}, ["mean"])
+
+        def travel(name: str) -> float:  # every suite sails as many episodes: the mean of the suites' means
+            return float(np.mean([t.standing(name).values["rudder_travel"] for t in tables]))
+
+        return {
+            name: Comparison(
+                name,
+                best,
+                chances[name][0],
+                headline[name][0].value / headline[best][0].value,
+                travel(name) / travel(best),
+                all(c.settles for c in learned_verdicts(tables, name).values()),
+            )
+            for name in learned
+        }
 
     def headline_markdown(self) -> str:
         """The headline as a markdown table (empty without the nominal CourseChange suites)."""
         headline = self.headline()
         if not headline:
             return ""
+        verdicts = self.headline_verdicts()
+        best = next(iter(verdicts.values())).classic if verdicts else ""
         lines = [
             "### Headline: CourseChange, nominal ship, all seas together",
             "",
             f"Normalised score: each episode's integrated heading error divided by that of {REFERENCES[COURSE_CHANGE]} "
             "(1 = the reference, lower is better); 95 % stratified-bootstrap intervals (rliable) over training "
-            "seeds and episodes.",
+            f"seeds and episodes. Verdict: against the best classic autopilot here ({best}), from the interval of "
+            "the probability of improvement over it (as on each suite).",
             "",
-            "| controller | IQM [95 % CI] | mean [95 % CI] |",
-            "|---|---:|---:|",
+            "| controller | IQM [95 % CI] | mean [95 % CI] | P(improvement) [95 % CI] | verdict |",
+            "|---|---:|---:|---:|---|",
         ]
-        lines += [f"| {name} | {iqm.text(3)} | {mean.text(3)} |" for name, (iqm, mean) in headline.items()]
+        for name, (iqm, mean) in headline.items():
+            c = verdicts.get(name)
+            cells = ["", ""] if c is None else [c.improvement.text(2), c.verdict]
+            lines.append(f"| {name} | {iqm.text(3)} | {mean.text(3)} | {' | '.join(cells)} |")
         return "\n".join(lines)
 
     def markdown(self) -> str:
-        """The headline, the learned entrants' first places and every table in markdown."""
-        sections = [self.headline_markdown(), first_place_markdown(self.tables), *(markdown(t) for t in self.tables)]
+        """The headline, the learned entrants' verdicts and every table in markdown."""
+        sections = [self.headline_markdown(), verdicts_markdown(self.tables), *(markdown(t) for t in self.tables)]
         return "\n\n".join(filter(None, sections))
 
 

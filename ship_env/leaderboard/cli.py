@@ -70,9 +70,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--suite",
         choices=list(SUITE_SPECS),
-        default="quick",
-        help="quick: each episode once in every condition (nominal, K*, tau* x0.5 and x2, half speed); "
-        "full: three times (default: %(default)s)",
+        default="dev",
+        help="dev (alias quick), for screening and tuning: the thesis's course changes and tracks once in every "
+        "condition (nominal, K*, tau* x0.5 and x2, half speed); full: the dev episodes three times; test, to "
+        "report: course changes, seeds and track starts no screen sailed (default: %(default)s)",
     )
     parser.add_argument(
         "--policies",
@@ -106,7 +107,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         nargs="+",
         default=None,
         metavar="DEG",
-        help="sail only these CourseChange magnitudes, each to both sides (default: 15 30 45 75 105)",
+        help="sail only these CourseChange magnitudes, each to both sides (default: the suite's; dev and full: "
+        "15 30 45 75 105)",
     )
     parser.add_argument(
         "--disturbances",
@@ -149,18 +151,20 @@ COMMAND = Command(
     description=(
         "Sail every controller - fixed and gain-scheduled PD, indirect adaptive PD, MRAC, the predictor\n"
         "course changer (TrackFollow), the shipped policies and the policy files given - on fixed,\n"
-        "seeded suites: CourseChange (15..105 deg both ways, calm / wind and current / plus waves) and\n"
+        "seeded suites: CourseChange (dev 15..105, test 10..120 deg both ways, calm / wind and current / waves) and\n"
         "TrackFollow (T1..T6), on the nominal ship, with its K*, tau* off by 2x from the controllers'\n"
         "design values, and at half speed. Prints a ranked table per suite and writes it as markdown\n"
         "and CSV with plots. Learned policies sail every episode with each training seed; each table gives\n"
         "the IQM of its ranking metric and of the normalised score (1 = the fixed PD, or the predictor\n"
         "course changer on TrackFollow) with 95 % stratified-bootstrap intervals over training seeds\n"
         "and episodes (rliable), and each learned policy's probability of improvement over the best\n"
-        "classic autopilot: it beats it only where that interval excludes parity (0.5). The same\n"
-        "seeds give the same tables and intervals to the last digit."
+        "classic autopilot: better where that interval lies above parity (0.5), worse where below, tied\n"
+        "otherwise. Screen and tune on --suite dev, report on --suite test (held-out course changes, seeds\n"
+        "and track starts). The same seeds give the same tables and intervals to the last digit."
     ),
     examples=(
         "ship-env leaderboard",
+        "ship-env leaderboard --suite test --tracks",
         "ship-env leaderboard --suite full --backend ray --out leaderboard_full",
         "ship-env leaderboard --policies runs/CourseChange-v0/ppo --conditions nominal --tracks",
     ),

@@ -69,6 +69,10 @@ class Estimate:
         """Whether the whole interval lies above ``threshold`` (``False`` without an interval)."""
         return self.low is not None and self.low > threshold
 
+    def below(self, threshold: float) -> bool:
+        """Whether the whole interval lies below ``threshold`` (``False`` without an interval)."""
+        return self.high is not None and self.high < threshold
+
     def text(self, digits: int) -> str:
         """``"12.3 [11.0, 13.5]"``, or ``"12.3 (no interval)"``."""
         if math.isnan(self.value):

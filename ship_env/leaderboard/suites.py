@@ -5,12 +5,9 @@ A :class:`Suite` is one table of the leaderboard: an environment with its keywor
 and a tuple of seeded :class:`Episode` s. The same suite gives the same episodes every time: each
 episode's seed and reset options are fixed here.
 
-- **CourseChange**: the thesis experiment's changes {15, 30, 45, 75, 105} deg (Table 6.1.a), to
-  starboard and to port, in calm water, in wind and current, and in wind, current and waves
-  (one suite each); the quick suite sails each change once, the full one three times (other seas,
-  initial headings and instrument noise).
-- **TrackFollow**: the reference tracks T1..T6 in the thesis's wind and current (Table 6.2), once
-  (quick) or three times (full).
+- **CourseChange**: course changes to starboard and to port, in calm water, in wind and current,
+  and in wind, current and waves (one suite each).
+- **TrackFollow**: the reference tracks T1..T6 in the thesis's wind and current (Table 6.2).
 - **Robustness**: the same suites on a ship whose K*, tau* are off by a factor 2 from the values
   the controllers were designed for (``yaw.gain`` and ``yaw.time_constant`` scaled), or that sails
   at half its service speed (:data:`CONDITIONS`; at half speed a track may take twice as long).
@@ -18,8 +15,21 @@ episode's seed and reset options are fixed here.
   (:meth:`Condition.ship_variation`): the design ship's environment, whose observations keep the
   design ship's scales (a learned policy is not told the changed K*, as no autopilot is).
 
-Seeds: episode k of a suite's r-th repetition has seed ``SEED_STRIDE * r + k``, so the quick
-suite's episodes are the first repetition of the full suite's.
+The named suites (:data:`SUITE_SPECS`) select on some episodes and report on others:
+
+- ``dev`` (alias ``quick``), for screening and tuning: the thesis experiment's changes
+  {15, 30, 45, 75, 105} deg (Table 6.1.a), the tracks from their first waypoint, each episode once,
+  seeds 0.. (the sea, the initial heading, the instruments' noise);
+- ``full``: the dev episodes and two more repetitions with other seeds (100.., 200..); the same
+  magnitudes and starts, so it sharpens the dev verdicts and is no held-out set;
+- ``test``, to report: magnitudes between and beside the thesis's (:data:`TEST_COURSE_CHANGES_DEG`,
+  sailed by no screen and drawn by no training: the environments draw the thesis's five), once
+  each with seeds from :data:`TEST_FIRST_SEED` (other initial headings, seas and noise), and the
+  tracks from a start 1 to 1.6 nm before one of their turns (``start="before_turn"``: the leg and
+  the distance drawn from the test seed) where every screen sailed them from the first waypoint.
+
+Seeds: episode k of a suite's r-th repetition has seed ``first_seed + SEED_STRIDE * r + k``, so the
+dev suite's episodes are the first repetition of the full suite's.
 """
 
 from __future__ import annotations
@@ -40,6 +50,12 @@ TRACK_FOLLOW = "ship_env/TrackFollow-v0"
 COURSE_CHANGE_DISTURBANCES = ("calm", "wind_current", "wind_current_waves")
 #: The seed distance between repetitions of a suite's episodes.
 SEED_STRIDE = 100
+#: The test suite's course-change magnitudes, deg: between and beside the thesis's five, none of them.
+TEST_COURSE_CHANGES_DEG = (10.0, 20.0, 40.0, 60.0, 90.0, 120.0)
+#: The test suite's first seed: its episodes' seeds lie far above any dev or full seed.
+TEST_FIRST_SEED = 10_000
+#: TrackFollow's start from the first waypoint (the thesis's run of the whole track).
+FIRST_WAYPOINT = "first_waypoint"
 
 
 @dataclass(frozen=True)
@@ -169,20 +185,20 @@ def track_env_kwargs(condition: Condition) -> dict[str, Any]:
     return {"max_episode_steps": math.ceil(registered_steps / speed)}
 
 
-def course_change_episodes(angles_deg: tuple[float, ...], repetitions: int) -> tuple[Episode, ...]:
+def course_change_episodes(angles_deg: tuple[float, ...], repetitions: int, first_seed: int = 0) -> tuple[Episode, ...]:
     """Each change to starboard and to port, ``repetitions`` times with other seeds."""
     signed = [sign * angle for angle in angles_deg for sign in (1.0, -1.0)]
     return tuple(
-        Episode(SEED_STRIDE * repetition + k, {"course_change_deg": change}, f"{change:+g} deg")
+        Episode(first_seed + SEED_STRIDE * repetition + k, {"course_change_deg": change}, f"{change:+g} deg")
         for repetition in range(repetitions)
         for k, change in enumerate(signed)
     )
 
 
-def track_episodes(tracks: tuple[str, ...], repetitions: int) -> tuple[Episode, ...]:
-    """Each track ``repetitions`` times with other seeds (gusts, instrument noise)."""
+def track_episodes(tracks: tuple[str, ...], repetitions: int, first_seed: int = 0) -> tuple[Episode, ...]:
+    """Each track ``repetitions`` times with other seeds (gusts, instrument noise, a ``before_turn`` start)."""
     return tuple(
-        Episode(SEED_STRIDE * repetition + k, {"track": track}, track)
+        Episode(first_seed + SEED_STRIDE * repetition + k, {"track": track}, track)
         for repetition in range(repetitions)
         for k, track in enumerate(tracks)
     )
@@ -198,6 +214,8 @@ class SuiteSpec:
         tracks: the TrackFollow tracks.
         conditions: the ship conditions.
         course_change_disturbances: the CourseChange disturbance levels, one suite each.
+        first_seed: the seed of the first episode (:data:`SEED_STRIDE` apart per repetition).
+        track_start: TrackFollow's ``start`` (:data:`~ship_env.envs.track_follow_task.STARTS`).
     """
 
     course_changes_deg: tuple[float, ...] = THESIS_COURSE_CHANGES_DEG
@@ -205,11 +223,14 @@ class SuiteSpec:
     tracks: tuple[str, ...] = TRACK_IDS
     conditions: tuple[Condition, ...] = CONDITIONS
     course_change_disturbances: tuple[str, ...] = COURSE_CHANGE_DISTURBANCES
+    first_seed: int = 0
+    track_start: str = FIRST_WAYPOINT
 
     def suites(self) -> list[Suite]:
         """The suites, condition by condition: CourseChange per disturbance, then TrackFollow."""
-        course_changes = course_change_episodes(self.course_changes_deg, self.repetitions)
-        tracks = track_episodes(self.tracks, self.repetitions)
+        course_changes = course_change_episodes(self.course_changes_deg, self.repetitions, self.first_seed)
+        tracks = track_episodes(self.tracks, self.repetitions, self.first_seed)
+        start = {} if self.track_start == FIRST_WAYPOINT else {"start": self.track_start}
         suites = []
         for condition in self.conditions:
             for disturbance in self.course_change_disturbances:
@@ -223,13 +244,20 @@ class SuiteSpec:
                     )
                 )
             if tracks:
-                suites.append(Suite("TrackFollow", TRACK_FOLLOW, track_env_kwargs(condition), condition, tracks))
+                track_kwargs = {**track_env_kwargs(condition), **start}
+                suites.append(Suite("TrackFollow", TRACK_FOLLOW, track_kwargs, condition, tracks))
         return suites
 
 
-#: The named suites: ``quick`` sails every episode once in every condition (the nominal ship, its
-#: K*, tau* halved and doubled, half speed); ``full`` three times.
+#: The named suites (the module's docstring): ``dev`` sails every episode once in every condition (the
+#: nominal ship, its K*, tau* halved and doubled, half speed), ``full`` three times, ``test`` once
+#: on held-out magnitudes, seeds and track starts; ``quick`` is ``dev`` by its former name.
+DEV = SuiteSpec()
 SUITE_SPECS: dict[str, SuiteSpec] = {
-    "quick": SuiteSpec(),
+    "dev": DEV,
+    "quick": DEV,
     "full": SuiteSpec(repetitions=3),
+    "test": SuiteSpec(
+        course_changes_deg=TEST_COURSE_CHANGES_DEG, first_seed=TEST_FIRST_SEED, track_start="before_turn"
+    ),
 }

@@ -7,12 +7,14 @@ normalised score (1 = the environment's reference autopilot) with 95 % stratifie
 intervals, and its probability of improvement over the best classic autopilot (the lowest IQM).
 The other metrics are plain aggregates over all its episodes. Rows are ranked by the IQM, lower first (ties by name).
 
-A learned entrant *beats* the best classic autopilot only when the probability of improvement's
-interval lies above parity (0.5) and its rudder travel is at most :data:`TRAVEL_ALLOWANCE` times the
-autopilot's. It *holds first place* when it ranks above every classic autopilot or its normalised
-IQM lies inside the best one's interval (no higher than its top), with at most
-:data:`TRAVEL_ALLOWANCE` times that autopilot's rudder travel, completing (every training seed) each
-episode that a classic autopilot completes. Other learned entrants do not change the verdict.
+Each learned entrant gets a *verdict* against the best classic autopilot, from the 95 % interval
+of its probability of improvement over it (:attr:`Comparison.verdict`): **better** where the whole
+interval lies above parity (0.5), with at most :data:`TRAVEL_ALLOWANCE` times the autopilot's rudder
+travel, completing (every training seed) each episode that a classic autopilot completes; **worse**
+where the whole interval lies below parity; **tied** otherwise (the interval includes parity, no
+interval, or better by the interval but over the rudder allowance or missing an episode). More
+episodes narrow the interval, so they can resolve a tie but, short of the 5 % chance of any 95 %
+interval, not turn better into worse. Other learned entrants do not change the verdict.
 On the nominal TrackFollow suite the thesis's navigators (Table 6.4: 117 m with parallel indexing,
 95 m with the ground-speed vector, 33 m with the track predictor) are ranked beside them as human rows.
 """
@@ -30,7 +32,7 @@ import numpy as np
 from ship_env.envs.metrics import THESIS_NAVIGATOR_RMS
 from ship_env.leaderboard.sailing import EpisodeResult
 from ship_env.leaderboard.statistics import PARITY, REFERENCES, Estimate, improvements, interval_estimates
-from ship_env.leaderboard.suites import COMPLETION, NOMINAL, TRACK_FOLLOW, Metric, Suite
+from ship_env.leaderboard.suites import COMPLETION, FIRST_WAYPOINT, NOMINAL, TRACK_FOLLOW, Metric, Suite
 
 #: A learned policy beats a baseline only with at most this multiple of its rudder travel.
 TRAVEL_ALLOWANCE = 1.5
@@ -42,6 +44,9 @@ HUMAN_ROWS = {
 }
 HUMAN = "human"
 NO_ESTIMATE = Estimate(math.nan)
+#: A learned entrant's verdicts against the best classic autopilot (:attr:`Comparison.verdict`).
+BETTER, TIED, WORSE = "better", "tied", "worse"
+VERDICTS = (BETTER, TIED, WORSE)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -113,9 +118,6 @@ class Comparison:
         improvement: the learned entrant's probability of improvement over the classic one.
         score_ratio: learned / classic IQM of the ranking metric.
         travel_ratio: learned / classic rudder travel (means over the episodes).
-        within_first: ranked above every classic autopilot, or its normalised IQM no higher than the top
-            of the best one's interval (first among the classic autopilots and itself, or inside the
-            first's interval).
         settles: completed, with every training seed, each episode a classic autopilot completed.
     """
 
@@ -124,21 +126,31 @@ class Comparison:
     improvement: Estimate
     score_ratio: float
     travel_ratio: float
-    within_first: bool
     settles: bool
 
     @property
-    def beats(self) -> bool:
-        """The probability of improvement's interval above parity, with at most
-        :data:`TRAVEL_ALLOWANCE` times the rudder travel."""
-        return self.improvement.above(PARITY) and self.travel_ratio <= TRAVEL_ALLOWANCE
+    def verdict(self) -> str:
+        """:data:`BETTER`: the probability of improvement's interval above parity, with at most
+        :data:`TRAVEL_ALLOWANCE` times the rudder travel, completing every episode a classic
+        autopilot completes; :data:`WORSE`: the interval below parity; :data:`TIED` otherwise."""
+        if self.improvement.above(PARITY) and self.travel_ratio <= TRAVEL_ALLOWANCE and self.settles:
+            return BETTER
+        return WORSE if self.improvement.below(PARITY) else TIED
 
     @property
-    def holds_first(self) -> bool:
-        """First (among the classic autopilots and itself) or inside the first's interval, with at most
-        :data:`TRAVEL_ALLOWANCE` times the best classic autopilot's rudder travel, completing every
-        episode a classic autopilot completes."""
-        return self.within_first and self.travel_ratio <= TRAVEL_ALLOWANCE and self.settles
+    def reason(self) -> str:
+        """What decided :attr:`verdict`, in words."""
+        if not self.improvement.has_interval:
+            return "no interval: a single score"
+        if self.improvement.above(PARITY):
+            if self.travel_ratio > TRAVEL_ALLOWANCE:
+                return f"the interval lies above parity, 0.5, with more than x{TRAVEL_ALLOWANCE:g} the rudder travel"
+            if not self.settles:
+                return "the interval lies above parity, 0.5, missing an episode a classic autopilot completes"
+            return "the interval lies above parity, 0.5"
+        if self.improvement.below(PARITY):
+            return "the interval lies below parity, 0.5"
+        return "the interval includes parity, 0.5"
 
 
 def _aggregate(metric: Metric, values: list[float]) -> float:
@@ -226,7 +238,8 @@ def rank(suite: Suite, results: Sequence[EpisodeResult]) -> Table:
         )
         for name, episodes in by_entrant.items()
     ]
-    if suite.env_id == TRACK_FOLLOW and suite.condition == NOMINAL:
+    whole_track = suite.env_kwargs.get("start", FIRST_WAYPOINT) == FIRST_WAYPOINT
+    if suite.env_id == TRACK_FOLLOW and suite.condition == NOMINAL and whole_track:  # the thesis's runs
         for name, rms in HUMAN_ROWS.items():
             values = {metric.key: math.nan for metric in suite.metrics} | {suite.metrics[0].key: rms}
             rows.append(Standing(0, name, HUMAN, Estimate(rms), NO_ESTIMATE, None, values, 0, 0, 0))
@@ -253,7 +266,6 @@ def comparisons(table: Table) -> list[Comparison]:
             standing.improvement if standing.improvement is not None else NO_ESTIMATE,
             standing.score.value / best.score.value,
             standing.values["rudder_travel"] / best.values["rudder_travel"],
-            standing.rank < best.rank or standing.normalised.value <= best.normalised.bounds[1],
             standing.missed <= missed_by_all,
         )
         for standing in table.standings
@@ -266,53 +278,59 @@ def _cell(value: float, digits: int) -> str:
 
 
 def markdown(table: Table) -> str:
-    """The table in markdown, with a heading naming the suite and, below, the comparisons."""
+    """The table in markdown, with a heading naming the suite, each learned entrant's verdict
+    against the best classic autopilot in its row and, below, the comparisons in words."""
     suite = table.suite
     ranking = suite.metrics[0]
     reference = REFERENCES.get(suite.env_id, "")
     completion = COMPLETION[suite.env_id]
     others = suite.metrics[1:]
+    found = {c.learned: c for c in comparisons(table)}
     lines = [
         f"### {suite.name}",
         "",
         f"{len(suite.episodes)} episode(s) per training seed; ranked by the IQM of {ranking.heading}, lower is better; "
         f"95 % stratified-bootstrap intervals (rliable) over seeds and episodes; normalised: 1 = {reference}; "
-        "P(improvement): over the best classic autopilot. Other columns: means over all episodes.",
+        "P(improvement) and verdict: against the best classic autopilot. Other columns: means over all episodes.",
         "",
         f"| rank | controller | kind | IQM {ranking.heading} [95 % CI] | normalised IQM [95 % CI] | "
-        "P(improvement) [95 % CI] | " + " | ".join(metric.heading for metric in others) + f" | {completion} | sample |",
-        "|---:|---|---|---:|---:|---:|" + "---:|" * len(others) + "---:|---|",
+        "P(improvement) [95 % CI] | verdict | "
+        + " | ".join(metric.heading for metric in others)
+        + f" | {completion} | sample |",
+        "|---:|---|---|---:|---:|---:|---|" + "---:|" * len(others) + "---:|---|",
     ]
     for s in table.standings:
         improvement = "" if s.improvement is None else s.improvement.text(2)
         score = _cell(s.score.value, ranking.digits) if s.kind == HUMAN else s.score.text(ranking.digits)
-        cells = [score, s.normalised.text(3), improvement]
+        verdict = found[s.entrant].verdict if s.entrant in found else ""
+        cells = [score, s.normalised.text(3), improvement, verdict]
         cells += [_cell(s.values[metric.key], metric.digits) for metric in others]
         done = f"{s.completed}/{s.seeds * s.episodes}" if s.episodes else ""
         lines.append(f"| {s.rank} | {s.entrant} | {s.kind} | {' | '.join(cells)} | {done} | {s.sample} |")
-    for c in comparisons(table):
-        if c.beats:
-            verdict = "beats it (the interval lies above parity, 0.5)"
-        elif not c.improvement.has_interval:
-            verdict = "no verdict (no interval: a single score)"
-        elif c.improvement.above(PARITY):
-            verdict = f"does not beat it (more than x{TRAVEL_ALLOWANCE:g} the rudder travel)"
-        elif c.improvement.high is not None and c.improvement.high < PARITY:
-            verdict = "does not beat it (the interval lies below parity, 0.5: it is worse)"
-        else:
-            verdict = "does not beat it (the interval includes parity, 0.5)"
+    for c in found.values():
         lines.append(
             f"\n{c.learned} against the best classic autopilot, {c.classic}: P(improvement) {c.improvement.text(2)}, "
-            f"IQM x{c.score_ratio:.3f}, rudder travel x{c.travel_ratio:.2f}: {verdict}."
+            f"IQM x{c.score_ratio:.3f}, rudder travel x{c.travel_ratio:.2f}: {c.verdict} ({c.reason})."
         )
     return "\n".join(lines)
 
 
-def first_place_markdown(tables: Sequence[Table]) -> str:
-    """Per learned entrant, the suites where it holds first place (:attr:`Comparison.holds_first`)
-    as a markdown table with their count per environment; empty without a learned entrant."""
+def learned_verdicts(tables: Sequence[Table], entrant: str) -> dict[str, Comparison]:
+    """Suite name -> ``entrant``'s comparison with the best classic autopilot, on each suite it sailed."""
+    return {t.suite.name: c for t in tables for c in comparisons(t) if c.learned == entrant}
+
+
+def verdict_count(comparisons_made: Sequence[Comparison]) -> str:
+    """``"better on 5, tied on 4, worse on 3 of 12"``."""
+    counts = {verdict: sum(c.verdict == verdict for c in comparisons_made) for verdict in VERDICTS}
+    return f"better on {counts[BETTER]}, tied on {counts[TIED]}, worse on {counts[WORSE]} of {len(comparisons_made)}"
+
+
+def verdicts_markdown(tables: Sequence[Table]) -> str:
+    """Per learned entrant, its verdict on each suite (:attr:`Comparison.verdict`) as a markdown table,
+    counted per environment; empty without a learned entrant."""
     rows: dict[str, list[str]] = {}
-    counts: dict[tuple[str, str], list[bool]] = {}
+    by_environment: dict[tuple[str, str], list[Comparison]] = {}
     for table in tables:
         best = best_classic(table)
         for c in comparisons(table):
@@ -321,32 +339,32 @@ def first_place_markdown(tables: Sequence[Table]) -> str:
             settled = f"{learned.completed}/{learned.seeds * learned.episodes}"
             rows.setdefault(c.learned, []).append(
                 f"| {table.suite.task} | {table.suite.condition.name} | {learned.normalised.text(3)} | "
-                f"{best.entrant} {best.normalised.text(3)} | "
-                f"{'yes' if c.within_first else 'no'} | x{c.travel_ratio:.2f} | {settled} | "
-                f"{'yes' if c.settles else 'no'} | {'**yes**' if c.holds_first else 'no'} |"
+                f"{best.entrant} {best.normalised.text(3)} | {c.improvement.text(2)} | x{c.travel_ratio:.2f} | "
+                f"{settled} | {'yes' if c.settles else 'no'} | **{c.verdict}** |"
             )
-            counts.setdefault((c.learned, table.suite.env_id), []).append(c.holds_first)
+            by_environment.setdefault((c.learned, table.suite.env_id), []).append(c)
     if not rows:
         return ""
     lines = [
-        "### Learned entrants: first, or inside the first's interval",
+        "### Learned entrants against the best classic autopilot: better, tied or worse",
         "",
-        "Normalised IQM [95 % CI] (1 = the reference autopilot, lower is better). A learned entrant holds first "
-        "place on a suite when it ranks above every classic autopilot or its normalised IQM is no higher than the "
-        f"top of the best one's interval, with at most x{TRAVEL_ALLOWANCE:g} that autopilot's rudder travel, "
-        "completing with every training seed each episode a classic autopilot completes.",
+        "Normalised IQM [95 % CI] (1 = the reference autopilot, lower is better). Verdict from the 95 % interval "
+        "of the probability of improvement over the best classic autopilot (the lowest IQM): better where it lies "
+        f"above parity (0.5), with at most x{TRAVEL_ALLOWANCE:g} that autopilot's rudder travel, completing with "
+        "every training seed each episode a classic autopilot completes; worse where it lies below parity; tied "
+        "otherwise. More episodes can resolve a tie; they do not make a better worse.",
     ]
     for entrant, entrant_rows in rows.items():
         lines += [
             "",
-            f"| {entrant}: task | condition | normalised IQM | best classic | first or inside its interval | "
-            "rudder travel / best classic's | completed | where a classic does | holds first |",
-            "|---|---|---:|---|---|---:|---:|---|---|",
+            f"| {entrant}: task | condition | normalised IQM | best classic | P(improvement) [95 % CI] | "
+            "rudder travel / best classic's | completed | where a classic does | verdict |",
+            "|---|---|---:|---|---:|---:|---:|---|---|",
             *entrant_rows,
         ]
-        for (name, env_id), held in counts.items():
+        for (name, env_id), made in by_environment.items():
             if name == entrant:
-                lines.append(f"\n{entrant} holds first place on {sum(held)} of the {len(held)} {env_id} suites.")
+                lines.append(f"\n{entrant} on the {env_id} suites: {verdict_count(made)}.")
     return "\n".join(lines)
 
 
@@ -358,18 +376,22 @@ def _estimate_cells(estimate: Estimate | None) -> list[str]:
 
 def write_csv(tables: Sequence[Table], path: Path) -> None:
     """Every table's rows in one CSV: suite, task, condition, rank, controller, kind, counts, the
-    estimates with their interval bounds (empty: no interval), the metrics' aggregates."""
+    estimates with their interval bounds (empty: no interval), a learned entrant's verdict, the
+    metrics' aggregates."""
     keys = list(dict.fromkeys(metric.key for table in tables for metric in table.suite.metrics))
     estimates = [f"{name}{part}" for name in ("iqm", "normalised_iqm", "improvement") for part in ("", "_low", "_high")]
+    estimates.append("verdict")
     with Path(path).open("w", newline="") as handle:
         writer = csv.writer(handle)
         head = ["suite", "task", "condition", "rank", "controller", "kind", "seeds", "episodes", "completed"]
         writer.writerow([*head, *estimates, *keys])
         for table in tables:
             suite = table.suite
+            verdicts = {c.learned: c.verdict for c in comparisons(table)}
             for s in table.standings:
                 row = [suite.name, suite.task, suite.condition.name, s.rank, s.entrant, s.kind, s.seeds, s.episodes]
                 cells = [*_estimate_cells(s.score), *_estimate_cells(s.normalised), *_estimate_cells(s.improvement)]
+                cells.append(verdicts.get(s.entrant, ""))
                 values = [repr(s.values[key]) if key in s.values else "" for key in keys]
                 writer.writerow([*row, s.completed, *cells, *values])
 

@@ -160,6 +160,10 @@ def _edited(path: Path, tmp_path: Path, edit) -> Path:
             "edited.yaml:yaw.gain.std_error: value -1.0 - is outside [0.0, inf]",
         ),
         (lambda d: d["principal"].pop("service_speed"), "edited.yaml: principal: missing service_speed"),
+        (
+            lambda d: d["effects"]["rudder_offset"].pop("angle"),
+            "edited.yaml: effect 'rudder_offset' is on but has no value for 'angle'",
+        ),
         (lambda d: d.update(fitted=["logs"]), "edited.yaml: fitted: expected a mapping"),
     ],
 )

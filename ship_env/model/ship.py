@@ -327,6 +327,7 @@ class ShipModel:
 
     def _build_record(self) -> np.ndarray:
         record = np.zeros(1, dtype=record_dtype())
+        where = self.ship.path.name if self.ship.path is not None else f"ship {self.ship.name!r}"
         for name, particular in self._principal.items():
             record[0][name] = particular
         for effect_name, effect in EFFECTS.items():
@@ -337,7 +338,7 @@ class ShipModel:
                 if value is None:
                     if on:
                         raise ValueError(
-                            f"ship {self.ship.name!r}: effect {effect_name!r} is on but has no value for "
+                            f"{where}: effect {effect_name!r} is on but has no value for "
                             f"{parameter.name!r} ({parameter.description})"
                         )
                     continue

@@ -192,3 +192,25 @@ def test_fit_writes_a_preset_that_compare_sails_and_never_overwrites_without_for
     assert "fitted terms" not in output.out  # refused before any fitting
     assert preset.read_text() == written
     assert main([*fit, "--force"]) == 0
+
+
+def test_improve_writes_its_final_model_as_a_preset(sailed, tmp_path):
+    _, folder, _ = sailed
+    preset = tmp_path / "improved.yaml"
+    improve = [
+        "improve",
+        str(folder),
+        "--ship",
+        SHIP,
+        "--candidates",
+        "rudder_offset",
+        "--pairs",
+        "0",
+        "--workers",
+        "1",
+    ]
+    assert main([*improve, "--report", str(tmp_path / "report"), "--preset", str(preset)]) == 0
+    model = ShipModel(preset)
+    assert model.has("rudder_offset")  # the ladder adds the hidden offset
+    assert model.ship.std_errors["rudder_offset.angle"] > 0.0
+    assert "rudder_offset.angle" in yaml.safe_load(preset.read_text())["fitted"]["terms"]

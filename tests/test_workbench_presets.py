@@ -117,6 +117,14 @@ def test_a_narrower_preset_limit_is_kept_and_says_so():
     assert section["maximum_drift"] == {"value": 12.0, "unit": "deg", "source": "the fitted data's range"}
     wider = envelope_section({"envelope": {**preset, "maximum_rate": {**preset["maximum_rate"], "value": 5.0}}}, limits)
     assert wider["maximum_rate"]["value"] == 3.0
+    # Logs that reverse the propeller widen nothing the preset restricts to ahead: its limit is kept and says so.
+    ahead = {"propeller_ahead_only": {"value": True, "source": "no astern model"}}
+    astern = {"propeller_ahead_only": DataLimit(False, None, "the fitted data's range: astern in run_3")}
+    kept = envelope_section({"envelope": ahead}, astern)["propeller_ahead_only"]
+    assert kept == {
+        "value": True,
+        "source": "no astern model (kept: narrower than the fitted data's range, ahead and astern)",
+    }
 
 
 def test_the_simulator_and_the_environments_sail_the_preset(fitted):

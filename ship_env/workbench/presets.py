@@ -159,6 +159,12 @@ class DataLimit:
     def entry(self) -> dict:
         return {"value": self.value, **({"unit": self.unit} if self.unit else {}), "source": self.source}
 
+    def words(self) -> str:
+        """The limit as a source quotes it: '3.5 deg/s', or 'ahead and astern' for the propeller."""
+        if isinstance(self.value, bool):
+            return "ahead only" if self.value else "ahead and astern"
+        return f"{self.value:.4g}" + (f" {self.unit}" if self.unit else "")
+
 
 _DATA_RANGE = "the fitted data's range"
 
@@ -184,8 +190,13 @@ def data_limits(coverage: Coverage, logs: Sequence[Log], model: ShipModel) -> di
             f"{_DATA_RANGE}: r* up to {ranges['rate'].high:.4g} ({share} stay within) at up to {fastest:.4g} m/s, "
             f"|r| = r* U / L with L {model.length:g} m",
         )
-    if any(log.propeller_rate is not None for log in logs) and not any(reverses_propeller(log) for log in logs):
-        limits["propeller_ahead_only"] = DataLimit(True, None, f"{_DATA_RANGE}: no log turns its propeller astern")
+    if any(log.propeller_rate is not None for log in logs):
+        astern = [log.name for log in logs if reverses_propeller(log)]
+        limits["propeller_ahead_only"] = (
+            DataLimit(False, None, f"{_DATA_RANGE}: the propeller turns astern in {', '.join(astern)}")
+            if astern
+            else DataLimit(True, None, f"{_DATA_RANGE}: no log turns its propeller astern")
+        )
     return limits
 
 
@@ -219,8 +230,7 @@ def envelope_section(raw: Mapping[str, Any], limits: Mapping[str, DataLimit]) ->
             section[key] = dict(preset_entries[key])
         elif preset is not None and _narrower(key, preset, data.value):
             kept = dict(preset_entries[key])
-            unit = f" {data.unit}" if data.unit else ""
-            kept["source"] = f"{kept['source']} (kept: narrower than {_DATA_RANGE}, {data.value:.4g}{unit})"
+            kept["source"] = f"{kept['source']} (kept: narrower than {_DATA_RANGE}, {data.words()})"
             section[key] = kept
         else:
             section[key] = data.entry()

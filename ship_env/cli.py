@@ -15,6 +15,7 @@ import argparse
 import json
 import math
 import re
+import shlex
 import sys
 import warnings
 from collections.abc import Callable, Sequence
@@ -87,6 +88,7 @@ from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
 from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
 from ship_env.workbench.parallel import usable_cores
+from ship_env.workbench.presets import preset_document, write_preset
 from ship_env.workbench.replay import Simulated
 from ship_env.workbench.runs import GroupingError, WorkbenchRuns, inside_outside_errors, prepare_runs
 from ship_env.workbench.signals import past_the_library, plot_signals
@@ -415,6 +417,8 @@ def _claim_outputs(args: argparse.Namespace) -> None:
     """Check every output before any work: no user's file overwritten, no foreign folder written into."""
     if getattr(args, "json", None) is not None:
         claim_file(args.json, args.force, "--json")
+    if getattr(args, "preset", None) is not None:
+        claim_file(args.preset, args.force, "--preset")
     for option in ("plot", "report"):
         if getattr(args, option, None) is not None:
             claim_folder(getattr(args, option), args.force, f"--{option}")
@@ -458,6 +462,15 @@ def _workbench_start(args: argparse.Namespace) -> tuple[ReplayModel, FitOptions,
     return setup, options, runs
 
 
+def _write_preset(args: argparse.Namespace, validation: CrossValidation, runs: WorkbenchRuns) -> None:
+    """``--preset FILE``: the fitted model as a ship preset (claimed before any work)."""
+    if args.preset is None:
+        return
+    command = "ship-env " + shlex.join(args.argv)
+    write_preset(preset_document(validation, runs.logs, command, args.preset.stem, runs.validation), args.preset)
+    print(f"fitted preset written to {args.preset} (sail it: ShipModel({str(args.preset)!r}), --ship {args.preset})")
+
+
 def run_fit(args: argparse.Namespace) -> int:
     """``ship-env fit``: fit the model to the logs, validate it leaving one run out."""
     setup, options, runs = _workbench_start(args)
@@ -478,6 +491,7 @@ def run_fit(args: argparse.Namespace) -> int:
     if args.json is not None:
         write_document(fit_document(validation, options.error_scales, runs.checks), args.json)
         print(f"fit written to {args.json}")
+    _write_preset(args, validation, runs)
     return 0
 
 
@@ -560,6 +574,7 @@ def run_improve(args: argparse.Namespace) -> int:
     if args.json is not None:
         write_document(ladder_document(ladder, runs.checks), args.json)
         print(f"final model and ladder written to {args.json}")
+    _write_preset(args, ladder.final, runs)
     return 0
 
 
@@ -672,7 +687,8 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     parser.add_argument(
         "--force",
         action="store_true",
-        help="overwrite an existing --json file, or write into a --plot/--report folder the workbench did not write",
+        help="overwrite an existing --json or --preset file, or write into a --plot/--report folder the workbench "
+        "did not write",
     )
     parser.add_argument(
         "--window",
@@ -740,6 +756,17 @@ WORKBENCH_EXAMPLES = (
 )
 
 
+def _add_preset_argument(parser: argparse.ArgumentParser, content: str) -> None:
+    parser.add_argument(
+        "--preset",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help=f"write {content} to FILE as a ship preset (YAML) the simulators and environments sail "
+        "(--ship FILE), with standard errors, the logs' hashes and the data's range as validity envelope",
+    )
+
+
 def _workbench_parser(
     subcommands: argparse._SubParsersAction,
     name: str,
@@ -773,6 +800,7 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
     parser.add_argument("--per-run", action="store_true", help="also fit each run on its own (in-sample)")
     add_plot_argument(parser, "a held-out PNG per run")
     add_json_argument(parser, "the fit")
+    _add_preset_argument(parser, "the fitted model")
 
     parser = _workbench_parser(
         subcommands,
@@ -844,6 +872,7 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         help="folder for report.md and its figures (default: %(default)s)",
     )
     add_json_argument(parser, "the final model (as 'fit --json' does) and the ladder")
+    _add_preset_argument(parser, "the final model")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -866,6 +895,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``ship-env`` with ``argv`` (default: the process's arguments); returns the exit status."""
     args = build_parser().parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)  # the command line a written preset records
     try:
         return args.handler(args)
     except UsageError as error:

@@ -11,13 +11,18 @@ and the values of its parameters. Every value carries its source; an assumed val
         gain: {value: 1.6, source: "thesis 6.4.4.1, identified at 19 kn"}
 
 Values may be given in deg, deg/s, kn or rpm (``unit``); the model holds SI units and radians.
+
+A preset written from a fit (``ship-env fit --preset``, :mod:`ship_env.workbench.presets`) gives each
+fitted value its standard error in the value's unit (``std_error``; null where the data do not
+determine it), and a top-level ``fitted:`` block saying what it was fitted to (the logs and their
+hashes, the command, the held-out errors, the version). Both are optional in every preset.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -85,6 +90,8 @@ class Ship:
         sources: where each number comes from, keyed ``principal.length`` or ``yaw.gain``.
         assumed: the keys of numbers that are assumed rather than taken from a source.
         envelope: the conditions the base model (no optional effect) is valid for.
+        std_errors: the standard errors of fitted numbers (SI units; None: not determined), keyed as ``sources``.
+        fitted: what a fitted preset was fitted to (its ``fitted:`` block as written), or None.
     """
 
     name: str
@@ -96,6 +103,17 @@ class Ship:
     assumed: frozenset[str] = frozenset()
     path: Path | None = None
     envelope: Envelope = field(default_factory=Envelope)
+    std_errors: Mapping[str, float | None] = field(default_factory=dict)
+    fitted: Mapping[str, Any] | None = None
+
+
+@dataclass
+class _Provenance:
+    """What a preset says of its numbers besides their values, collected while it is read."""
+
+    sources: dict[str, str] = field(default_factory=dict)
+    assumed: set[str] = field(default_factory=set)
+    std_errors: dict[str, float | None] = field(default_factory=dict)
 
 
 def list_ships() -> list[str]:
@@ -103,10 +121,11 @@ def list_ships() -> list[str]:
     return sorted(path.stem for path in (config_dir() / "ships").glob("*.yaml"))
 
 
-def _read_value(parameter: Parameter, entry: object, where: str, sources: dict, assumed: set) -> float:
+def _read_value(parameter: Parameter, entry: object, where: str, provenance: _Provenance) -> float:
+    """A number's value in SI units; its source, whether it is assumed and its standard error go to ``provenance``."""
     if not isinstance(entry, Mapping):
         raise TypeError(f"{where}: expected a mapping with 'value' and 'source', got {entry!r}")
-    unknown = set(entry) - {"value", "unit", "source", "assumed"}
+    unknown = set(entry) - {"value", "unit", "source", "assumed", "std_error"}
     if unknown:
         raise ValueError(f"{where}: unknown keys {sorted(unknown)}")
     if "value" not in entry:
@@ -121,13 +140,17 @@ def _read_value(parameter: Parameter, entry: object, where: str, sources: dict, 
     if unit is not None and not isinstance(unit, str):
         raise TypeError(f"{where}.unit: expected a string, got {unit!r}")
     key = where.split(":", 1)[-1]
-    sources[key] = source
+    provenance.sources[key] = source
     if flag:
-        assumed.add(key)
+        provenance.assumed.add(key)
+    if "std_error" in entry:
+        spread = replace(parameter, minimum=0.0, maximum=math.inf, integer=False)
+        error = entry["std_error"]
+        provenance.std_errors[key] = None if error is None else spread.convert(error, unit, f"{where}.std_error")
     return parameter.convert(entry["value"], unit, where)
 
 
-def _read_envelope(entries: object, label: str, sources: dict, assumed: set) -> Envelope:
+def _read_envelope(entries: object, label: str, provenance: _Provenance) -> Envelope:
     """The preset's ``envelope:`` section: numeric limits and ``propeller_ahead_only``, each with its source."""
     if not isinstance(entries, Mapping):
         raise TypeError(f"{label}: envelope: expected a mapping, got {entries!r}")
@@ -140,10 +163,10 @@ def _read_envelope(entries: object, label: str, sources: dict, assumed: set) -> 
             if not isinstance(flag, bool):
                 raise TypeError(f"{where}: expected a value true or false, got {flag!r}")
             number = Parameter(key, "-", "whether the propeller must turn ahead", minimum=0.0, maximum=1.0)
-            _read_value(number, {**entry, "value": float(flag)}, where, sources, assumed)
+            _read_value(number, {**entry, "value": float(flag)}, where, provenance)
             limits[key] = flag
         elif key in by_name:
-            limits[key] = _read_value(by_name[key], entry, where, sources, assumed)
+            limits[key] = _read_value(by_name[key], entry, where, provenance)
         else:
             known = ", ".join([*by_name, "propeller_ahead_only"])
             raise ValueError(f"{label}: envelope: unknown limit {key!r}; known: {known}")
@@ -161,12 +184,14 @@ def load_ship(name_or_path: str | Path) -> Ship:
         document = yaml.safe_load(handle)
     if not isinstance(document, Mapping):
         raise TypeError(f"{path}: expected a mapping at the top level")
-    unknown = set(document) - {"name", "description", "principal", "envelope", "effects"}
+    unknown = set(document) - {"name", "description", "principal", "envelope", "effects", "fitted"}
     if unknown:
         raise ValueError(f"{path}: unknown top-level keys {sorted(unknown)}")
     label = f"{path.name}"
-    sources: dict[str, str] = {}
-    assumed: set[str] = set()
+    provenance = _Provenance()
+    fitted = document.get("fitted")
+    if fitted is not None and not isinstance(fitted, Mapping):
+        raise TypeError(f"{label}: fitted: expected a mapping (what the preset was fitted to), got {fitted!r}")
 
     principal_entries = document.get("principal") or {}
     if not isinstance(principal_entries, Mapping):
@@ -175,7 +200,7 @@ def load_ship(name_or_path: str | Path) -> Ship:
     for key, entry in principal_entries.items():
         if key not in _PRINCIPAL_BY_NAME:
             raise ValueError(f"{label}: principal: unknown field {key!r}; known: {', '.join(_PRINCIPAL_BY_NAME)}")
-        principal[key] = _read_value(_PRINCIPAL_BY_NAME[key], entry, f"{label}:principal.{key}", sources, assumed)
+        principal[key] = _read_value(_PRINCIPAL_BY_NAME[key], entry, f"{label}:principal.{key}", provenance)
     missing = [name for name in _PRINCIPAL_BY_NAME if name not in principal]
     if missing:
         raise ValueError(f"{label}: principal: missing {', '.join(missing)}")
@@ -205,20 +230,20 @@ def load_ship(name_or_path: str | Path) -> Ship:
                 raise ValueError(
                     f"{label}: effects.{effect_name}: unknown parameter {key!r}; known: {', '.join(by_name) or 'none'}"
                 )
-            values[effect_name][key] = _read_value(
-                by_name[key], entry, f"{label}:{effect_name}.{key}", sources, assumed
-            )
-    envelope = _read_envelope(document.get("envelope") or {}, label, sources, assumed)
+            values[effect_name][key] = _read_value(by_name[key], entry, f"{label}:{effect_name}.{key}", provenance)
+    envelope = _read_envelope(document.get("envelope") or {}, label, provenance)
     return Ship(
         name=str(document.get("name", path.stem)),
         description=str(document.get("description", "")).strip(),
         principal=principal,
         values=values,
         enabled=tuple(name for name in EFFECTS if name in enabled or name in REQUIRED_EFFECTS),
-        sources=sources,
-        assumed=frozenset(assumed),
+        sources=provenance.sources,
+        assumed=frozenset(provenance.assumed),
         path=path,
         envelope=envelope,
+        std_errors=provenance.std_errors,
+        fitted=fitted,
     )
 
 
@@ -302,6 +327,7 @@ class ShipModel:
 
     def _build_record(self) -> np.ndarray:
         record = np.zeros(1, dtype=record_dtype())
+        where = self.ship.path.name if self.ship.path is not None else f"ship {self.ship.name!r}"
         for name, particular in self._principal.items():
             record[0][name] = particular
         for effect_name, effect in EFFECTS.items():
@@ -312,7 +338,7 @@ class ShipModel:
                 if value is None:
                     if on:
                         raise ValueError(
-                            f"ship {self.ship.name!r}: effect {effect_name!r} is on but has no value for "
+                            f"{where}: effect {effect_name!r} is on but has no value for "
                             f"{parameter.name!r} ({parameter.description})"
                         )
                     continue

@@ -57,14 +57,14 @@ NOT_FITTED: dict[str, str] = {
 }
 
 
-def _reverses_propeller(log: Log) -> bool:
+def reverses_propeller(log: Log) -> bool:
     """Whether the log's propeller turns astern (n < 0) at some sample."""
     return log.propeller_rate is not None and not bool(np.all(log.propeller_rate >= 0.0))
 
 
 #: Effects that act only where a run meets a condition -- elsewhere their contributions return what
 #: they are given (see the effect's module) -- and whether a log meets it at some sample.
-ACTS_ONLY_WHERE: dict[str, Callable[[Log], bool]] = {"propeller_astern": _reverses_propeller}
+ACTS_ONLY_WHERE: dict[str, Callable[[Log], bool]] = {"propeller_astern": reverses_propeller}
 
 
 def acts_on(effect: str, logs: Sequence[Log]) -> bool:

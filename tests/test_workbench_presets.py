@@ -1,0 +1,224 @@
+"""Fitted presets: a fit written as a ship YAML that ShipModel, the simulators and the environments sail.
+
+Synthetic zig-zags sailed by a known ship (the Esso Osaka model's Nomoto ship with a rudder offset;
+``ship_env.workbench.synthetic``, a model basin's sensor noise) are fitted, written as a preset and
+read back: the values bit for bit, the replays to 1e-9, the truth within four standard errors.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import yaml
+
+from ship_env.cli import main
+from ship_env.model import Conditions, ShipModel, Simulator, load_ship
+from ship_env.workbench import FitOptions, ReplayModel, cross_validate, load_logs, simulate, write_log
+from ship_env.workbench.errors import ErrorScales
+from ship_env.workbench.presets import DataLimit, envelope_section, preset_document, standard_errors, write_preset
+from ship_env.workbench.synthetic import Manoeuvre, hidden_effect_logs
+
+SHIP = "esso_osaka_model"
+HIDDEN = ("rudder_offset",)
+#: Standard errors the fitted values must recover the truth within: four (a 6e-5 chance each for a normal error).
+SIGMAS = 4.0
+
+
+@pytest.fixture(scope="module")
+def sailed(tmp_path_factory):
+    """Three 40 s zig-zags sailed by the known ship, written as CSV files: (truth, logs read back from the files)."""
+    manoeuvres = [
+        Manoeuvre(f"zigzag_{i}", "zigzag", math.radians(sign * 20.0), 40.0, approach=5.0, propeller_rate=rate)
+        for i, (sign, rate) in enumerate([(1, 12.0), (-1, 10.0), (1, 14.0)])
+    ]
+    truth, logs = hidden_effect_logs(HIDDEN, SHIP, seed=3, manoeuvres=manoeuvres)
+    folder = tmp_path_factory.mktemp("logs")
+    for log in logs:
+        write_log(log, folder / f"{log.name}.csv")
+    return truth, folder, load_logs([folder])
+
+
+@pytest.fixture(scope="module")
+def fitted(sailed, tmp_path_factory):
+    """The fit to the logs and the preset written from it: (validation, preset path)."""
+    truth, _, logs = sailed
+    setup = ReplayModel(ShipModel(SHIP, ["yaw", "kinematics", *HIDDEN]))
+    options = FitOptions(scales=ErrorScales.for_runs(setup.model, logs), workers=1)
+    keys = ["yaw.gain", "yaw.time_constant", "rudder_offset.angle"]
+    validation = cross_validate(setup, logs, keys, options)
+    path = tmp_path_factory.mktemp("preset") / "fitted_ship.yaml"
+    write_preset(preset_document(validation, logs, "ship-env fit (test)", path.stem), path)
+    return validation, path
+
+
+def test_the_preset_holds_the_fitted_values_bit_for_bit_and_recovers_the_truth(sailed, fitted):
+    truth, _, _ = sailed
+    validation, path = fitted
+    model = ShipModel(path)
+    assert model.effects == validation.fit.setup.model.effects
+    errors = standard_errors(validation)
+    jackknife = validation.jackknife_errors()
+    for estimate in validation.fit.estimates:
+        key = estimate.term.key
+        assert model.parameter(key) == estimate.value, key  # exact: written at repr precision
+        assert model.ship.std_errors[key] == errors[key] == max(estimate.std_error, jackknife[key]), key
+        assert abs(estimate.value - truth.model.parameter(key)) < SIGMAS * errors[key], key
+    # The particulars and the numbers not fitted are the starting preset's, with their sources.
+    start = load_ship(SHIP)
+    assert model.ship.principal == start.principal
+    assert model.parameter("yaw.linear") == start.values["yaw"]["linear"]
+    assert model.ship.sources["yaw.linear"] == start.sources["yaw.linear"]
+
+
+def test_a_resail_with_the_preset_reproduces_the_fits_replay(sailed, fitted):
+    _, _, logs = sailed
+    validation, path = fitted
+    replays = simulate(ReplayModel(ShipModel(path)), logs)
+    for ours, fits in zip(replays, simulate(validation.fit.setup, logs), strict=True):
+        assert np.max(np.abs(ours.heading - fits.heading)) <= 1e-9
+        assert np.max(np.abs(ours.rate_of_turn - fits.rate_of_turn)) <= 1e-9
+        assert np.max(np.abs(np.hypot(ours.north - fits.north, ours.east - fits.east))) <= 1e-9
+
+
+def test_the_preset_names_its_logs_by_hash_and_takes_the_datas_range_as_envelope(sailed, fitted):
+    _, folder, logs = sailed
+    validation, path = fitted
+    document = yaml.safe_load(path.read_text())
+    hashes = {file.name: hashlib.sha256(file.read_bytes()).hexdigest()[:12] for file in folder.glob("*.csv")}
+    assert {entry["file"]: entry["sha256"] for entry in document["fitted"]["logs"]} == hashes
+    for name, digest in hashes.items():
+        assert f"{name} (sha256 {digest})" in document["effects"]["yaw"]["gain"]["source"]
+    held_out = validation.pooled.in_display_units()
+    assert document["fitted"]["held_out"]["heading"] == held_out["heading"]
+    envelope = load_ship(path).envelope
+    ranges = validation.coverage.ranges
+    # The preset's minimum speed (0.1 m/s) and maximum drift (40 deg) are wider than the runs': the data's hold.
+    assert envelope.minimum_speed == ranges["speed"].low
+    assert envelope.maximum_drift == pytest.approx(ranges["drift"].high, rel=1e-12)
+    assert envelope.maximum_rate == pytest.approx(ranges["rate"].high * ranges["speed"].high / 3.0, rel=1e-12)
+    assert envelope.propeller_ahead_only is True
+    assert "the fitted data's range" in document["envelope"]["maximum_rate"]["source"]
+
+
+def test_a_narrower_preset_limit_is_kept_and_says_so():
+    preset = {"maximum_rate": {"value": 2.0, "unit": "deg/s", "source": "model tests"}}
+    limits = {
+        "maximum_rate": DataLimit(3.0, "deg/s", "the fitted data's range"),
+        "maximum_drift": DataLimit(12.0, "deg", "the fitted data's range"),
+    }
+    section = envelope_section({"envelope": preset}, limits)
+    assert section["maximum_rate"]["value"] == 2.0
+    assert section["maximum_rate"]["source"] == "model tests (kept: narrower than the fitted data's range, 3 deg/s)"
+    assert section["maximum_drift"] == {"value": 12.0, "unit": "deg", "source": "the fitted data's range"}
+    wider = envelope_section({"envelope": {**preset, "maximum_rate": {**preset["maximum_rate"], "value": 5.0}}}, limits)
+    assert wider["maximum_rate"]["value"] == 3.0
+    # Logs that reverse the propeller widen nothing the preset restricts to ahead: its limit is kept and says so.
+    ahead = {"propeller_ahead_only": {"value": True, "source": "no astern model"}}
+    astern = {"propeller_ahead_only": DataLimit(False, None, "the fitted data's range: astern in run_3")}
+    kept = envelope_section({"envelope": ahead}, astern)["propeller_ahead_only"]
+    assert kept == {
+        "value": True,
+        "source": "no astern model (kept: narrower than the fitted data's range, ahead and astern)",
+    }
+
+
+def test_the_simulator_and_the_environments_sail_the_preset(fitted):
+    _, path = fitted
+    simulator = Simulator(ShipModel(path), dt=0.2)
+    simulator.reset(seed=0, conditions=Conditions(service_speed=0.35, propeller_rate=12.0))
+    for _ in range(50):
+        simulator.step(math.radians(10.0))
+    assert np.all(np.isfinite(simulator.heading)) and simulator.heading[0] > 0.0
+    env = gym.make("ship_env/CourseChange-v0", ship=str(path))
+    observation, _ = env.reset(seed=0)
+    observation, *_ = env.step(env.action_space.sample())
+    assert np.all(np.isfinite(observation))
+    assert env.unwrapped.task.model.parameter("yaw.gain") == ShipModel(path).parameter("yaw.gain")
+    vector = gym.make_vec("ship_env/CourseChange-v0", num_envs=2, vectorization_mode="vector_entry_point", ship=path)
+    observations, _ = vector.reset(seed=0)
+    assert observations.shape[0] == 2 and np.all(np.isfinite(observations))
+
+
+def _edited(path: Path, tmp_path: Path, edit) -> Path:
+    document = yaml.safe_load(path.read_text())
+    edit(document)
+    edited = tmp_path / "edited.yaml"
+    edited.write_text(yaml.safe_dump(document, sort_keys=False))
+    return edited
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (
+            lambda d: d["effects"].update(bow_thruster={"enabled": True}),
+            "edited.yaml: effects: unknown effect 'bow_thruster'",
+        ),
+        (
+            lambda d: d["effects"]["yaw"]["gain"].update(value=-0.5),
+            "edited.yaml:yaw.gain: value -0.5 - is outside [0.0, inf]",
+        ),
+        (
+            lambda d: d["effects"]["yaw"]["gain"].update(std_error=-1.0),
+            "edited.yaml:yaw.gain.std_error: value -1.0 - is outside [0.0, inf]",
+        ),
+        (lambda d: d["principal"].pop("service_speed"), "edited.yaml: principal: missing service_speed"),
+        (
+            lambda d: d["effects"]["rudder_offset"].pop("angle"),
+            "edited.yaml: effect 'rudder_offset' is on but has no value for 'angle'",
+        ),
+        (lambda d: d.update(fitted=["logs"]), "edited.yaml: fitted: expected a mapping"),
+    ],
+)
+def test_a_bad_preset_names_the_file_and_the_field(fitted, tmp_path, edit, message):
+    _, path = fitted
+    with pytest.raises((ValueError, TypeError)) as error:
+        ShipModel(_edited(path, tmp_path, edit))
+    assert message in str(error.value)
+
+
+def test_fit_writes_a_preset_that_compare_sails_and_never_overwrites_without_force(sailed, tmp_path, capsys):
+    _, folder, _ = sailed
+    preset = tmp_path / "ship.yaml"
+    fit = ["fit", str(folder), "--ship", SHIP, "--add", "rudder_offset", "--workers", "1", "--preset", str(preset)]
+    assert main(fit) == 0
+    document = yaml.safe_load(preset.read_text())
+    assert document["fitted"]["command"] == "ship-env " + " ".join(fit)
+    assert document["effects"]["rudder_offset"]["enabled"] is True
+    capsys.readouterr()
+    assert main(["compare", str(folder), "--ship", str(preset), "--model", "default"]) == 0
+    assert "yaw, rudder_offset, kinematics" in capsys.readouterr().out
+    written = preset.read_text()
+    assert main(fit) == 1
+    output = capsys.readouterr()
+    assert f"--preset: {str(preset)!r} exists; choose another name or pass --force" in output.err
+    assert "fitted terms" not in output.out  # refused before any fitting
+    assert preset.read_text() == written
+    assert main([*fit, "--force"]) == 0
+
+
+def test_improve_writes_its_final_model_as_a_preset(sailed, tmp_path):
+    _, folder, _ = sailed
+    preset = tmp_path / "improved.yaml"
+    improve = [
+        "improve",
+        str(folder),
+        "--ship",
+        SHIP,
+        "--candidates",
+        "rudder_offset",
+        "--pairs",
+        "0",
+        "--workers",
+        "1",
+    ]
+    assert main([*improve, "--report", str(tmp_path / "report"), "--preset", str(preset)]) == 0
+    model = ShipModel(preset)
+    assert model.has("rudder_offset")  # the ladder adds the hidden offset
+    assert model.ship.std_errors["rudder_offset.angle"] > 0.0
+    assert "rudder_offset.angle" in yaml.safe_load(preset.read_text())["fitted"]["terms"]

@@ -28,6 +28,7 @@ from ship_env.workbench import FitOptions, ReplayModel, cross_validate, diagnose
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.logs import Log
 from ship_env.workbench.synthetic import (
+    HIDDEN_EFFECTS,
     HIDDEN_VALUES,
     SEA_TRIAL_NOISE,
     LogSettings,
@@ -83,17 +84,7 @@ SEA_TRIAL = Suite(
 SHIP = MODEL_BASIN.ship
 SCALES = MODEL_BASIN.scales
 OPTIONS = MODEL_BASIN.options
-EVERY_HIDDEN_EFFECT = [
-    "wind_moment",
-    "wind_drift",
-    "current",
-    "norrbin",
-    "speed_loss",
-    "sway",
-    "rudder_offset",
-    "steering_machine",
-    "propeller_slipstream",
-]
+EVERY_HIDDEN_EFFECT = list(HIDDEN_EFFECTS)
 SHORT_RUNS = MODEL_BASIN.programme(duration=60.0)
 #: The effects the full-scale suite checks in the default run: what sea trials hunt most.
 SEA_TRIAL_SUBSET = ["rudder_offset", "current", "propeller_slipstream"]

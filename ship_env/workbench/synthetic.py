@@ -282,6 +282,19 @@ def model_test_programme(duration: float = 90.0, ship: str = PROGRAMME_SHIP) -> 
     ]
 
 
+#: The effects the hidden-effect suite (tests/test_workbench_hidden.py) hides in the programme's logs, one at
+#: a time, and the workbench finds.
+HIDDEN_EFFECTS = (
+    "wind_moment",
+    "wind_drift",
+    "current",
+    "norrbin",
+    "speed_loss",
+    "sway",
+    "rudder_offset",
+    "steering_machine",
+    "propeller_slipstream",
+)
 #: Values the hidden-effect checks sail with where the preset's placeholder does not suit a truth
 #: (the esso_osaka_model preset's speed-loss gain of 0.8 stops the ship in a 35 deg turn).
 HIDDEN_VALUES: dict[str, float] = {"speed_loss.gain": 0.3}

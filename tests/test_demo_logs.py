@@ -1,0 +1,79 @@
+"""``ship-env demo-logs``: simulated logs the workbench's examples run on, with a known hidden truth."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from ship_env.cli import main
+from ship_env.model import REQUIRED_EFFECTS, ShipModel
+from ship_env.workbench.demo_logs import NULL_PRESET_VALUES, hidden_values
+from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.terms import make_term
+
+#: Short runs (s), so that the fits take seconds.
+DURATION = "40"
+KEY = "rudder_offset.angle"
+
+
+@pytest.fixture(scope="module")
+def demo(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("demo") / "logs"
+    assert main(["demo-logs", str(folder), "--hidden", "rudder_offset", "--duration", DURATION]) == 0
+    return folder
+
+
+def test_demo_logs_hold_zigzags_turns_and_the_truth(demo, capsys):
+    assert sorted(path.name for path in (demo / "zigzag").glob("*.csv")) == [
+        "zigzag_10_n10.csv",
+        "zigzag_20_n12.csv",
+        "zigzag_m20_n16.csv",
+    ]
+    assert len(list((demo / "turning").glob("*.csv"))) == 3
+    truth = json.loads((demo / "truth.json").read_text())
+    assert truth["hidden"] == ["rudder_offset"] and truth["ship"] == "esso_osaka_model"
+    assert truth["values"] == {"rudder_offset.angle": pytest.approx(math.radians(3.0))}  # the preset's offset
+    assert "rudder_offset.angle = 0.0523599 rad (3 deg)" in (demo / "README.txt").read_text()
+
+
+def test_the_workbench_fits_the_demo_logs_and_finds_the_hidden_offset(demo, tmp_path, capsys):
+    fit_file = tmp_path / "fit.json"
+    assert main(["fit", str(demo / "zigzag"), "--add", "rudder_offset", "--json", str(fit_file)]) == 0
+    fitted = json.loads(fit_file.read_text())
+    truth = json.loads((demo / "truth.json").read_text())["values"][KEY]
+    # The fitted offset misses the truth by less than the smallest offset that matters for this ship.
+    term = make_term(KEY, ReplayModel(ShipModel("esso_osaka_model", [*REQUIRED_EFFECTS, "rudder_offset"])))
+    assert abs(fitted["values"][KEY] - truth) < term.material
+    capsys.readouterr()
+    assert main(["diagnose", str(demo / "zigzag"), "--validate-on", str(demo / "turning"), "--refit", "2"]) == 0
+    table = capsys.readouterr().out.split("missing effects, best first")[1]
+    first = next(line for line in table.splitlines() if line.startswith("1 "))
+    assert "rudder_offset" in first
+
+
+def test_demo_logs_never_overwrite_without_force(demo, capsys):
+    truth = (demo / "truth.json").read_text()
+    assert main(["demo-logs", str(demo), "--duration", DURATION]) == 1
+    assert "exists; choose another folder or pass --force" in capsys.readouterr().err
+    assert (demo / "truth.json").read_text() == truth
+    assert main(["demo-logs", str(demo), "--hidden", "rudder_offset", "--duration", DURATION, "--force"]) == 0
+    assert (demo / "truth.json").read_text() == truth  # same seed, same truth
+
+
+def test_an_unknown_hidden_effect_is_a_usage_error_naming_it(tmp_path, capsys):
+    with pytest.raises(SystemExit) as exit_status:
+        main(["demo-logs", str(tmp_path / "logs"), "--hidden", "rudder_offset,rudder_ofset"])
+    assert exit_status.value.code == 2
+    assert "argument --hidden: unknown effect 'rudder_ofset'; known: " in capsys.readouterr().err
+    assert not (tmp_path / "logs").exists()
+
+
+def test_a_ship_with_an_aligned_rudder_hides_the_stated_offset():
+    # The container ship's preset has no rudder offset: hidden, it takes the stated one, not zero.
+    assert (
+        hidden_values("container_226m", ["rudder_offset"])["rudder_offset.angle"]
+        == (NULL_PRESET_VALUES["rudder_offset.angle"])
+    )

@@ -36,6 +36,7 @@ from ship_env.command_line import (
     prepare_outputs,
     whole_number,
 )
+from ship_env.extras import MissingExtra
 from ship_env.leaderboard.cli import COMMAND as LEADERBOARD_COMMAND
 from ship_env.manoeuvres import (
     ManoeuvreResult,
@@ -934,7 +935,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except RayUnavailable as error:  # --backend ray: an address that does not answer, or one without Ray
         command_parser = args.command_parser
         command_parser.error(f"argument --ray-address: {error}")
-    except (LogError, FormatError, FitError, OutputError) as error:
+    except (LogError, FormatError, FitError, OutputError, MissingExtra) as error:
         print(f"ship-env {args.command}: error: {error}", file=sys.stderr)
         return 1
 

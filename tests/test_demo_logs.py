@@ -10,8 +10,9 @@ import pytest
 
 from ship_env.cli import main
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
-from ship_env.workbench.demo_logs import NULL_PRESET_VALUES, hidden_values
+from ship_env.workbench.demo_logs import hidden_values
 from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.synthetic import NULL_PRESET_VALUES
 from ship_env.workbench.terms import make_term
 
 #: Short runs (s), so that the fits take seconds.
@@ -68,6 +69,17 @@ def test_an_unknown_hidden_effect_is_a_usage_error_naming_it(tmp_path, capsys):
         main(["demo-logs", str(tmp_path / "logs"), "--hidden", "rudder_offset,rudder_ofset"])
     assert exit_status.value.code == 2
     assert "argument --hidden: unknown effect 'rudder_ofset'; known: " in capsys.readouterr().err
+    assert not (tmp_path / "logs").exists()
+
+
+def test_an_effect_the_csv_cannot_carry_is_refused_with_the_reason(tmp_path, capsys):
+    # The ordered rudder that hides a steering machine would be read back as the actual rudder.
+    with pytest.raises(SystemExit) as exit_status:
+        main(["demo-logs", str(tmp_path / "logs"), "--hidden", "steering_machine"])
+    assert exit_status.value.code == 2
+    assert "argument --hidden: steering_machine cannot be hidden in CSV logs: its logs record the ordered" in (
+        capsys.readouterr().err
+    )
     assert not (tmp_path / "logs").exists()
 
 

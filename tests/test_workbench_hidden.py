@@ -30,6 +30,7 @@ from ship_env.workbench.logs import Log
 from ship_env.workbench.synthetic import (
     HIDDEN_EFFECTS,
     HIDDEN_VALUES,
+    NULL_PRESET_VALUES,
     SEA_TRIAL_NOISE,
     LogSettings,
     Manoeuvre,
@@ -79,7 +80,7 @@ SEA_TRIAL = Suite(
     "container_226m",
     SEA_TRIAL_NOISE,
     1.0,
-    {**HIDDEN_VALUES, "rudder_offset.angle": math.radians(1.0), "propeller_slipstream.coefficient": 0.08},
+    {**HIDDEN_VALUES, **NULL_PRESET_VALUES},
 )
 SHIP = MODEL_BASIN.ship
 SCALES = MODEL_BASIN.scales

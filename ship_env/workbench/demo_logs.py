@@ -9,7 +9,8 @@ install alone. ``DIR/truth.json`` holds what is hidden, with its values keyed an
 ``ship-env fit --json``; ``DIR/README.txt`` says the same in words, with the commands to try.
 
 A hidden effect takes the ship preset's values, except :data:`~ship_env.workbench.synthetic.HIDDEN_VALUES`
-and, where the preset holds the null value (an aligned rudder, a slipstream inside K*), :data:`NULL_PRESET_VALUES`.
+and, where the preset holds the null value (an aligned rudder, a slipstream inside K*),
+:data:`~ship_env.workbench.synthetic.NULL_PRESET_VALUES`.
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.synthetic import (
     HIDDEN_EFFECTS,
     HIDDEN_VALUES,
+    NULL_PRESET_VALUES,
     PROGRAMME_SHIP,
     SEA_TRIAL_NOISE,
     LogSettings,
@@ -55,12 +57,15 @@ SENSORS: dict[str, Sensors] = {
         SEA_TRIAL_NOISE, 1.0, "a sea trial's (0.5 deg compass, 3 m GPS, rudder read to 0.5 deg, 1 Hz)"
     ),
 }
-#: Values a hidden effect takes where the ship's preset holds the null value: those the full-scale
-#: hidden-effect suite (tests/test_workbench_hidden.py) finds on the container ship.
-NULL_PRESET_VALUES: dict[str, float] = {
-    "rudder_offset.angle": math.radians(1.0),
-    "propeller_slipstream.coefficient": 0.08,
+#: Hidden effects whose logs the standard CSV format cannot carry, and why.
+NOT_IN_CSV: dict[str, str] = {
+    "steering_machine": "its logs record the ordered rudder (the actual one would show the steering machine), "
+    "which the standard format reads as the actual rudder",
+    "speed_loss": "its logs leave out the speed (a measured one would show the speed loss), and the standard "
+    "format cannot state each run's own speed",
 }
+#: The effects ``--hidden`` takes.
+DEMO_EFFECTS = tuple(effect for effect in HIDDEN_EFFECTS if effect not in NOT_IN_CSV)
 #: The subfolder each kind of run goes into.
 RUN_FOLDERS = {"zigzag": "zigzag", "turn": "turning"}
 TRUTH_FILE = "truth.json"
@@ -75,14 +80,18 @@ class DemoLogs:
     hidden: tuple[str, ...]
     logs: dict[str, list[Log]]
 
-    def hidden_values(self) -> dict[str, float]:
+    def truth_values(self) -> dict[str, float]:
         """The hidden effects' fitted terms at their true values, SI units, keyed as ``ship-env fit --json``."""
         return {key: value_of(self.truth, key) for effect in self.hidden for key in effect_terms(effect)}
 
 
 def hidden_values(ship: str, hidden: Sequence[str]) -> dict[str, float]:
     """The values the hidden effects take on ``ship`` (see the module's docstring); a ValueError
-    naming the effect where every fitted term of it would still sit at its null value."""
+    naming the effect where its logs cannot be written (:data:`NOT_IN_CSV`) or every fitted term of
+    it would still sit at its null value."""
+    for effect in hidden:
+        if effect in NOT_IN_CSV:
+            raise ValueError(f"{effect} cannot be hidden in CSV logs: {NOT_IN_CSV[effect]}")
     values = dict(HIDDEN_VALUES)
     preset = ReplayModel(ShipModel(ship, [*REQUIRED_EFFECTS, *hidden]))
 
@@ -117,7 +126,7 @@ def sail_demo(hidden: Sequence[str], ship: str, seed: int, sensors: Sensors, dur
 
 def truth_document(demo: DemoLogs, seed: int, sensors: str) -> dict:
     """What ``truth.json`` holds: the ship, the base model, the hidden effects' values and units, the runs."""
-    values = demo.hidden_values()
+    values = demo.truth_values()
     return {
         "ship": demo.truth.model.ship.name,
         "base_model": list(REQUIRED_EFFECTS),
@@ -205,7 +214,7 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
         type=name_list("effect", HIDDEN_EFFECTS),
         default=[],
         metavar="EFFECT[,EFFECT]",
-        help=f"effects the logs are sailed with and the base model lacks: {', '.join(HIDDEN_EFFECTS)} (default: none)",
+        help=f"effects the logs are sailed with and the base model lacks: {', '.join(DEMO_EFFECTS)} (default: none)",
     )
     parser.add_argument(
         "--ship",

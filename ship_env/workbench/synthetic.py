@@ -298,6 +298,12 @@ HIDDEN_EFFECTS = (
 #: Values the hidden-effect checks sail with where the preset's placeholder does not suit a truth
 #: (the esso_osaka_model preset's speed-loss gain of 0.8 stops the ship in a 35 deg turn).
 HIDDEN_VALUES: dict[str, float] = {"speed_loss.gain": 0.3}
+#: Values the hidden-effect checks give an effect whose ship preset holds the null value (an aligned
+#: rudder, a slipstream inside K*): a 1 deg offset and the 3 m model's slipstream coefficient.
+NULL_PRESET_VALUES: dict[str, float] = {
+    "rudder_offset.angle": math.radians(1.0),
+    "propeller_slipstream.coefficient": 0.08,
+}
 #: The steady current (north, east) the hidden-effect checks sail in, per unit of the ship's service
 #: speed: 0.03 and -0.04 m/s for the 3 m model at 0.35 m/s.
 HIDDEN_CURRENT = (0.03 / 0.35, -0.04 / 0.35)

@@ -10,6 +10,7 @@ import pytest
 
 from ship_env.cli import main
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
+from ship_env.workbench import load_logs
 from ship_env.workbench.demo_logs import hidden_values
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.synthetic import NULL_PRESET_VALUES
@@ -89,3 +90,14 @@ def test_a_ship_with_an_aligned_rudder_hides_the_stated_offset():
         hidden_values("container_226m", ["rudder_offset"])["rudder_offset.angle"]
         == (NULL_PRESET_VALUES["rudder_offset.angle"])
     )
+
+
+def test_full_scale_sea_trial_logs_read_back_with_their_wind_directions_in_one_turn(tmp_path):
+    # Gusts swing the 280 deg wind of a 5-minute run past north: the anemometer reads 0..360 deg.
+    folder = tmp_path / "logs"
+    assert main(["demo-logs", str(folder), "--ship", "container_226m", "--sensors", "sea-trial"]) == 0
+    logs = load_logs([folder / "zigzag", folder / "turning"])
+    assert len(logs) == 6
+    for log in logs:
+        assert log.wind_direction is not None
+        assert 0.0 <= log.wind_direction.min() and log.wind_direction.max() < 2.0 * math.pi

@@ -8,7 +8,7 @@ passes +-the zig-zag angle, the standard test) or a turn at constant rudder. The
 water follows a measured-like acceleration from ``start_speed`` towards ``final_speed``; the true
 wind varies as a Gauss-Markov process around its mean (a gusty pond or sea). The log records what
 sensors would: heading, rate of turn, position, rudder (actual or ordered), speed, propeller rate
-and true wind, each with white noise (:class:`SensorNoise`).
+and true wind (its direction in [0, 2 pi)), each with white noise (:class:`SensorNoise`).
 """
 
 from __future__ import annotations
@@ -208,7 +208,7 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
         speed=None if steady else np.maximum(sensed(true["speed"], noise.speed), 0.0),
         propeller_rate=np.full(count, manoeuvre.propeller_rate),
         wind_speed=np.maximum(sensed(wind_speed, noise.wind_speed), 0.0),
-        wind_direction=sensed(wind_direction, noise.wind_direction),
+        wind_direction=np.mod(sensed(wind_direction, noise.wind_direction), 2.0 * math.pi),  # as a vane reads it
         service_speed=manoeuvre.final_speed if steady else None,
         source="synthetic",
         notes=(f"sailed by {truth.model!r} with current {truth.current} m/s, seed {seed}",),

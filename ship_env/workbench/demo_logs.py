@@ -37,24 +37,37 @@ from ship_env.workbench.synthetic import (
     SensorNoise,
     hidden_effect_logs,
     model_test_programme,
+    noise_scales,
 )
 from ship_env.workbench.terms import effect_terms, make_term, value_of
 
 
 @dataclass(frozen=True)
 class Sensors:
-    """What logs the runs: the sensors' noise and the sample interval (s)."""
+    """What logs the runs: the sensors' noise, the sample interval (s), and whether the workbench's
+    commands need error scales at the noise (``--heading-scale`` ...; its defaults suit a model basin)."""
 
     noise: SensorNoise
     dt: float
     description: str
+    own_scales: bool = False
+
+    def scale_options(self) -> str:
+        """The workbench's error-scale options at the sensors' noise, where it needs them; else ""."""
+        if not self.own_scales:
+            return ""
+        scales = noise_scales(self.noise)
+        return (
+            f" --heading-scale {math.degrees(scales.heading):.3g} --rate-scale {math.degrees(scales.rate_of_turn):.3g}"
+            f" --position-scale {scales.position:.3g}"
+        )
 
 
 #: The sensors ``--sensors`` picks.
 SENSORS: dict[str, Sensors] = {
     "basin": Sensors(SensorNoise(), LogSettings.dt, "a model basin's (0.2 deg compass, 2 cm positions, 5 Hz)"),
     "sea-trial": Sensors(
-        SEA_TRIAL_NOISE, 1.0, "a sea trial's (0.5 deg compass, 3 m GPS, rudder read to 0.5 deg, 1 Hz)"
+        SEA_TRIAL_NOISE, 1.0, "a sea trial's (0.5 deg compass, 3 m GPS, rudder read to 0.5 deg, 1 Hz)", True
     ),
 }
 #: Hidden effects whose logs the standard CSV format cannot carry, and why.
@@ -149,27 +162,27 @@ def _with_unit(value: float, unit: str) -> str:
 def readme_text(folder: Path, document: dict) -> str:
     """``README.txt``: what the logs are, what is hidden in them, and the commands to try."""
     ship = document["ship"]
-    ship_option = "" if ship == PROGRAMME_SHIP else f" --ship {ship}"
+    sensors = SENSORS[document["sensors"]]
+    options = ("" if ship == PROGRAMME_SHIP else f" --ship {ship}") + sensors.scale_options()
     zigzag, turning = folder / RUN_FOLDERS["zigzag"], folder / RUN_FOLDERS["turn"]
     hidden = document["hidden"]
     lines = [
         f"Simulated model-test logs of {ship}, written by 'ship-env demo-logs' (seed {document['seed']}).",
-        f"Zig-zags in {zigzag}/, turns in {turning}/; standard CSV format, SI units; "
-        f"sensors: {SENSORS[document['sensors']].description}.",
+        f"Zig-zags in {zigzag}/, turns in {turning}/; standard CSV format, SI units; sensors: {sensors.description}.",
         f"Sailed by the base model ({', '.join(document['base_model'])})"
         + (f" plus the hidden effects {', '.join(hidden)}:" if hidden else " alone: nothing is hidden."),
         *(f"  {key} = {_with_unit(value, document['units'][key])}" for key, value in document["values"].items()),
         f"The same in {TRUTH_FILE}, keyed as 'ship-env fit --json' writes its values (SI units).",
         "",
         "Try:",
-        f"  ship-env fit {zigzag}{ship_option} --validate-on {turning}",
-        f"  ship-env diagnose {zigzag}{ship_option}",
-        f"  ship-env improve {zigzag}{ship_option} --validate-on {turning} --report report/",
+        f"  ship-env fit {zigzag}{options} --validate-on {turning}",
+        f"  ship-env diagnose {zigzag}{options}",
+        f"  ship-env improve {zigzag}{options} --validate-on {turning} --report report/",
     ]
     if hidden:
         lines += [
-            f"  ship-env fit {zigzag}{ship_option} --add {','.join(hidden)} --json fit.json",
-            f"  ship-env compare {turning}{ship_option} --parameters fit.json --plot plots/",
+            f"  ship-env fit {zigzag}{options} --add {','.join(hidden)} --json fit.json",
+            f"  ship-env compare {turning}{options} --parameters fit.json --plot plots/",
         ]
     return "\n".join(lines) + "\n"
 

@@ -87,9 +87,11 @@ README_FILE = "README.txt"
 
 @dataclass(frozen=True)
 class DemoLogs:
-    """Logs sailed by a known truth: the truth, and the logs by subfolder."""
+    """Logs sailed by a known truth: the truth, the ship as named (preset or YAML file), the hidden
+    effects, and the logs by subfolder."""
 
     truth: ReplayModel
+    ship: str
     hidden: tuple[str, ...]
     logs: dict[str, list[Log]]
 
@@ -134,14 +136,14 @@ def sail_demo(hidden: Sequence[str], ship: str, seed: int, sensors: Sensors, dur
     by_folder: dict[str, list[Log]] = {folder: [] for folder in RUN_FOLDERS.values()}
     for manoeuvre, log in zip(programme, logs, strict=True):
         by_folder[RUN_FOLDERS[manoeuvre.kind]].append(log)
-    return DemoLogs(truth, tuple(hidden), by_folder)
+    return DemoLogs(truth, ship, tuple(hidden), by_folder)
 
 
 def truth_document(demo: DemoLogs, seed: int, sensors: str) -> dict:
     """What ``truth.json`` holds: the ship, the base model, the hidden effects' values and units, the runs."""
     values = demo.truth_values()
     return {
-        "ship": demo.truth.model.ship.name,
+        "ship": demo.ship,
         "base_model": list(REQUIRED_EFFECTS),
         "hidden": list(demo.hidden),
         "values": values,
@@ -188,8 +190,9 @@ def readme_text(folder: Path, document: dict) -> str:
 
 
 def write_demo(folder: Path, demo: DemoLogs, seed: int, sensors: str, force: bool = False) -> list[Path]:
-    """Write the logs, ``truth.json`` and ``README.txt`` into ``folder``; an OutputError, before anything is
-    written, where a file would be overwritten or the folder holds files of its own (unless ``force``)."""
+    """Write the logs, ``truth.json`` and ``README.txt`` into ``folder`` and return their paths; an OutputError,
+    before anything is written, where a file would be overwritten or the folder holds files of its own (unless
+    ``force``)."""
     log_files = {folder / name / f"{log.name}.csv": log for name, logs in demo.logs.items() for log in logs}
     targets = [*log_files, folder / TRUTH_FILE, folder / README_FILE]
     existing = [path for path in targets if path.exists()]

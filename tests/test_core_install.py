@@ -100,6 +100,8 @@ def test_the_core_runs_without_the_extras_and_names_the_extra_a_command_needs(tm
     assert result.returncode == 0, result.stdout + result.stderr
     for line in ("environment: stepped", "workbench: fitted", "help: shown"):
         assert line in result.stdout
+    assert 'Needs the rl extra: pip install "ship-env[rl]".' in result.stdout
+    assert 'Needs the leaderboard extra: pip install "ship-env[leaderboard]".' in result.stdout
     assert "ship-env train: error: training needs torch" in result.stderr
     assert 'install it with pip install "ship-env[rl]"' in result.stderr
     assert "ship-env leaderboard: error: the leaderboard needs torch" in result.stderr

@@ -159,7 +159,8 @@ COMMAND = Command(
         "course changer on TrackFollow) with 95 % stratified-bootstrap intervals over training seeds\n"
         "and episodes (rliable), and each learned policy's probability of improvement over the best\n"
         "classic autopilot: it beats it only where that interval excludes parity (0.5). The same\n"
-        "seeds give the same tables and intervals to the last digit."
+        "seeds give the same tables and intervals to the last digit.\n"
+        'Needs the leaderboard extra: pip install "ship-env[leaderboard]".'
     ),
     examples=(
         "ship-env leaderboard",

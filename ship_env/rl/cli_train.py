@@ -205,7 +205,8 @@ COMMAND = Command(
         "--trained-agent continues a saved agent instead of new weights (fine-tuning it on other\n"
         "environment options), recorded in the metadata with the file's SHA-256.\n"
         "A folder that already holds a run is not overwritten without --force. TensorBoard logs go to\n"
-        "<out>/tensorboard when tensorboard is installed."
+        "<out>/tensorboard when tensorboard is installed.\n"
+        'Needs the rl extra: pip install "ship-env[rl]".'
     ),
     examples=(
         "ship-env train --algo ppo --env ship_env/CourseChange-v0",

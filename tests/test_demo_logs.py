@@ -19,6 +19,8 @@ from ship_env.workbench.terms import make_term
 #: Short runs (s), so that the fits take seconds.
 DURATION = "40"
 KEY = "rudder_offset.angle"
+#: Fits this small run in one process: starting worker processes would take longer than the fits.
+ONE_WORKER = ("--workers", "1")
 
 
 @pytest.fixture(scope="module")
@@ -43,14 +45,17 @@ def test_demo_logs_hold_zigzags_turns_and_the_truth(demo, capsys):
 
 def test_the_workbench_fits_the_demo_logs_and_finds_the_hidden_offset(demo, tmp_path, capsys):
     fit_file = tmp_path / "fit.json"
-    assert main(["fit", str(demo / "zigzag"), "--add", "rudder_offset", "--json", str(fit_file)]) == 0
+    assert main(["fit", str(demo / "zigzag"), "--add", "rudder_offset", "--json", str(fit_file), *ONE_WORKER]) == 0
     fitted = json.loads(fit_file.read_text())
     truth = json.loads((demo / "truth.json").read_text())["values"][KEY]
     # The fitted offset misses the truth by less than the smallest offset that matters for this ship.
     term = make_term(KEY, ReplayModel(ShipModel("esso_osaka_model", [*REQUIRED_EFFECTS, "rudder_offset"])))
     assert abs(fitted["values"][KEY] - truth) < term.material
     capsys.readouterr()
-    assert main(["diagnose", str(demo / "zigzag"), "--validate-on", str(demo / "turning"), "--refit", "2"]) == 0
+    assert (
+        main(["diagnose", str(demo / "zigzag"), "--validate-on", str(demo / "turning"), "--refit", "2", *ONE_WORKER])
+        == 0
+    )
     assert first_missing_effect(capsys.readouterr().out) == "rudder_offset"
 
 
@@ -111,5 +116,5 @@ def test_full_scale_sea_trial_logs_read_back_and_their_readme_command_finds_the_
     readme = (folder / "README.txt").read_text()
     command = next(line.split() for line in readme.splitlines() if line.strip().startswith("ship-env diagnose"))
     capsys.readouterr()
-    assert main([*command[1:], "--refit", "2"]) == 0
+    assert main([*command[1:], "--refit", "2", *ONE_WORKER]) == 0
     assert first_missing_effect(capsys.readouterr().out) == "rudder_offset"

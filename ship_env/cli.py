@@ -37,6 +37,7 @@ from ship_env.command_line import (
     prepare_outputs,
     whole_number,
 )
+from ship_env.extras import MissingExtra
 from ship_env.leaderboard.cli import COMMAND as LEADERBOARD_COMMAND
 from ship_env.manoeuvres import (
     ManoeuvreResult,
@@ -74,6 +75,7 @@ from ship_env.workbench import (
     write_report,
 )
 from ship_env.workbench.coverage import check_coverage, fitted_coverage
+from ship_env.workbench.demo_logs import COMMAND as DEMO_LOGS_COMMAND
 from ship_env.workbench.documents import (
     DocumentError,
     fit_document,
@@ -746,13 +748,16 @@ def _add_candidate_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-#: The workbench commands' examples, on the built-in Esso Osaka data.
+#: The workbench commands' examples: on simulated logs with hidden effects (``ship-env demo-logs``),
+#: then on measured ones, the Esso Osaka model tests in their built-in format.
 WORKBENCH_EXAMPLES = (
-    "ship-env fit ../shared/data/esso_osaka/zigzag",
-    "ship-env diagnose ../shared/data/esso_osaka/zigzag",
-    "ship-env fit ../shared/data/esso_osaka/zigzag --add propeller_slipstream,rudder_offset --json fit.json",
-    "ship-env compare ../shared/data/esso_osaka/zigzag --parameters fit.json --plot plots/",
-    "ship-env improve ../shared/data/esso_osaka/zigzag --report report/",
+    "ship-env demo-logs demo --hidden propeller_slipstream,rudder_offset   # what is hidden: demo/README.txt",
+    "ship-env fit demo/zigzag --validate-on demo/turning",
+    "ship-env diagnose demo/zigzag",
+    "ship-env fit demo/zigzag --add propeller_slipstream,rudder_offset --json fit.json",
+    "ship-env compare demo/turning --parameters fit.json --plot plots/",
+    "ship-env improve demo/zigzag --validate-on demo/turning --report report/",
+    "ship-env improve ../shared/data/esso_osaka/zigzag --report esso_report/   # measured runs, where they are",
 )
 
 
@@ -781,7 +786,7 @@ def _workbench_parser(
         description=description,
         examples=WORKBENCH_EXAMPLES,
         handler=handler,
-        examples_title="examples, the built-in Esso Osaka data (../shared/data/esso_osaka)",
+        examples_title="examples, on demo logs (the last on measured ones)",
     )
 
 
@@ -887,7 +892,7 @@ def build_parser() -> argparse.ArgumentParser:
     subcommands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     MANOEUVRE_COMMAND.register(subcommands)
     add_workbench_commands(subcommands)
-    for command in (TRAIN_COMMAND, LEADERBOARD_COMMAND, IDENTIFY_BENCH_COMMAND):
+    for command in (DEMO_LOGS_COMMAND, TRAIN_COMMAND, LEADERBOARD_COMMAND, IDENTIFY_BENCH_COMMAND):
         command.register(subcommands)
     return parser
 
@@ -904,7 +909,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except RayUnavailable as error:  # --backend ray: an address that does not answer, or one without Ray
         command_parser = args.command_parser
         command_parser.error(f"argument --ray-address: {error}")
-    except (LogError, FormatError, FitError, OutputError) as error:
+    except (LogError, FormatError, FitError, OutputError, MissingExtra) as error:
         print(f"ship-env {args.command}: error: {error}", file=sys.stderr)
         return 1
 

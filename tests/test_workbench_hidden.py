@@ -28,7 +28,9 @@ from ship_env.workbench import FitOptions, ReplayModel, cross_validate, diagnose
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.logs import Log
 from ship_env.workbench.synthetic import (
+    HIDDEN_EFFECTS,
     HIDDEN_VALUES,
+    NULL_PRESET_VALUES,
     SEA_TRIAL_NOISE,
     LogSettings,
     Manoeuvre,
@@ -78,22 +80,12 @@ SEA_TRIAL = Suite(
     "container_226m",
     SEA_TRIAL_NOISE,
     1.0,
-    {**HIDDEN_VALUES, "rudder_offset.angle": math.radians(1.0), "propeller_slipstream.coefficient": 0.08},
+    {**HIDDEN_VALUES, **NULL_PRESET_VALUES},
 )
 SHIP = MODEL_BASIN.ship
 SCALES = MODEL_BASIN.scales
 OPTIONS = MODEL_BASIN.options
-EVERY_HIDDEN_EFFECT = [
-    "wind_moment",
-    "wind_drift",
-    "current",
-    "norrbin",
-    "speed_loss",
-    "sway",
-    "rudder_offset",
-    "steering_machine",
-    "propeller_slipstream",
-]
+EVERY_HIDDEN_EFFECT = list(HIDDEN_EFFECTS)
 SHORT_RUNS = MODEL_BASIN.programme(duration=60.0)
 #: The effects the full-scale suite checks in the default run: what sea trials hunt most.
 SEA_TRIAL_SUBSET = ["rudder_offset", "current", "propeller_slipstream"]

@@ -27,7 +27,13 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
-from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices, VecEnvObs, VecEnvStepReturn
+
+from ship_env.extras import missing_extra
+
+try:
+    from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices, VecEnvObs, VecEnvStepReturn
+except ImportError as error:
+    raise missing_extra("rl", "ship_env.envs.sb3_adapter", error) from error
 
 
 class SB3VecEnvAdapter(VecEnv):

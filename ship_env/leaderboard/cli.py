@@ -13,6 +13,7 @@ from typing import Any
 
 from ship_env.command_line import Command, add_progress_argument, number, whole_number
 from ship_env.envs.tracks import TRACK_IDS
+from ship_env.extras import require
 from ship_env.leaderboard.evaluation import BACKENDS
 from ship_env.leaderboard.suites import CONDITIONS, COURSE_CHANGE_DISTURBANCES, SUITE_SPECS, SuiteSpec
 from ship_env.ray_cluster import add_backend_arguments
@@ -37,6 +38,7 @@ def chosen_spec(args: argparse.Namespace) -> SuiteSpec:
 
 def run_leaderboard_command(args: argparse.Namespace) -> int:
     """Evaluate, print the tables and the wall time, write tables and plots into ``--out``."""
+    require("leaderboard", "the leaderboard", "torch", "stable_baselines3", "rliable")
     from ship_env.leaderboard.board import run_leaderboard, write_leaderboard
     from ship_env.ray_cluster import check_backend
     from ship_env.rl.policy_file import PolicyFileError
@@ -160,7 +162,8 @@ COMMAND = Command(
         "and episodes (rliable), and each learned policy's probability of improvement over the best\n"
         "classic autopilot: better where that interval lies above parity (0.5), worse where below, tied\n"
         "otherwise. Screen and tune on --suite dev, report on --suite test (held-out course changes, seeds\n"
-        "and track starts). The same seeds give the same tables and intervals to the last digit."
+        "and track starts). The same seeds give the same tables and intervals to the last digit.\n"
+        'Needs the leaderboard extra: pip install "ship-env[leaderboard]".'
     ),
     examples=(
         "ship-env leaderboard",

@@ -36,6 +36,7 @@ from typing import TYPE_CHECKING, Any
 
 import yaml
 
+from ship_env.extras import require
 from ship_env.paths import config_dir
 
 if TYPE_CHECKING:
@@ -106,6 +107,7 @@ def algorithm_class(algo: str) -> type[BaseAlgorithm]:
     """The stable-baselines3 (or sb3-contrib) class of an ``--algo`` name (imported on first use: it
     brings torch)."""
     if algo in CONTRIB_ALGORITHMS:
+        require("rl", f"--algo {algo}", "sb3_contrib")
         import sb3_contrib
 
         return getattr(sb3_contrib, ALGORITHMS[algo])

@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 from ship_env.command_line import Command, add_progress_argument, whole_number
+from ship_env.extras import require
 from ship_env.ray_cluster import add_backend_arguments
 from ship_env.rl.agents import ALGORITHMS, DEFAULT_TORCH_THREADS
 from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE, PolicyMetadata
@@ -63,6 +64,7 @@ def seed_runs(args: argparse.Namespace) -> list[SeedRun]:
 
 def run_train(args: argparse.Namespace) -> int:
     """Train each seed, save ``model.zip`` and ``metadata.json`` into its folder, print a summary."""
+    require("rl", "training", "torch", "stable_baselines3")
     from ship_env.ray_cluster import check_backend
     from ship_env.rl.agents import load_agent_config
     from ship_env.rl.policy_file import PolicyFileError, read_policy_file
@@ -203,7 +205,8 @@ COMMAND = Command(
         "--trained-agent continues a saved agent instead of new weights (fine-tuning it on other\n"
         "environment options), recorded in the metadata with the file's SHA-256.\n"
         "A folder that already holds a run is not overwritten without --force. TensorBoard logs go to\n"
-        "<out>/tensorboard when tensorboard is installed."
+        "<out>/tensorboard when tensorboard is installed.\n"
+        'Needs the rl extra: pip install "ship-env[rl]".'
     ),
     examples=(
         "ship-env train --algo ppo --env ship_env/CourseChange-v0",

@@ -16,7 +16,8 @@ Modules: ``formats`` and ``logs`` (reading and checking logs), ``replay`` (the m
 measured inputs), ``terms`` (what can be fitted), ``errors`` (RMS errors and the score), ``fit``
 (output-error least squares), ``validation`` (leave one run out), ``diagnose``, ``improve`` (the error ladder),
 ``compare`` (errors and drawings), ``tables`` and ``report`` (text, Markdown), ``synthetic``
-(logs made by the simulator, for checking the workbench on a known truth).
+(logs made by the simulator, for checking the workbench on a known truth), ``demo_logs``
+(``ship-env demo-logs``: such logs written as CSV with their truth, to try the workbench on).
 
 This is off-line identification for a naval engineer with logs: whole runs, output-error fits,
 a ladder of physical effects. The recursive estimators that run sample by sample on board (the

@@ -8,7 +8,7 @@ passes +-the zig-zag angle, the standard test) or a turn at constant rudder. The
 water follows a measured-like acceleration from ``start_speed`` towards ``final_speed``; the true
 wind varies as a Gauss-Markov process around its mean (a gusty pond or sea). The log records what
 sensors would: heading, rate of turn, position, rudder (actual or ordered), speed, propeller rate
-and true wind, each with white noise (:class:`SensorNoise`).
+and true wind (its direction in [0, 2 pi)), each with white noise (:class:`SensorNoise`).
 """
 
 from __future__ import annotations
@@ -208,7 +208,7 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
         speed=None if steady else np.maximum(sensed(true["speed"], noise.speed), 0.0),
         propeller_rate=np.full(count, manoeuvre.propeller_rate),
         wind_speed=np.maximum(sensed(wind_speed, noise.wind_speed), 0.0),
-        wind_direction=sensed(wind_direction, noise.wind_direction),
+        wind_direction=np.mod(sensed(wind_direction, noise.wind_direction), 2.0 * math.pi),  # as a vane reads it
         service_speed=manoeuvre.final_speed if steady else None,
         source="synthetic",
         notes=(f"sailed by {truth.model!r} with current {truth.current} m/s, seed {seed}",),
@@ -282,9 +282,28 @@ def model_test_programme(duration: float = 90.0, ship: str = PROGRAMME_SHIP) -> 
     ]
 
 
+#: The effects the hidden-effect suite (tests/test_workbench_hidden.py) hides in the programme's logs, one at
+#: a time, and the workbench finds.
+HIDDEN_EFFECTS = (
+    "wind_moment",
+    "wind_drift",
+    "current",
+    "norrbin",
+    "speed_loss",
+    "sway",
+    "rudder_offset",
+    "steering_machine",
+    "propeller_slipstream",
+)
 #: Values the hidden-effect checks sail with where the preset's placeholder does not suit a truth
 #: (the esso_osaka_model preset's speed-loss gain of 0.8 stops the ship in a 35 deg turn).
 HIDDEN_VALUES: dict[str, float] = {"speed_loss.gain": 0.3}
+#: Values the hidden-effect checks give an effect whose ship preset holds the null value (an aligned
+#: rudder, a slipstream inside K*): a 1 deg offset and the 3 m model's slipstream coefficient.
+NULL_PRESET_VALUES: dict[str, float] = {
+    "rudder_offset.angle": math.radians(1.0),
+    "propeller_slipstream.coefficient": 0.08,
+}
 #: The steady current (north, east) the hidden-effect checks sail in, per unit of the ship's service
 #: speed: 0.03 and -0.04 m/s for the 3 m model at 0.35 m/s.
 HIDDEN_CURRENT = (0.03 / 0.35, -0.04 / 0.35)

@@ -72,7 +72,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         choices=list(SUITE_SPECS),
         default="quick",
         help="quick: each episode once in every condition (nominal, K*, tau* x0.5 and x2, half speed); "
-        "full: three times (default: %(default)s)",
+        "full: three times; unseen: the quick episodes on shipmmg's MMG KVLCC2 (calm, wind and current, tracks "
+        "scaled to 320 m; needs shipmmg) (default: %(default)s)",
     )
     parser.add_argument(
         "--policies",

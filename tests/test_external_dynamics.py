@@ -199,3 +199,25 @@ def test_classic_autopilots_complete_the_course_changes_on_the_mmg_ship(disturba
         for change in (15.0, -45.0, 105.0):
             metrics, _ = sail(env, build(env.unwrapped.task), Episode(0, {"course_change_deg": change}, ""))
             assert math.isfinite(metrics["settling_time"]), f"{name} did not settle after {change:+g} deg"
+
+
+def test_unseen_suite_sails_the_quick_episodes_on_the_mmg_ship_with_tracks_scaled_to_it():
+    mmg_kvlcc2()
+    from ship_env.leaderboard.suites import SUITE_SPECS, TRACK_FOLLOW, UNSEEN_TRACK_SCALE
+
+    quick = {suite.task: suite.episodes for suite in SUITE_SPECS["quick"].suites()}
+    unseen = SUITE_SPECS["unseen"].suites()
+    assert [suite.name for suite in unseen] == [
+        "CourseChange calm | MMG KVLCC2 (unseen physics)",
+        "CourseChange wind_current | MMG KVLCC2 (unseen physics)",
+        "TrackFollow | MMG KVLCC2 (unseen physics)",
+    ]
+    for suite in unseen:
+        assert suite.episodes == quick[suite.task]
+        env = gym.make(suite.env_id, **suite.env_kwargs)
+        assert type(env.unwrapped.batch.simulator.adapters[0]).__name__ == "MmgKvlcc2"
+        assert env.unwrapped.task.model.length == 320.0  # the kvlcc2 preset: what the bridge knows
+    native = gym.make(TRACK_FOLLOW).unwrapped.task.tracks["T3"].leg_lengths
+    np.testing.assert_allclose(env.unwrapped.task.tracks["T3"].leg_lengths, native * UNSEEN_TRACK_SCALE)
+    with pytest.raises(ValueError, match="no wave forces"):
+        SUITE_SPECS["unseen"].__class__(course_change_disturbances=("wind_current_waves",)).suites()

@@ -165,7 +165,8 @@ class ExternalSimulator(Simulator):
     tasks read them unchanged); each step passes every ship's rudder order and propeller rate to
     its adapter and writes the motion it returns into the ship's row: time, position, heading,
     rate of turn, actual rudder, and the speed as the speed loss u* = 1 - u / U0 (2.41). The drift
-    angles are kept in :attr:`drift`.
+    angles are kept in :attr:`drift`. A vector environment's N adapters step one after another in
+    this process (an adapter that runs elsewhere, an FMU or a co-simulation peer, may run in parallel).
 
     Args:
         model: the ship model of the task's preset (its layout and particulars; not stepped).

@@ -22,7 +22,6 @@ Run:  python benchmarks/bench_simulator.py [--quick] [--sizes 1,1024,16384,10000
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
 import math
 import os
@@ -190,16 +189,6 @@ def batch_steps(ships: int, budget: int) -> int:
     return max(3, budget // ships)
 
 
-def _fit_module():
-    """benchmarks/fit_kvlcc2.py, which holds shipmmg's KVLCC2 and the closed-loop stepper."""
-    path = Path(__file__).resolve().parent / "fit_kvlcc2.py"
-    spec = importlib.util.spec_from_file_location("fit_kvlcc2", path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules.setdefault("fit_kvlcc2", module)
-    spec.loader.exec_module(module)
-    return module
-
-
 def shipmmg_rate(steps: int = 300, repeats: int = 3) -> dict | None:
     """Steps/s of shipmmg's KVLCC2 MMG stepped closed loop, one call per step; None without shipmmg.
 
@@ -210,14 +199,19 @@ def shipmmg_rate(steps: int = 300, repeats: int = 3) -> dict | None:
         import shipmmg.mmg_3dof  # noqa: F401
     except ImportError:
         return None
-    ship = _fit_module().MmgShip(dt=DT)
+    from ship_env.model.external import ShipMotion
+    from ship_env.model.mmg_kvlcc2 import MmgKvlcc2
+
+    ship = MmgKvlcc2()
+    start = ShipMotion(0.0, 0.0, 0.0, 0.0, ship.service_speed)
+    conditions = Conditions(service_speed=ship.service_speed)
     orders = [RUDDER if (k // SWITCH) % 2 == 0 else -RUDDER for k in range(steps)]
-    ship.step(0.0)
+    ship.step(0.0, None, DT)
 
     def run() -> None:
-        ship.reset()
+        ship.reset(start, conditions, 0)
         for order in orders:
-            ship.step(order)
+            ship.step(order, None, DT)
 
     return _median_rate(run, steps, repeats)
 

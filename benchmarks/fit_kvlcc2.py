@@ -13,15 +13,15 @@ propeller at the constant rate that holds 15.5 kn on a straight course, rudder r
 35 deg turning circles to starboard and to port (SIMMAN's case 1.2.3) and 10/10 and 20/20
 zig-zags starting to starboard.
 
-shipmmg is stepped closed loop, one ``simulate_mmg_3dof`` call per step (the rudder moves
-linearly over the step, which a two-point natural spline reproduces exactly), and the rudder it
-actually had is replayed into our ``Simulator`` as the order. ``scipy.optimize.least_squares``
-fits K*, tau*, alpha2, the Norrbin cubic alpha3, K_u*, tau_u*, beta3 and gamma1* (alpha1 = 1,
-alpha0 = 0) to heading, rate of turn, speed and drift angle in two stages: first 120-s prediction
-segments started from the MMG state (multiple shooting: robust against the heading error that an
-open-loop replay piles up), then the whole runs replayed (output error), from the first stage's
-result. ``--slipstream`` also fits the propeller-slipstream coefficient, with the propeller held
-at the service rate as in the MMG runs.
+shipmmg is stepped closed loop by ``ship_env.model.mmg_kvlcc2.MmgKvlcc2`` (one ``simulate_mmg_3dof``
+call per step, the rudder moving linearly over the step), and the rudder it actually had is
+replayed into our ``Simulator`` as the order. ``scipy.optimize.least_squares`` fits K*, tau*,
+alpha2, the Norrbin cubic alpha3, K_u*, tau_u*, beta3 and gamma1* (alpha1 = 1, alpha0 = 0) to
+heading, rate of turn, speed and drift angle in two stages: first 120-s prediction segments started
+from the MMG state (multiple shooting: robust against the heading error that an open-loop replay
+piles up), then the whole runs replayed (output error), from the first stage's result.
+``--slipstream`` also fits the propeller-slipstream coefficient, with the propeller held at the
+service rate as in the MMG runs.
 
 Run:  python benchmarks/fit_kvlcc2.py [--dt 0.5] [--quick] [--slipstream]
 """
@@ -29,7 +29,6 @@ Run:  python benchmarks/fit_kvlcc2.py [--dt 0.5] [--quick] [--slipstream]
 from __future__ import annotations
 
 import argparse
-import functools
 import math
 import sys
 import time
@@ -39,17 +38,19 @@ import numpy as np
 
 from ship_env.model import EFFECTS, Conditions, ShipModel, Simulator
 from ship_env.model import state as S
+from ship_env.model.external import ShipMotion
+from ship_env.model.mmg_kvlcc2 import (
+    INSTALL_HINT,
+    LENGTH,
+    PROPELLER_DIAMETER,
+    RUDDER_LIMIT,
+    RUDDER_RATE,
+    SCALE,
+    SERVICE_SPEED,
+    MmgKvlcc2,
+    service_propeller_rate,
+)
 from ship_env.model.ship import Ship
-
-KNOT = 1852.0 / 3600.0
-MODEL_LENGTH = 7.00  # m, the MMG model of Yasukawa & Yoshimura (2015)
-LENGTH = 320.0  # m, KVLCC2 L_pp full scale
-SCALE = LENGTH / MODEL_LENGTH  # 45.714, SIMMAN's scale
-RHO = 1025.0  # kg/m^3, sea water, used for both the masses and the forces
-SERVICE_SPEED = 15.5 * KNOT  # m/s, SIMMAN approach speed (Fn = 0.142)
-RUDDER_RATE = math.radians(2.32)  # rad/s, SIMMAN full-scale rudder rate
-RUDDER_LIMIT = math.radians(35.0)
-PROPELLER_DIAMETER = 0.216 * SCALE  # m, 9.87 m
 
 #: The effects of the fitted model: the minimal model plus Norrbin, speed loss and sway.
 FIT_EFFECTS = ("yaw", "norrbin", "speed_loss", "sway", "steering_machine", "kinematics")
@@ -103,145 +104,6 @@ MANOEUVRES = (
 )
 
 
-# -- shipmmg's KVLCC2 --------------------------------------------------------------------------
-def kvlcc2_mmg(scale: float = SCALE, rho: float = RHO):
-    """shipmmg parameter objects for KVLCC2, Froude-scaled from the 7 m model by ``scale``.
-
-    Model-scale values: Yasukawa & Yoshimura (2015) Tables 1-3, as in shipmmg's tests
-    (``tests/test_mmg_3dof.py``, fixture ``ship_KVLCC2_L7_model``), with x_R' = -0.5. Unlike that
-    fixture (which builds the masses with rho = 1.025 while ``simulate`` integrates the forces
-    with rho = 1025), masses and forces here use the same density.
-    """
-    from shipmmg.mmg_3dof import Mmg3DofBasicParams, Mmg3DofManeuveringParams
-
-    length = MODEL_LENGTH * scale
-    draught = 0.46 * scale
-    propeller_diameter = 0.216 * scale
-    rudder_height = 0.345 * scale
-    mass = rho * 3.27 * scale**3
-    reference = 0.5 * rho * length**2 * draught
-    basic = Mmg3DofBasicParams(
-        L_pp=length,
-        B=1.27 * scale,
-        d=draught,
-        x_G=0.25 * scale,
-        D_p=propeller_diameter,
-        m=mass,
-        I_zG=mass * (0.25 * length) ** 2,
-        A_R=0.0539 * scale**2,
-        η=propeller_diameter / rudder_height,
-        m_x=0.022 * reference,
-        m_y=0.223 * reference,
-        J_z=0.011 * reference * length**2,
-        f_α=2.747,
-        ϵ=1.09,
-        t_R=0.387,
-        x_R=-0.500 * length,
-        a_H=0.312,
-        x_H=-0.464 * length,
-        γ_R_minus=0.395,
-        γ_R_plus=0.640,
-        l_R=-0.710,
-        κ=0.50,
-        t_P=0.220,
-        w_P0=0.40,
-        x_P=-0.690,
-    )
-    maneuvering = Mmg3DofManeuveringParams(
-        k_0=0.2931,
-        k_1=-0.2753,
-        k_2=-0.1385,
-        R_0_dash=0.022,
-        X_vv_dash=-0.040,
-        X_vr_dash=0.002,
-        X_rr_dash=0.011,
-        X_vvvv_dash=0.771,
-        Y_v_dash=-0.315,
-        Y_r_dash=0.083,
-        Y_vvv_dash=-1.607,
-        Y_vvr_dash=0.379,
-        Y_vrr_dash=-0.391,
-        Y_rrr_dash=0.008,
-        N_v_dash=-0.137,
-        N_r_dash=-0.049,
-        N_vvv_dash=-0.030,
-        N_vvr_dash=-0.294,
-        N_vrr_dash=0.055,
-        N_rrr_dash=-0.013,
-    )
-    return basic, maneuvering
-
-
-def equilibrium_propeller_rate(basic, maneuvering, speed: float, rho: float = RHO) -> float:
-    """The propeller rate (rps) at which X_H + X_P = 0 on a straight course at ``speed``."""
-    from scipy.optimize import brentq
-    from shipmmg.mmg_3dof import get_sub_values_from_simulation_result
-
-    def surge_force(rate: float) -> float:
-        x_h, x_r, x_p, *_ = get_sub_values_from_simulation_result(
-            [speed], [0.0], [0.0], [0.0], [rate], basic, maneuvering, ρ=rho
-        )
-        return x_h[0] + x_r[0] + x_p[0]
-
-    return float(brentq(surge_force, 1e-3, 100.0))
-
-
-@functools.cache
-def service_propeller_rate(scale: float = SCALE) -> float:
-    """The full-scale propeller rate (rps) that holds KVLCC2 at 15.5 kn (SIMMAN's condition)."""
-    basic, maneuvering = kvlcc2_mmg(scale)
-    return equilibrium_propeller_rate(basic, maneuvering, SERVICE_SPEED * math.sqrt(scale / SCALE))
-
-
-class MmgShip:
-    """shipmmg's MMG ship stepped one call per step, as a closed-loop environment must.
-
-    Each ``step`` integrates ``simulate_mmg_3dof`` over [t, t + dt]; the rudder moves from its
-    present angle towards the order at most ``rudder_rate`` * dt, linearly over the step.
-    """
-
-    def __init__(self, dt: float = 0.5, scale: float = SCALE, rudder_rate: float = RUDDER_RATE, **options):
-        from shipmmg.mmg_3dof import simulate_mmg_3dof
-
-        self._simulate = simulate_mmg_3dof
-        self.basic, self.maneuvering = kvlcc2_mmg(scale)
-        self.speed = SERVICE_SPEED * math.sqrt(scale / SCALE)
-        self.propeller_rate = service_propeller_rate(scale)
-        self.dt = float(dt)
-        self.rudder_rate = rudder_rate
-        self.options = options
-        self.reset()
-
-    def reset(self) -> None:
-        self.time = 0.0
-        self.state = np.array([self.speed, 0.0, 0.0, 0.0, 0.0, 0.0])  # u, v, r, x, y, psi
-        self.rudder = 0.0
-
-    def step(self, order: float) -> None:
-        order = min(max(order, -RUDDER_LIMIT), RUDDER_LIMIT)
-        largest = self.rudder_rate * self.dt
-        rudder = self.rudder + min(max(order - self.rudder, -largest), largest)
-        u, v, r, x, y, psi = self.state
-        solution = self._simulate(
-            self.basic,
-            self.maneuvering,
-            [self.time, self.time + self.dt],
-            [self.rudder, rudder],
-            [self.propeller_rate, self.propeller_rate],
-            u0=u,
-            v0=v,
-            r0=r,
-            x0=x,
-            y0=y,
-            ψ0=psi,
-            ρ=RHO,
-            **self.options,
-        )
-        self.state = np.array(solution.y[:6, -1])
-        self.rudder = rudder
-        self.time += self.dt
-
-
 # -- manoeuvres ----------------------------------------------------------------------------------
 def next_order(manoeuvre: Manoeuvre, heading: float, order: float | None) -> float:
     """The rudder order after a step: hold, or reverse at the zig-zag's heading deviation."""
@@ -273,15 +135,15 @@ def _channels(record: np.ndarray) -> dict[str, np.ndarray]:
 
 def run_mmg(manoeuvre: Manoeuvre, dt: float) -> dict[str, np.ndarray]:
     """shipmmg's KVLCC2 through a manoeuvre, closed loop; channels sampled after each step."""
-    ship = MmgShip(dt=dt, rtol=1e-6, atol=1e-9)
+    ship = MmgKvlcc2(rtol=1e-6, atol=1e-9)
+    ship.reset(ShipMotion(0.0, 0.0, 0.0, 0.0, SERVICE_SPEED), Conditions(service_speed=SERVICE_SPEED), 0)
     steps = int(round(manoeuvre.duration / dt))
     record = np.zeros((steps, 8))
     order = next_order(manoeuvre, 0.0, None)
     for k in range(steps):
-        ship.step(order)
-        u, v, r, x, y, psi = ship.state
-        record[k] = (ship.time, psi, r, u, math.atan2(-v, u), x, y, ship.rudder)
-        order = next_order(manoeuvre, psi, order)
+        m = ship.step(order, None, dt)
+        record[k] = ((k + 1) * dt, m.heading, m.rate_of_turn, m.speed, m.drift, m.north, m.east, m.rudder)
+        order = next_order(manoeuvre, m.heading, order)
     return _channels(record)
 
 
@@ -530,7 +392,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         import shipmmg  # noqa: F401
     except ImportError:
-        print('shipmmg is not installed; install it with: pip install -e ".[bench]"')
+        print(INSTALL_HINT)
         return 1
     manoeuvres = MANOEUVRES
     if args.quick:
@@ -541,10 +403,10 @@ def main(argv: list[str] | None = None) -> int:
             [sys.argv[0] if argv is None else "benchmarks/fit_kvlcc2.py", *(sys.argv[1:] if argv is None else argv)]
         )
     )
-    mmg = MmgShip(dt=args.dt)
+    mmg = MmgKvlcc2()
     print(
         f"KVLCC2 full scale (lambda = {SCALE:.3f}): L_pp {mmg.basic.L_pp:.1f} m, B {mmg.basic.B:.2f} m, "
-        f"d {mmg.basic.d:.2f} m, U0 {mmg.speed:.3f} m/s, propeller {mmg.propeller_rate * 60:.2f} rpm "
+        f"d {mmg.basic.d:.2f} m, U0 {mmg.service_speed:.3f} m/s, propeller {mmg.propeller_rate * 60:.2f} rpm "
         f"(equilibrium at U0), rudder rate {math.degrees(RUDDER_RATE):.2f} deg/s, dt {args.dt} s"
     )
     values, references = fit(args.dt, manoeuvres, args.slipstream)

@@ -28,9 +28,9 @@ import numpy as np
 
 from ship_env.envs.sensors import MEASUREMENT_NAMES, MEASUREMENT_SIZE, measure, observe_motion
 from ship_env.envs.task import ShipTask
-from ship_env.model import Conditions, Simulator
+from ship_env.model import Conditions
 from ship_env.model import state as S
-from ship_env.model.integrators import borrowed, is_valid
+from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel
 from ship_env.model.simulator import batch_loop
 
@@ -171,7 +171,7 @@ class ShipBatch:
 
     def __init__(self, task: ShipTask, num_ships: int, end_diverged_episodes: bool = False) -> None:
         self.task = task
-        self.simulator = Simulator(task.model, num_ships=num_ships, dt=task.dt)
+        self.simulator = task.simulator(num_ships)
         self.num_ships = self.simulator.num_ships
         self.end_diverged_episodes = end_diverged_episodes
         #: The ships whose state left the model's validity in the last :meth:`sail`, and that state.
@@ -295,7 +295,7 @@ class ShipBatch:
             return None
         except FloatingPointError:
             state = self.simulator.state
-            invalid = np.array([not is_valid(row, row.shape[0]) for row in state])
+            invalid = self.simulator.invalid_ships()
             if not (self.end_diverged_episodes and invalid.any()):
                 raise
         diverged = invalid if ended is None else invalid & ~ended

@@ -126,7 +126,8 @@ class CourseChangeEnv(ShipEnv):
     ``ship``, ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``,
     ``fix_interval`` (s, default 0: a fix every step), ``action_type``, ``rudder_levels``,
     ``observation_history``, ``decision_interval``, ``observe_design_speed`` and ``ship_variation``
-    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
+    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`), and ``dynamics`` (a ship
+    simulated outside ship_env: :mod:`ship_env.model.external`).
 
     ## Version History
 

@@ -97,7 +97,8 @@ class CourseKeepingEnv(ShipEnv):
     (:class:`~ship_env.envs.task.ShipTask`): ``ship``, ``ship_parameters``, ``effects``, ``dt``
     (s), ``sensor_noise_scale``, ``fix_interval`` (s), ``action_type``, ``rudder_levels``,
     ``observation_history``, ``decision_interval``, ``observe_design_speed`` and ``ship_variation``
-    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
+    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`), and ``dynamics`` (a ship
+    simulated outside ship_env: :mod:`ship_env.model.external`).
 
     ## Version History
 

@@ -22,7 +22,8 @@ from gymnasium import spaces
 from ship_env.envs.checks import check_choice, check_number, check_whole_number
 from ship_env.envs.sensors import sensors_record
 from ship_env.envs.variation import ShipFactors, ShipVariation, sailed_conditions
-from ship_env.model import Conditions, ShipModel, load_ship
+from ship_env.model import Conditions, ShipModel, Simulator, load_ship
+from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory
 
 #: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
 ACTION_TYPES = ("continuous", "discrete")
@@ -91,6 +92,11 @@ class ShipTask:
             episode's own service speed (1 on a straight course at any service speed); ``True``: over
             the preset's, so a ship that sails slower than designed (``ship_variation``'s speed, or
             conditions given at reset) shows it, as the log shows a gain-scheduled autopilot.
+        dynamics: ``None`` (default): ship_env's simulator sails the preset's model; or a ship simulated
+            outside ship_env (:mod:`ship_env.model.external`): an adapter, its class (one adapter per
+            ship), or its ``"module:attribute"`` import path. The preset then gives what the bridge
+            knows of the ship (its length, speed, K*: the observations' scales) and the autopilots'
+            design model; the adapter gives the motion.
     """
 
     #: The observation's elements ``observation_history`` remembers (each task sets its own).
@@ -118,6 +124,7 @@ class ShipTask:
         observation_history: int = 0,
         decision_interval: int = 1,
         observe_design_speed: bool = False,
+        dynamics: DynamicsSource | None = None,
     ) -> None:
         self.rudder_limit = math.radians(check_number("rudder_limit_deg", rudder_limit_deg, 1e-3, 90.0))
         self.dt = check_number("dt", dt, 1e-6)
@@ -131,6 +138,8 @@ class ShipTask:
         if not isinstance(observe_design_speed, bool):
             raise TypeError(f"observe_design_speed: expected true or false, got {observe_design_speed!r}")
         self.observe_design_speed = observe_design_speed
+        #: Makes one external adapter per ship, or ``None`` for ship_env's own simulator.
+        self.make_dynamics = None if dynamics is None else dynamics_factory(dynamics)
 
         preset = load_ship(ship)
         if effects is None:
@@ -146,6 +155,12 @@ class ShipTask:
         else:
             self.action_space = spaces.Discrete(levels)
             self._levels = np.linspace(-1.0, 1.0, levels) * self.rudder_limit
+
+    def simulator(self, num_ships: int) -> Simulator:
+        """The simulator of ``num_ships`` ships stepped every ``dt``: ship_env's, or the external adapters'."""
+        if self.make_dynamics is None:
+            return Simulator(self.model, num_ships=num_ships, dt=self.dt)
+        return ExternalSimulator(self.model, self.make_dynamics, num_ships=num_ships, dt=self.dt)
 
     def parameter_record(self, **values: float | bool) -> np.ndarray:
         """The task's constants as its compiled update reads them: one record with ``rudder_limit``

@@ -131,11 +131,12 @@ class TrackFollowEnv(ShipEnv):
     :class:`~ship_env.envs.track_follow_task.TrackFollowTask`): ``track`` (``"T1"`` ..
     ``"T6"``, ``"random"`` default), ``disturbance`` (``"thesis"`` default, ``"calm"``),
     ``rudder_limit_deg``, ``cross_track_weight``, ``rudder_travel_weight``, ``fix_interval``
-    (s), ``track_preview``, ``line_of_sight_weight``, ``cross_track_reward_bound``, ``start``; and
+    (s), ``track_preview``, ``line_of_sight_weight``, ``cross_track_reward_bound``, ``start``, ``track_scale``; and
     those every task shares (:class:`~ship_env.envs.task.ShipTask`): ``ship``,
     ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``, ``action_type``,
     ``rudder_levels``, ``observation_history``, ``decision_interval``, ``observe_design_speed`` and
-    ``ship_variation`` (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`).
+    ``ship_variation`` (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`)
+    and ``dynamics`` (a ship simulated outside ship_env: :mod:`ship_env.model.external`).
 
     ## Version History
 

@@ -179,6 +179,8 @@ class TrackFollowTask(ShipTask):
             over the track's first five), ``BEFORE_TURN_NM`` (1 to 1.6 nm, uniform) before that
             end waypoint, on the leg's course, and sails on to the track's end. Training episodes
             then meet a turn within minutes, every turn of the six tracks as often.
+        track_scale: the legs' lengths times this (default 1: the thesis's 2 to 2.5 nm, drawn for
+            the 226 m container ship; ``L / 226 m`` sails the tracks in proportion to a ship of length L).
         **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`):
             ``ship``, ``ship_parameters``, ``effects``, ``dt``, ``sensor_noise_scale``,
             ``action_type``, ``rudder_levels``.
@@ -199,6 +201,7 @@ class TrackFollowTask(ShipTask):
         line_of_sight_weight: float = 0.0,
         cross_track_reward_bound: float = CROSS_TRACK_BOUND,
         start: str = "first_waypoint",
+        track_scale: float = 1.0,
         **ship_options: Any,
     ) -> None:
         self.track = check_choice("track", track, (*TRACK_IDS, RANDOM_TRACK))
@@ -214,7 +217,8 @@ class TrackFollowTask(ShipTask):
         super().__init__(rudder_limit_deg=rudder_limit_deg, fix_interval=fix_interval, **ship_options)
         #: The reference tracks, rounded by this ship's steady turns at delta_max.
         self.tracks: dict[str, ReferenceTrack] = {
-            track_id: reference_track(track_id, self.model, math.degrees(self.rudder_limit)) for track_id in TRACK_IDS
+            track_id: reference_track(track_id, self.model, math.degrees(self.rudder_limit), scale=track_scale)
+            for track_id in TRACK_IDS
         }
         self.track_legs = np.stack([self.tracks[track_id].legs for track_id in TRACK_IDS])
 

@@ -248,6 +248,7 @@ def reference_track(
     rudder_limit_deg: float = THESIS_RUDDER_LIMIT_DEG,
     speed: float | None = None,
     first_course_deg: float = 0.0,
+    scale: float = 1.0,
 ) -> ReferenceTrack:
     """Thesis track ``"T1"`` .. ``"T6"`` with the corners rounded by the ship's steady turns.
 
@@ -259,6 +260,8 @@ def reference_track(
         speed: the approach speed of the turns, m/s (``None``: the ship's service speed, 9.5 m/s
             for the container ship, the experiment's 19 kn).
         first_course_deg: the first leg's course, deg.
+        scale: the legs' lengths times this (the tracks are drawn for the 226 m container ship: a
+            ship of length L sails them in proportion at L / 226 m).
     """
     if track_id not in TRACK_COURSE_CHANGES_DEG:
         raise ValueError(f"track_id: expected one of {', '.join(TRACK_IDS)}, got {track_id!r}")
@@ -268,7 +271,7 @@ def reference_track(
     return build_track(
         track_id,
         magnitudes * np.asarray(TURN_DIRECTIONS),
-        np.asarray(THESIS_LEG_LENGTHS_NM[track_id]) * NAUTICAL_MILE,
+        np.asarray(THESIS_LEG_LENGTHS_NM[track_id]) * NAUTICAL_MILE * check_number("scale", scale, 1e-3),
         steady_turn_radius(model, rudder, speed),
         steady_turn_radius(model, -rudder, speed),
         math.radians(check_number("first_course_deg", first_course_deg)),

@@ -75,7 +75,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default="dev",
         help="dev (alias quick), for screening and tuning: the thesis's course changes and tracks once in every "
         "condition (nominal, K*, tau* x0.5 and x2, half speed); full: the dev episodes three times; test, to "
-        "report: course changes, seeds and track starts no screen sailed (default: %(default)s)",
+        "report: course changes, seeds and track starts no screen sailed; unseen: the dev episodes on "
+        "shipmmg's MMG KVLCC2 (calm, wind and current, tracks scaled to 320 m; needs shipmmg) "
+        "(default: %(default)s)",
     )
     parser.add_argument(
         "--policies",

@@ -27,6 +27,10 @@ The named suites (:data:`SUITE_SPECS`) select on some episodes and report on oth
   each with seeds from :data:`TEST_FIRST_SEED` (other initial headings, seas and noise), and the
   tracks from a start 1 to 1.6 nm before one of their turns (``start="before_turn"``: the leg and
   the distance drawn from the test seed) where every screen sailed them from the first waypoint.
+- ``unseen`` (:class:`UnseenSuiteSpec`): the dev episodes on a ship whose
+  equations differ from every controller's design and training model: shipmmg's MMG KVLCC2
+  (:mod:`ship_env.model.mmg_kvlcc2`) through the external-dynamics protocol
+  (:mod:`ship_env.model.external`), the autopilots designed from the ``kvlcc2`` preset fitted to it.
 
 Seeds: episode k of a suite's r-th repetition has seed ``first_seed + SEED_STRIDE * r + k``, so the
 dev suite's episodes are the first repetition of the full suite's.
@@ -43,6 +47,7 @@ import gymnasium as gym
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG, TRACK_IDS
+from ship_env.model import ShipModel
 
 COURSE_CHANGE = "ship_env/CourseChange-v0"
 TRACK_FOLLOW = "ship_env/TrackFollow-v0"
@@ -261,3 +266,59 @@ SUITE_SPECS: dict[str, SuiteSpec] = {
         course_changes_deg=TEST_COURSE_CHANGES_DEG, first_seed=TEST_FIRST_SEED, track_start="before_turn"
     ),
 }
+
+
+# -- unseen physics ----------------------------------------------------------------------------------
+#: The ship of the unseen-physics suite: shipmmg's MMG model of KVLCC2 (:mod:`ship_env.model.mmg_kvlcc2`),
+#: equations no controller was designed or trained on; the autopilots are designed from the ``kvlcc2``
+#: preset, whose De Keizer coefficients are fitted to it.
+MMG_KVLCC2 = Condition("MMG KVLCC2 (unseen physics)", "mmg-kvlcc2")
+#: The environments' keywords that sail it: the preset is what the bridge knows, the MMG model the motion.
+MMG_KVLCC2_ENV_KWARGS: Mapping[str, Any] = {"ship": "kvlcc2", "dynamics": "ship_env.model.mmg_kvlcc2:MmgKvlcc2"}
+#: The tracks' scale for KVLCC2: drawn for the 226 m container ship, sailed in proportion to 320 m.
+UNSEEN_TRACK_SCALE = 320.0 / 226.0
+
+
+@dataclass(frozen=True)
+class UnseenSuiteSpec(SuiteSpec):
+    """The unseen-physics suites: every controller on the MMG KVLCC2 at its service speed (15.5 kn).
+
+    CourseChange in calm water and in wind and current (``course_change_disturbances``; the MMG
+    model has no wave forces), and TrackFollow in the thesis's wind and current on its tracks scaled
+    by :data:`UNSEEN_TRACK_SCALE`, given proportionally more time (longer tracks, a slower ship).
+    The episodes (seeds, changes, tracks) are the other suites'; ``conditions`` is not used (the
+    ship is :data:`MMG_KVLCC2`).
+    """
+
+    course_change_disturbances: tuple[str, ...] = ("calm", "wind_current")
+
+    def suites(self) -> list[Suite]:
+        """CourseChange per disturbance level, then TrackFollow, on the MMG KVLCC2."""
+        if "wind_current_waves" in self.course_change_disturbances:
+            raise ValueError("disturbances: the MMG KVLCC2 has no wave forces; sail calm or wind_current")
+        course_changes = course_change_episodes(self.course_changes_deg, self.repetitions)
+        suites = [
+            Suite(
+                f"CourseChange {level}",
+                COURSE_CHANGE,
+                {**MMG_KVLCC2_ENV_KWARGS, "disturbance": level},
+                MMG_KVLCC2,
+                course_changes,
+            )
+            for level in self.course_change_disturbances
+        ]
+        if self.tracks:
+            slower = ShipModel("container_226m").service_speed / ShipModel("kvlcc2").service_speed
+            registered_steps = gym.spec(TRACK_FOLLOW).max_episode_steps
+            assert registered_steps is not None, f"{TRACK_FOLLOW} is registered with a time limit"
+            env_kwargs = {
+                **MMG_KVLCC2_ENV_KWARGS,
+                "track_scale": UNSEEN_TRACK_SCALE,
+                "max_episode_steps": math.ceil(registered_steps * UNSEEN_TRACK_SCALE * slower),
+            }
+            tracks = track_episodes(self.tracks, self.repetitions)
+            suites.append(Suite("TrackFollow", TRACK_FOLLOW, env_kwargs, MMG_KVLCC2, tracks))
+        return suites
+
+
+SUITE_SPECS["unseen"] = UnseenSuiteSpec()

@@ -24,7 +24,7 @@ from ship_env.model import noise
 from ship_env.model import state as S
 from ship_env.model.dynamics import sway_velocity
 from ship_env.model.effects import EFFECTS
-from ship_env.model.integrators import METHODS, new_workspace, step_ship, step_ships, step_ships_parallel
+from ship_env.model.integrators import METHODS, is_valid, new_workspace, step_ship, step_ships, step_ships_parallel
 from ship_env.model.ship import ShipModel
 
 #: Batches at least this large may step on all cores (:func:`batch_loop`); smaller ones step in one thread.
@@ -363,6 +363,10 @@ class Simulator:
         )
         if not self._valid.all():
             self._raise_invalid(int(np.flatnonzero(~self._valid)[0]))
+
+    def invalid_ships(self) -> np.ndarray:
+        """(N,) bool: the ships whose state is outside the model's validity (not finite, or u* > 1)."""
+        return np.array([not is_valid(row, row.shape[0]) for row in self.state])
 
     def _raise_invalid(self, ship: int) -> None:
         state = self.state[ship]

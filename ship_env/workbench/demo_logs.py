@@ -37,37 +37,25 @@ from ship_env.workbench.synthetic import (
     SensorNoise,
     hidden_effect_logs,
     model_test_programme,
-    noise_scales,
 )
 from ship_env.workbench.terms import effect_terms, make_term, value_of
 
 
 @dataclass(frozen=True)
 class Sensors:
-    """What logs the runs: the sensors' noise, the sample interval (s), and whether the workbench's
-    commands need error scales at the noise (``--heading-scale`` ...; its defaults suit a model basin)."""
+    """What logs the runs: the sensors' noise and the sample interval (s). The workbench's default error
+    scales follow the ship's length and speed, so its commands need no options for either sensor."""
 
     noise: SensorNoise
     dt: float
     description: str
-    own_scales: bool = False
-
-    def scale_options(self) -> str:
-        """The workbench's error-scale options at the sensors' noise, where it needs them; else ""."""
-        if not self.own_scales:
-            return ""
-        scales = noise_scales(self.noise)
-        return (
-            f" --heading-scale {math.degrees(scales.heading):.3g} --rate-scale {math.degrees(scales.rate_of_turn):.3g}"
-            f" --position-scale {scales.position:.3g}"
-        )
 
 
 #: The sensors ``--sensors`` picks.
 SENSORS: dict[str, Sensors] = {
     "basin": Sensors(SensorNoise(), LogSettings.dt, "a model basin's (0.2 deg compass, 2 cm positions, 5 Hz)"),
     "sea-trial": Sensors(
-        SEA_TRIAL_NOISE, 1.0, "a sea trial's (0.5 deg compass, 3 m GPS, rudder read to 0.5 deg, 1 Hz)", True
+        SEA_TRIAL_NOISE, 1.0, "a sea trial's (0.5 deg compass, 3 m GPS, rudder read to 0.5 deg, 1 Hz)"
     ),
 }
 #: Hidden effects whose logs the standard CSV format cannot carry, and why.
@@ -165,7 +153,7 @@ def readme_text(folder: Path, document: dict) -> str:
     """``README.txt``: what the logs are, what is hidden in them, and the commands to try."""
     ship = document["ship"]
     sensors = SENSORS[document["sensors"]]
-    options = ("" if ship == PROGRAMME_SHIP else f" --ship {ship}") + sensors.scale_options()
+    options = "" if ship == PROGRAMME_SHIP else f" --ship {ship}"
     zigzag, turning = folder / RUN_FOLDERS["zigzag"], folder / RUN_FOLDERS["turn"]
     hidden = document["hidden"]
     lines = [

@@ -1,12 +1,7 @@
 """Fit the De Keizer / Van Leeuwen coefficients of the KVLCC2 preset to shipmmg's MMG model.
 
-Reference: shipmmg 0.0.11 (``shipmmg.mmg_3dof.simulate_mmg_3dof``) with the KVLCC2 parameters of
-Yasukawa & Yoshimura (2015), "Introduction of MMG standard method for ship maneuvering
-predictions", J Mar Sci Technol 20:37-52, Tables 1-3, as shipmmg's own tests use them
-(model L_pp = 7.00 m). The model-scale particulars are Froude-scaled to the full-scale ship
-(lambda = 320 / 7 = 45.714: lengths x lambda, areas x lambda^2, displacement x lambda^3,
-propeller rate / sqrt(lambda)); the MMG equations have no Reynolds-dependent term, so the
-full-scale run is the model-scale run with time and speed scaled by sqrt(lambda).
+The MMG ship -- shipmmg 0.0.11's KVLCC2 (Yasukawa & Yoshimura 2015), Froude-scaled to 320 m -- and its
+reference are described in :mod:`ship_env.model.mmg_kvlcc2`.
 
 Manoeuvres, as in SIMMAN 2008/2020 (simman2020.kr, case 1.2): starting at 15.5 kn with the
 propeller at the constant rate that holds 15.5 kn on a straight course, rudder rate 2.32 deg/s:

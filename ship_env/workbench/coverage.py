@@ -34,7 +34,7 @@ import numpy as np
 
 from ship_env.model import ShipModel
 from ship_env.workbench.envelope import _percent, drift_angle
-from ship_env.workbench.errors import RunErrors, run_errors
+from ship_env.workbench.errors import RunErrors, split_errors
 from ship_env.workbench.fit import FitError
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import Simulated
@@ -273,9 +273,7 @@ def errors_inside_beyond(
     logs: Sequence[Log], replays: Sequence[Simulated], checks: Sequence[CoverageCheck]
 ) -> tuple[list[RunErrors], list[RunErrors]]:
     """Per run, its RMS errors over the samples inside the coverage, and over those beyond (NaN where none)."""
-    inside = [run_errors(log, sim, ~check.beyond) for log, sim, check in zip(logs, replays, checks, strict=True)]
-    beyond = [run_errors(log, sim, check.beyond) for log, sim, check in zip(logs, replays, checks, strict=True)]
-    return inside, beyond
+    return split_errors(logs, replays, [check.beyond for check in checks])
 
 
 def fitted_coverage(path: Path) -> Coverage | None:

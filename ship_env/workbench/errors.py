@@ -189,6 +189,17 @@ def run_errors(log: Log, simulated: Simulated, where: np.ndarray | None = None) 
     )
 
 
+def split_errors(
+    logs: Sequence[Log], replays: Sequence[Simulated], masks: Sequence[np.ndarray]
+) -> tuple[list[RunErrors], list[RunErrors]]:
+    """Per run, its RMS errors over the samples its mask leaves out and over those it selects (NaN where none)."""
+    triples = list(zip(logs, replays, masks, strict=True))
+    return (
+        [run_errors(log, replay, ~mask) for log, replay, mask in triples],
+        [run_errors(log, replay, mask) for log, replay, mask in triples],
+    )
+
+
 def pooled(errors: Sequence[RunErrors], name: str = "pooled") -> RunErrors:
     """RMS over all samples of several runs (runs weigh by their length); NaN-channels skipped."""
 

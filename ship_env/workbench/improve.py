@@ -222,8 +222,9 @@ def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorS
     absorbed = mismatch(candidate.effects, validation.fit)
     if absorbed is not None:
         return f"lowers the held-out score by {100.0 * gain:.1f}%, but {absorbed}"
-    if rules.require_validation and current.pooled_validation and validation.pooled_validation:
-        before, after = current.pooled_validation.score(scales), validation.pooled_validation.score(scales)
+    scores = _validation_scores(candidate, current, scales)
+    if rules.require_validation and scores is not None:
+        before, after = scores
         if after > (1.0 - rules.min_gain) * before:
             return (
                 f"lowers the held-out score by {100.0 * gain:.1f}% but changes the validation runs' score by "
@@ -235,15 +236,24 @@ def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorS
     return ""
 
 
+def _validation_scores(
+    candidate: CandidateResult, current: CrossValidation, scales: ErrorScales
+) -> tuple[float, float] | None:
+    """The validation runs' pooled score before and with the candidate, or None without validation runs."""
+    before, after = current.pooled_validation, candidate.refitted.pooled_validation
+    return (before.score(scales), after.score(scales)) if before and after else None
+
+
 def _worsens_validation(
     candidate: CandidateResult, current: CrossValidation, scales: ErrorScales, rules: Rules
 ) -> str | None:
     """Words saying that the candidate raises the validation runs' score by more than ``min_gain`` (rule 5),
     naming where they lie beyond the fitted runs' coverage; None if it does not, or where that is allowed."""
     validation = candidate.refitted
-    if rules.allow_worse_validation or not (current.pooled_validation and validation.pooled_validation):
+    scores = _validation_scores(candidate, current, scales)
+    if rules.allow_worse_validation or scores is None:
         return None
-    before, after = current.pooled_validation.score(scales), validation.pooled_validation.score(scales)
+    before, after = scores
     if not after > (1.0 + rules.min_gain) * before:
         return None
     gain = 1.0 - validation.score(scales) / current.score(scales)

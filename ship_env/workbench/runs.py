@@ -20,7 +20,7 @@ from pathlib import Path
 
 from ship_env.model import ShipModel
 from ship_env.workbench.envelope import MIN_SEGMENT, EnvelopeCheck, check_envelope, inside_logs
-from ship_env.workbench.errors import RunErrors, run_errors
+from ship_env.workbench.errors import RunErrors, split_errors
 from ship_env.workbench.logs import Log, LogError, LogWarning
 from ship_env.workbench.replay import Simulated
 
@@ -144,10 +144,10 @@ def inside_outside_errors(
     pairs = [(log, replay, checks[log.name]) for log, replay in zip(logs, replays, strict=True) if log.name in checks]
     if not any(check.share > 0.0 for _, _, check in pairs):
         return {}
-    return {
-        "inside": [run_errors(log, replay, ~check.outside) for log, replay, check in pairs],
-        "outside": [run_errors(log, replay, check.outside) for log, replay, check in pairs],
-    }
+    inside, outside = split_errors(
+        [log for log, _, _ in pairs], [replay for _, replay, _ in pairs], [check.outside for _, _, check in pairs]
+    )
+    return {"inside": inside, "outside": outside}
 
 
 __all__ = [

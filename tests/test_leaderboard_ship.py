@@ -10,6 +10,7 @@ import shlex
 from pathlib import Path
 
 import gymnasium as gym
+import numpy as np
 import pytest
 import yaml
 
@@ -20,7 +21,7 @@ from ship_env.cli import main
 from ship_env.leaderboard.board import CSV_FILE, EPISODES_FILE, run_leaderboard, write_leaderboard
 from ship_env.leaderboard.entrants import DesignedTask, Entrant, policy_entrants
 from ship_env.leaderboard.sailing import ship_task, suite_envs
-from ship_env.leaderboard.suites import COURSE_CHANGE, DEFAULT_SHIP, NOMINAL, SuiteSpec
+from ship_env.leaderboard.suites import COURSE_CHANGE, DEFAULT_SHIP, HALF_SPEED, NOMINAL, SuiteSpec
 from ship_env.model import ShipModel
 from ship_env.paths import config_dir
 
@@ -69,6 +70,20 @@ def test_the_autopilots_are_designed_from_the_given_ships_values(ship_file):
     ) / (container.ship.time_constant / container.ship.gain * (container.length / container.design.design_speed) ** 2)
     assert gains.proportional / container_gains.proportional == pytest.approx(ratio, rel=1e-12)
     assert ratio > 2.0  # a longer, slower ship: its gains are not the container ship's
+
+
+def test_half_speed_is_half_the_given_ships_speed(ship_file):
+    """The robustness conditions scale the given ship: at half speed the file's ship sails at half its
+    own service speed (15.5 kn), its autopilots designed for the full one."""
+    (suite,) = dataclasses.replace(TINY, ship=str(ship_file), conditions=(HALF_SPEED,)).suites()
+    env, design_model = suite_envs(suite, Entrant("PD, fixed gains", COURSE_CHANGE))
+    env.reset(seed=0, options={"course_change_deg": 30.0})
+    for _ in range(100):
+        _, _, _, _, info = env.step(np.zeros(1, dtype=np.float32))
+    env.close()
+    service_speed = 15.5 * 1852 / 3600
+    assert design_model.service_speed == pytest.approx(service_speed)
+    assert info["measurement"]["speed"] == pytest.approx(0.5 * service_speed, rel=0.05)
 
 
 def test_the_leaderboard_on_a_ship_file_names_it_everywhere(ship_file, tmp_path):

@@ -124,6 +124,20 @@ def whole_number(minimum: int) -> Callable[[str], int]:
     return parse
 
 
+def ship_preset(text: str) -> str:
+    """An argument type: a ship preset's name or a ship YAML file whose model builds; otherwise the
+    reason, naming the file (and the field) that is missing or wrong."""
+    from ship_env.model import ShipModel
+
+    if text.endswith((".yaml", ".yml")) and not Path(text).is_file():
+        raise argparse.ArgumentTypeError(f"{text}: no such ship file")
+    try:
+        ShipModel(text)
+    except (OSError, TypeError, ValueError) as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return text
+
+
 def name_list(kind: str, known: Collection[str]) -> Callable[[str], list[str]]:
     """An argument type: comma-separated names, each one of ``known`` (read when parsing, so a live
     registry may grow); otherwise "unknown ``kind`` '...'; known: ..."."""

@@ -70,6 +70,11 @@ class Leaderboard:
     tables: tuple[Table, ...]
     wall_time_s: float
 
+    @property
+    def ship_name(self) -> str:
+        """The name of the ship sailed (every suite's; :attr:`Suite.ship_name`)."""
+        return self.suites[0].ship_name
+
     def table(self, suite_name: str) -> Table:
         """The table of the suite named ``suite_name`` (``"CourseChange calm | nominal"``)."""
         for table in self.tables:
@@ -145,7 +150,7 @@ class Leaderboard:
         verdicts = self.headline_verdicts()
         best = next(iter(verdicts.values())).classic if verdicts else ""
         lines = [
-            "### Headline: CourseChange, nominal ship, all seas together",
+            f"### Headline: CourseChange, nominal ship, all seas together ({self.ship_name})",
             "",
             f"Normalised score: each episode's integrated heading error divided by that of {REFERENCES[COURSE_CHANGE]} "
             "(1 = the reference, lower is better); 95 % stratified-bootstrap intervals (rliable) over training "
@@ -178,10 +183,10 @@ def run_leaderboard(
 ) -> Leaderboard:
     """Sail ``spec``'s suites with the classic baselines, the shipped policies (if ``shipped``) and
     the policies at ``policies`` (each a file, a run's folder or a folder of seeds' runs), every
-    learned entrant with each of its training seeds; ``PolicyFileError`` before anything sails if
-    one does not fit or cannot be read without running its code. ``trust_policy_code`` reads the
-    files at ``policies`` by unpickling them, which runs any code they carry. ``backend`` ``"ray"``
-    runs the jobs on Ray (at ``ray_address``)."""
+    learned entrant with each of its training seeds, on the ship ``spec`` sails (its ``ship``);
+    ``PolicyFileError`` before anything sails if one does not fit or cannot be read without running
+    its code. ``trust_policy_code`` reads the files at ``policies`` by unpickling them, which runs any
+    code they carry. ``backend`` ``"ray"`` runs the jobs on Ray (at ``ray_address``)."""
     suites = spec.suites()
     env_kwargs = {suite.env_id: suite.env_kwargs for suite in suites}
     env_spaces = {}
@@ -189,7 +194,8 @@ def run_leaderboard(
         env = gym.make(env_id, **kwargs)
         env_spaces[env_id] = (env.observation_space, env.action_space)
         env.close()
-    entrants = classic_entrants(list(env_kwargs)) + policy_entrants(policies, env_spaces, shipped, trust_policy_code)
+    learned = policy_entrants(policies, env_spaces, shipped, trust_policy_code, suites[0].ship)
+    entrants = classic_entrants(list(env_kwargs)) + learned
     start = time.perf_counter()
     results = evaluate(jobs_for(suites, entrants), backend, progress, ray_address)
     wall_time = time.perf_counter() - start
@@ -209,21 +215,22 @@ def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list
     written = [out / MARKDOWN_FILE, out / CSV_FILE, out / EPISODES_FILE]
     written[0].write_text(board.markdown() + "\n")
     write_csv(board.tables, written[1])
-    write_episodes_csv(board.results, written[2])
+    write_episodes_csv(board.results, written[2], board.ship_name)
     if not plots:
         return written
     written.append(plot_scores(board.tables, out / SCORES_PLOT))
     headline = board.headline()
     if headline:
         xlabel = f"normalised score (1 = {REFERENCES[COURSE_CHANGE]}), lower is better"
-        written.append(plot_aggregate(headline, ["IQM", "Mean"], xlabel, out / HEADLINE_PLOT))
+        title = f"CourseChange, nominal ship, all seas together ({board.ship_name})"
+        written.append(plot_aggregate(headline, ["IQM", "Mean"], xlabel, title, out / HEADLINE_PLOT))
     task, label = SAMPLE_COURSE_CHANGE
     suite = _nominal_suite(board, task) or _nominal_suite(board, "CourseChange calm")
     if suite is not None:
         episode = next((e for e in suite.episodes if e.label == label), suite.episodes[0])
         runs = {e.name: sail_recorded(e, suite, episode)[0] for e in board.entrants if e.env_id == COURSE_CHANGE}
         change = float(episode.options["course_change_deg"])
-        title = f"{suite.name}: {episode.label} (seed {episode.seed})"
+        title = f"{suite.name} on {suite.ship_name}: {episode.label} (seed {episode.seed})"
         written.append(plot_course_changes(runs, title, change, out / COURSE_CHANGE_PLOT))
     suite = _nominal_suite(board, "TrackFollow")
     if suite is not None:
@@ -232,6 +239,6 @@ def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list
         task_sailed = next(iter(recorded.values()))[1]
         assert isinstance(task_sailed, TrackFollowTask)  # the TrackFollow suite's
         runs = {name: states for name, (states, _) in recorded.items()}
-        title = f"{suite.name}: {episode.label} (seed {episode.seed})"
+        title = f"{suite.name} on {suite.ship_name}: {episode.label} (seed {episode.seed})"
         written.append(plot_tracks(runs, task_sailed, episode.options["track"], title, out / TRACK_PLOT))
     return written

@@ -11,7 +11,7 @@ import dataclasses
 from pathlib import Path
 from typing import Any
 
-from ship_env.command_line import Command, add_progress_argument, number, whole_number
+from ship_env.command_line import Command, add_progress_argument, number, ship_preset, whole_number
 from ship_env.envs.tracks import TRACK_IDS
 from ship_env.extras import require
 from ship_env.leaderboard.evaluation import BACKENDS
@@ -29,6 +29,7 @@ def chosen_spec(args: argparse.Namespace) -> SuiteSpec:
         "conditions": None if args.conditions is None else [_CONDITIONS_BY_SLUG[s] for s in args.conditions],
         "course_change_disturbances": args.disturbances,
         "repetitions": args.repetitions,
+        "ship": args.ship,
     }
     changes: dict[str, Any] = {
         name: tuple(value) if isinstance(value, list) else value for name, value in choices.items() if value is not None
@@ -44,6 +45,15 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
     from ship_env.rl.policy_file import PolicyFileError
 
     check_backend(args.backend, args.ray_address)
+    if args.ship is not None:
+        from ship_env.leaderboard.entrants import check_design_ship
+
+        if args.suite == "unseen":
+            args.command_parser.error("argument --ship: the unseen suite sails its own ship, the MMG KVLCC2")
+        try:
+            check_design_ship(args.ship)
+        except ValueError as error:
+            args.command_parser.error(f"argument --ship: {error}")
     try:
         board = run_leaderboard(
             chosen_spec(args),
@@ -59,7 +69,7 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
     print(board.markdown())
     episodes = len(board.results)
     print(
-        f"\n{episodes} episodes, {len(board.entrants)} controllers, {len(board.suites)} suites: "
+        f"\n{episodes} episodes, {len(board.entrants)} controllers, {len(board.suites)} suites on {board.ship_name}: "
         f"{board.wall_time_s:.1f} s on the {args.backend} backend"
     )
     written = write_leaderboard(board, args.out, plots=not args.no_plots)
@@ -78,6 +88,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "report: course changes, seeds and track starts no screen sailed; unseen: the dev episodes on "
         "shipmmg's MMG KVLCC2 (calm, wind and current, tracks scaled to 320 m; needs shipmmg) "
         "(default: %(default)s)",
+    )
+    parser.add_argument(
+        "--ship",
+        type=ship_preset,
+        default=None,
+        metavar="FILE",
+        help="the ship sailed: a preset name or a ship YAML (say one written by ship-env fit ... --preset); the "
+        "classic autopilots are designed from its values, the conditions scale its K*, tau* and speed, and the "
+        "learned entrants sail it, named as trained on another ship where they were (default: container_226m; "
+        "not with --suite unseen)",
     )
     parser.add_argument(
         "--policies",
@@ -157,9 +177,11 @@ COMMAND = Command(
         "course changer (TrackFollow), the shipped policies and the policy files given - on fixed,\n"
         "seeded suites: CourseChange (dev 15..105, test 10..120 deg both ways, calm / wind and current / waves) and\n"
         "TrackFollow (T1..T6), on the nominal ship, with its K*, tau* off by 2x from the controllers'\n"
-        "design values, and at half speed. Prints a ranked table per suite and writes it as markdown\n"
-        "and CSV with plots. Learned policies sail every episode with each training seed; each table gives\n"
-        "the IQM of its ranking metric and of the normalised score (1 = the fixed PD, or the predictor\n"
+        "design values, and at half speed. The ship is container_226m, or --ship's (a preset or a fitted\n"
+        "preset's YAML), whose own values the classic autopilots are designed from. Prints a ranked\n"
+        "table per suite and writes it as markdown and CSV with plots. Learned policies sail every\n"
+        "episode with each training seed; each table gives the IQM of its ranking metric and of the\n"
+        "normalised score (1 = the fixed PD, or the predictor\n"
         "course changer on TrackFollow) with 95 % stratified-bootstrap intervals over training seeds\n"
         "and episodes (rliable), and each learned policy's probability of improvement over the best\n"
         "classic autopilot: better where that interval lies above parity (0.5), worse where below, tied\n"
@@ -172,6 +194,7 @@ COMMAND = Command(
         "ship-env leaderboard --suite test --tracks",
         "ship-env leaderboard --suite full --backend ray --out leaderboard_full",
         "ship-env leaderboard --policies runs/CourseChange-v0/ppo --conditions nominal --tracks",
+        "ship-env leaderboard --ship fitted.yaml --tracks",
     ),
     handler=run_leaderboard_command,
     arguments=add_arguments,

@@ -6,7 +6,10 @@ how the episodes are split between workers). Entrants hold names and paths only:
 Ray workers as they are.
 
 Classic controllers are designed for the nominal ship: they are built from a
-:class:`DesignedTask`, the sailed task with the nominal model in place of the sailed one.
+:class:`DesignedTask`, the sailed task with the nominal model in place of the sailed one. On a
+board sailing another ship (``ship-env leaderboard --ship``) that is the given ship's model, so the
+autopilots are designed from its own K*, tau*, length and speed (:func:`check_design_ship` refuses a
+ship that lacks one). A learned entrant trained on another ship than the board's says so in its name.
 """
 
 from __future__ import annotations
@@ -28,8 +31,8 @@ from ship_env.baselines.presys import (
     track_follow_controller,
 )
 from ship_env.envs.task import ShipTask, observation_keywords
-from ship_env.leaderboard.suites import COURSE_CHANGE, TRACK_FOLLOW
-from ship_env.model import ShipModel
+from ship_env.leaderboard.suites import COURSE_CHANGE, DEFAULT_SHIP, TRACK_FOLLOW, ship_name
+from ship_env.model import Ship, ShipModel, load_ship
 from ship_env.rl.policy_file import PolicyFile, PolicyFileError, read_policy_file, seed_models
 from ship_env.rl.shipped import shipped_entrants
 
@@ -43,6 +46,48 @@ CLASSIC_BUILDERS: dict[str, dict[str, Callable[[Any], Controller]]] = {
     },
     TRACK_FOLLOW: {"predictor course changer": track_follow_controller},
 }
+
+
+#: The ship's values the classic autopilots are designed from (:mod:`ship_env.baselines.presys`):
+#: K*, tau* (every autopilot) and the rudder rate (the predictor course changer).
+DESIGN_PARAMETERS = ("yaw.gain", "yaw.time_constant", "steering_machine.rudder_rate")
+
+
+def check_design_ship(ship: str) -> Ship:
+    """The ship ``ship`` (a preset name or a ship YAML path) checked for what the classic autopilots
+    are designed from (:data:`DESIGN_PARAMETERS`); ``ValueError`` naming the file and the field it lacks."""
+    preset = load_ship(ship)
+    model = ShipModel(preset)
+    for key in DESIGN_PARAMETERS:
+        try:
+            model.parameter(key)
+        except KeyError:
+            effect, _, name = key.partition(".")
+            raise ValueError(
+                f"{preset.path or ship}: effects.{effect}.{name}: missing; the classic autopilots are designed from it"
+            ) from None
+    return preset
+
+
+def _same_ship(first: Ship, second: Ship) -> bool:
+    """Whether two presets describe the same ship: the same particulars, effects on and values."""
+    return (first.principal, first.values, first.enabled) == (second.principal, second.values, second.enabled)
+
+
+def trained_elsewhere(policy_file: PolicyFile, board_ship: str) -> str | None:
+    """The ship a policy was trained on (its metadata's ``ship`` keyword: a preset's name, or the
+    file as recorded where it cannot be read here) when it is not ``board_ship``; ``None`` when it
+    is the same ship or the policy has no metadata."""
+    if policy_file.metadata is None:
+        return None
+    trained = str(policy_file.metadata.env_kwargs.get("ship", DEFAULT_SHIP))
+    try:
+        trained_ship = load_ship(trained)
+    except (OSError, TypeError, ValueError):
+        return trained
+    if _same_ship(trained_ship, load_ship(board_ship)):
+        return None
+    return trained_ship.name if trained_ship.name != ship_name(board_ship) else trained
 
 
 class DesignedTask:
@@ -121,6 +166,7 @@ def policy_entrants(
     env_spaces: Mapping[str, tuple[spaces.Space, spaces.Space]],
     shipped: bool = True,
     trust_policy_code: bool = False,
+    ship: str = DEFAULT_SHIP,
 ) -> list[Entrant]:
     """Learned entrants: the shipped policies (if ``shipped``) and the policies at ``paths``.
 
@@ -133,7 +179,10 @@ def policy_entrants(
     ``PolicyFileError`` names a given file that fits none of them (another environment, other
     spaces), whose seeds were trained on different environments, or that cannot be read without
     running its code. With ``trust_policy_code`` the files at ``paths`` are read by unpickling them,
-    which runs any code they carry; the shipped ones are always read without.
+    which runs any code they carry; the shipped ones are always read without. An entrant trained on
+    another ship than ``ship``, the board's (:func:`trained_elsewhere`), is named
+    ``"<algo> (<label>, trained on <that ship>)"``; the observation options it was trained with are
+    kept, its ship is not: it sails the board's.
     """
     labelled = []
     for folder in shipped_entrants() if shipped else []:
@@ -168,15 +217,16 @@ def policy_entrants(
         for env_id in fitting:
             pair = env_spaces[env_id]
             if observation_kwargs:
-                env = gym.make(env_id, **observation_kwargs)
+                env = gym.make(env_id, ship=ship, **observation_kwargs)
                 pair = (env.observation_space, env.action_space)
                 env.close()
             for policy_file in files:
                 policy_file.check(env_id, *pair)
         policies = tuple(policy_file.path for policy_file in files)
         observed = tuple(sorted(observation_kwargs.items()))
+        elsewhere = trained_elsewhere(first, ship)
+        name = f"{first.algo} ({label})" if elsewhere is None else f"{first.algo} ({label}, trained on {elsewhere})"
         entrants += [
-            Entrant(f"{first.algo} ({label})", env_id, "learned", policies, _training_seeds(files), observed, trusted)
-            for env_id in fitting
+            Entrant(name, env_id, "learned", policies, _training_seeds(files), observed, trusted) for env_id in fitting
         ]
     return entrants

@@ -28,12 +28,13 @@ KIND_COLOURS = {"classic": "tab:blue", "learned": "tab:orange", "human": "0.6"}
 def plot_scores(tables: Sequence[Table], path: Path) -> Path:
     """Each suite's normalised scores (IQM, 1 = the reference autopilot, lower is better) as points
     with their 95 % intervals, one panel per suite (conditions in rows), on an axis from 0; an
-    entrant without an interval is drawn hollow. Returns ``path``."""
+    entrant without an interval is drawn hollow, under a title naming the ship sailed. Returns ``path``."""
     tasks = list(dict.fromkeys(table.suite.task for table in tables))
     conditions = list(dict.fromkeys(table.suite.condition.name for table in tables))
     drawing = Drawing(figsize=(5.2 * len(tasks), 2.8 * len(conditions)), layout="constrained")
     FigureCanvasAgg(drawing)
     panels = drawing.subplots(len(conditions), len(tasks), squeeze=False)
+    drawing.suptitle(f"normalised scores on {tables[0].suite.ship_name}")
     for row in panels:
         for axes in row:
             axes.set_axis_off()
@@ -62,10 +63,10 @@ def plot_scores(tables: Sequence[Table], path: Path) -> Path:
 
 
 def plot_aggregate(
-    estimates: Mapping[str, Sequence[Estimate]], metric_names: Sequence[str], xlabel: str, path: Path
+    estimates: Mapping[str, Sequence[Estimate]], metric_names: Sequence[str], xlabel: str, title: str, path: Path
 ) -> Path:
     """rliable's interval-estimates figure (a bar per entrant spanning its 95 % interval, a tick at
-    the point estimate), one panel per metric, each axis from 0; returns ``path``."""
+    the point estimate) under ``title``, one panel per metric, each axis from 0; returns ``path``."""
     import matplotlib.pyplot as pyplot
     from rliable import plot_utils
 
@@ -78,6 +79,7 @@ def plot_aggregate(
     for k, axes in enumerate(np.atleast_1d(panels)):
         axes.set_xlim(0.0, 1.05 * max(float(intervals[name][1, k]) for name in names))
         axes.axvline(1.0, color="0.5", linestyle="--", linewidth=1.0)
+    figure.suptitle(title)
     figure.savefig(path, dpi=90, bbox_inches="tight")
     pyplot.close(figure)
     return path

@@ -32,6 +32,10 @@ The named suites (:data:`SUITE_SPECS`) select on some episodes and report on oth
   (:mod:`ship_env.model.mmg_kvlcc2`) through the external-dynamics protocol
   (:mod:`ship_env.model.external`), the autopilots designed from the ``kvlcc2`` preset fitted to it.
 
+Every spec but ``unseen`` sails :data:`DEFAULT_SHIP` unless its ``ship`` names another (a preset name
+or a ship YAML, such as a fitted preset): the environments then sail that ship, the classic autopilots
+are designed from its values, and the robustness conditions scale its K*, tau* and speed.
+
 Seeds: episode k of a suite's r-th repetition has seed ``first_seed + SEED_STRIDE * r + k``, so the
 dev suite's episodes are the first repetition of the full suite's.
 """
@@ -41,13 +45,14 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cache
 from typing import Any
 
 import gymnasium as gym
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG, TRACK_IDS
-from ship_env.model import ShipModel
+from ship_env.model import ShipModel, load_ship
 
 COURSE_CHANGE = "ship_env/CourseChange-v0"
 TRACK_FOLLOW = "ship_env/TrackFollow-v0"
@@ -61,6 +66,15 @@ TEST_COURSE_CHANGES_DEG = (10.0, 20.0, 40.0, 60.0, 90.0, 120.0)
 TEST_FIRST_SEED = 10_000
 #: TrackFollow's start from the first waypoint (the thesis's run of the whole track).
 FIRST_WAYPOINT = "first_waypoint"
+#: The ship the environments sail without a ``ship`` keyword.
+DEFAULT_SHIP = "container_226m"
+
+
+@cache
+def ship_name(ship: str) -> str:
+    """The name of the ship ``ship`` (a preset name or a ship YAML path) as the tables print it:
+    its preset's ``name``."""
+    return load_ship(ship).name
 
 
 @dataclass(frozen=True)
@@ -174,6 +188,16 @@ class Suite:
         return f"{self.task} | {self.condition.name}"
 
     @property
+    def ship(self) -> str:
+        """The ship sailed: the ``ship`` keyword (a preset name or a YAML path), else :data:`DEFAULT_SHIP`."""
+        return str(self.env_kwargs.get("ship", DEFAULT_SHIP))
+
+    @property
+    def ship_name(self) -> str:
+        """The name of the ship sailed (:func:`ship_name`)."""
+        return ship_name(self.ship)
+
+    @property
     def metrics(self) -> tuple[Metric, ...]:
         """The figures of this suite's table; the first ranks it."""
         return METRICS[self.env_id]
@@ -221,6 +245,8 @@ class SuiteSpec:
         course_change_disturbances: the CourseChange disturbance levels, one suite each.
         first_seed: the seed of the first episode (:data:`SEED_STRIDE` apart per repetition).
         track_start: TrackFollow's ``start`` (:data:`~ship_env.envs.track_follow_task.STARTS`).
+        ship: the ship sailed and designed for, a preset name or a ship YAML path; ``None``: the
+            environments' own, :data:`DEFAULT_SHIP` (no ``ship`` keyword given).
     """
 
     course_changes_deg: tuple[float, ...] = THESIS_COURSE_CHANGES_DEG
@@ -230,12 +256,14 @@ class SuiteSpec:
     course_change_disturbances: tuple[str, ...] = COURSE_CHANGE_DISTURBANCES
     first_seed: int = 0
     track_start: str = FIRST_WAYPOINT
+    ship: str | None = None
 
     def suites(self) -> list[Suite]:
         """The suites, condition by condition: CourseChange per disturbance, then TrackFollow."""
         course_changes = course_change_episodes(self.course_changes_deg, self.repetitions, self.first_seed)
         tracks = track_episodes(self.tracks, self.repetitions, self.first_seed)
         start = {} if self.track_start == FIRST_WAYPOINT else {"start": self.track_start}
+        ship = {} if self.ship is None else {"ship": self.ship}
         suites = []
         for condition in self.conditions:
             for disturbance in self.course_change_disturbances:
@@ -243,13 +271,13 @@ class SuiteSpec:
                     Suite(
                         f"CourseChange {disturbance}",
                         COURSE_CHANGE,
-                        {"disturbance": disturbance},
+                        {**ship, "disturbance": disturbance},
                         condition,
                         course_changes,
                     )
                 )
             if tracks:
-                track_kwargs = {**track_env_kwargs(condition), **start}
+                track_kwargs = {**ship, **track_env_kwargs(condition), **start}
                 suites.append(Suite("TrackFollow", TRACK_FOLLOW, track_kwargs, condition, tracks))
         return suites
 
@@ -287,13 +315,15 @@ class UnseenSuiteSpec(SuiteSpec):
     model has no wave forces), and TrackFollow in the thesis's wind and current on its tracks scaled
     by :data:`UNSEEN_TRACK_SCALE`, given proportionally more time (longer tracks, a slower ship).
     The episodes (seeds, changes, tracks) are the other suites'; ``conditions`` is not used (the
-    ship is :data:`MMG_KVLCC2`).
+    ship is :data:`MMG_KVLCC2`), nor may ``ship`` be given.
     """
 
     course_change_disturbances: tuple[str, ...] = ("calm", "wind_current")
 
     def suites(self) -> list[Suite]:
         """CourseChange per disturbance level, then TrackFollow, on the MMG KVLCC2."""
+        if self.ship is not None:
+            raise ValueError(f"ship {self.ship}: the unseen suite sails its own ship, the MMG KVLCC2")
         if "wind_current_waves" in self.course_change_disturbances:
             raise ValueError("disturbances: the MMG KVLCC2 has no wave forces; sail calm or wind_current")
         course_changes = course_change_episodes(self.course_changes_deg, self.repetitions)

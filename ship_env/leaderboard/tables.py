@@ -278,7 +278,7 @@ def _cell(value: float, digits: int) -> str:
 
 
 def markdown(table: Table) -> str:
-    """The table in markdown, with a heading naming the suite, each learned entrant's verdict
+    """The table in markdown, with a heading naming the suite and the ship, each learned entrant's verdict
     against the best classic autopilot in its row and, below, the comparisons in words."""
     suite = table.suite
     ranking = suite.metrics[0]
@@ -287,7 +287,7 @@ def markdown(table: Table) -> str:
     others = suite.metrics[1:]
     found = {c.learned: c for c in comparisons(table)}
     lines = [
-        f"### {suite.name}",
+        f"### {suite.name} on {suite.ship_name}",
         "",
         f"{len(suite.episodes)} episode(s) per training seed; ranked by the IQM of {ranking.heading}, lower is better; "
         f"95 % stratified-bootstrap intervals (rliable) over seeds and episodes; normalised: 1 = {reference}; "
@@ -346,7 +346,7 @@ def verdicts_markdown(tables: Sequence[Table]) -> str:
     if not rows:
         return ""
     lines = [
-        "### Learned entrants against the best classic autopilot: better, tied or worse",
+        f"### Learned entrants against the best classic autopilot: better, tied or worse ({tables[0].suite.ship_name})",
         "",
         "Normalised IQM [95 % CI] (1 = the reference autopilot, lower is better). Verdict from the 95 % interval "
         "of the probability of improvement over the best classic autopilot (the lowest IQM): better where it lies "
@@ -375,7 +375,7 @@ def _estimate_cells(estimate: Estimate | None) -> list[str]:
 
 
 def write_csv(tables: Sequence[Table], path: Path) -> None:
-    """Every table's rows in one CSV: suite, task, condition, rank, controller, kind, counts, the
+    """Every table's rows in one CSV: suite, ship, task, condition, rank, controller, kind, counts, the
     estimates with their interval bounds (empty: no interval), a learned entrant's verdict, the
     metrics' aggregates."""
     keys = list(dict.fromkeys(metric.key for table in tables for metric in table.suite.metrics))
@@ -383,26 +383,29 @@ def write_csv(tables: Sequence[Table], path: Path) -> None:
     estimates.append("verdict")
     with Path(path).open("w", newline="") as handle:
         writer = csv.writer(handle)
-        head = ["suite", "task", "condition", "rank", "controller", "kind", "seeds", "episodes", "completed"]
+        head = ["suite", "ship", "task", "condition", "rank", "controller", "kind", "seeds", "episodes", "completed"]
         writer.writerow([*head, *estimates, *keys])
         for table in tables:
             suite = table.suite
             verdicts = {c.learned: c.verdict for c in comparisons(table)}
             for s in table.standings:
-                row = [suite.name, suite.task, suite.condition.name, s.rank, s.entrant, s.kind, s.seeds, s.episodes]
+                row = [suite.name, suite.ship_name, suite.task, suite.condition.name, s.rank, s.entrant, s.kind]
+                row += [s.seeds, s.episodes]
                 cells = [*_estimate_cells(s.score), *_estimate_cells(s.normalised), *_estimate_cells(s.improvement)]
                 cells.append(verdicts.get(s.entrant, ""))
                 values = [repr(s.values[key]) if key in s.values else "" for key in keys]
                 writer.writerow([*row, s.completed, *cells, *values])
 
 
-def write_episodes_csv(results: Sequence[EpisodeResult], path: Path) -> None:
-    """Every episode: suite, controller, kind, training seed, episode, seed, finished, its metrics."""
+def write_episodes_csv(results: Sequence[EpisodeResult], path: Path, ship: str) -> None:
+    """Every episode: suite, ``ship`` (the name of the ship sailed), controller, kind, training seed,
+    episode, seed, finished, its metrics."""
     keys = list(dict.fromkeys(key for result in results for key in result.metrics))
     with Path(path).open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow(["suite", "controller", "kind", "training_seed", "episode", "seed", "finished", *keys])
+        head = ["suite", "ship", "controller", "kind", "training_seed", "episode", "seed", "finished"]
+        writer.writerow([*head, *keys])
         for r in results:
             values = [repr(r.metrics[key]) if key in r.metrics else "" for key in keys]
             training_seed = "" if r.training_seed is None else r.training_seed
-            writer.writerow([r.suite, r.entrant, r.kind, training_seed, r.episode, r.seed, r.finished, *values])
+            writer.writerow([r.suite, ship, r.entrant, r.kind, training_seed, r.episode, r.seed, r.finished, *values])

@@ -29,7 +29,7 @@ from __future__ import annotations
 import importlib
 import inspect
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -101,6 +101,10 @@ class AgentConfig:
     def algorithm(self) -> type[BaseAlgorithm]:
         """The stable-baselines3 class."""
         return algorithm_class(self.algo)
+
+    def on_ship(self, ship: str) -> AgentConfig:
+        """This config sailing ``ship`` (a preset name or a ship YAML path): its ``env_kwargs``' ``ship`` replaced."""
+        return replace(self, env_kwargs={**self.env_kwargs, "ship": ship})
 
 
 def algorithm_class(algo: str) -> type[BaseAlgorithm]:

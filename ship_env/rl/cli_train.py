@@ -11,7 +11,7 @@ import shlex
 import time
 from pathlib import Path
 
-from ship_env.command_line import Command, add_progress_argument, whole_number
+from ship_env.command_line import Command, add_progress_argument, ship_preset, whole_number
 from ship_env.extras import require
 from ship_env.ray_cluster import add_backend_arguments
 from ship_env.rl.agents import ALGORITHMS, DEFAULT_TORCH_THREADS
@@ -30,6 +30,8 @@ def default_out(env_id: str, algo: str) -> Path:
 def reproducing_command(args: argparse.Namespace, seed: int, out: Path) -> str:
     """The ``ship-env train`` command line that repeats one seed's run, every choice spelled out."""
     words = ["ship-env", "train", "--algo", args.algo, "--env", args.env, "--seed", str(seed)]
+    if args.ship is not None:
+        words += ["--ship", args.ship]
     if args.steps is not None:
         words += ["--steps", str(args.steps)]
     if args.config is not None:
@@ -76,6 +78,8 @@ def run_train(args: argparse.Namespace) -> int:
         config = load_agent_config(args.algo, args.env, args.config)
     except ValueError as error:
         args.command_parser.error(f"argument --env/--config: {error}")
+    if args.ship is not None:
+        config = config.on_ship(args.ship)
     runs = seed_runs(args)
     try:
         for run in runs:
@@ -132,6 +136,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--algo", choices=list(ALGORITHMS), required=True, help="the algorithm")
     parser.add_argument(
         "--env", default=DEFAULT_ENV, metavar="ID", help="the Gymnasium environment id (default: %(default)s)"
+    )
+    parser.add_argument(
+        "--ship",
+        type=ship_preset,
+        default=None,
+        metavar="FILE",
+        help="the ship trained on: a preset name or a ship YAML (say one written by ship-env fit ... --preset), "
+        "in place of the config's env_kwargs ship (default: the config's, else container_226m)",
     )
     parser.add_argument(
         "--steps",
@@ -202,6 +214,7 @@ COMMAND = Command(
         "save model.zip with metadata.json (environment and its kwargs, config, seed, steps, wall\n"
         "time, package versions, the command that reproduces the run). --seeds trains several seeds,\n"
         "one after another or as Ray tasks (--backend ray), each the same run as its own --seed command.\n"
+        "--ship trains on another ship (a fitted preset's YAML), recorded as the env kwargs' ship.\n"
         "--trained-agent continues a saved agent instead of new weights (fine-tuning it on other\n"
         "environment options), recorded in the metadata with the file's SHA-256.\n"
         "A folder that already holds a run is not overwritten without --force. TensorBoard logs go to\n"
@@ -212,6 +225,7 @@ COMMAND = Command(
         "ship-env train --algo ppo --env ship_env/CourseChange-v0",
         "ship-env train --algo ppo --env ship_env/CourseChange-v0 --seeds 0-4 --backend ray",
         "ship-env train --algo sac --env ship_env/CourseChange-v0 --steps 50000 --seed 3 --out runs/sac3",
+        "ship-env train --algo ppo --env ship_env/CourseChange-v0 --ship fitted.yaml --seeds 0-4 --out runs/fitted",
         "ship-env train --algo ppo --env ship_env/TrackFollow-v0 --seeds 0-4 --config tuned.yaml "
         "--trained-agent ship_env/policies/TrackFollow-v0/ppo",
     ),

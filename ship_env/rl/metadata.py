@@ -43,7 +43,8 @@ class PolicyMetadata:
 
     Attributes:
         env_id: the Gymnasium id trained on.
-        env_kwargs: the environment's keyword arguments.
+        env_kwargs: the environment's keyword arguments (``ship``: the ship trained on, when not
+            the environments' default; the leaderboard names a policy sailing another ship by it).
         algo: the algorithm's name (``ppo``, ``sac``).
         config: the agent config entry used (:meth:`~ship_env.rl.agents.AgentConfig.entry`).
         config_file: where the entry was read from.

@@ -129,22 +129,20 @@ def envelope_info(episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
     ``quantity`` (:data:`ENVELOPE_QUANTITIES`), ``step`` (the simulator step of the episode),
     ``time`` (s), ``value`` and ``limit`` (SI units); while inside ``""``, -1 and 0 (not NaN: an
     info must equal itself, as Gymnasium's checker asks)."""
+    codes = episodes["envelope_quantity"][ships]
     if isinstance(ships, slice):
-        codes = episodes["envelope_quantity"][ships]
         return {
             "inside": codes == INSIDE,
             "quantity": _QUANTITY_NAMES[codes],
             **{key: episodes[f"envelope_{key}"][ships] for key in ("step", "time", "value", "limit")},
         }
-    episode = episodes[ships]
-    code = int(episode["envelope_quantity"])
-    if code == INSIDE:  # the common case, without reading the record's other fields
+    if codes == INSIDE:  # the common case, without reading the record's other fields
         return {"inside": True, "quantity": "", "step": -1, "time": 0.0, "value": 0.0, "limit": 0.0}
     return {
         "inside": False,
-        "quantity": ENVELOPE_QUANTITIES[code],
-        "step": int(episode["envelope_step"]),
-        "time": float(episode["envelope_time"]),
-        "value": float(episode["envelope_value"]),
-        "limit": float(episode["envelope_limit"]),
+        "quantity": ENVELOPE_QUANTITIES[codes],
+        "step": int(episodes["envelope_step"][ships]),
+        "time": float(episodes["envelope_time"][ships]),
+        "value": float(episodes["envelope_value"][ships]),
+        "limit": float(episodes["envelope_limit"][ships]),
     }

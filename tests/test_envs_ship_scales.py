@@ -115,7 +115,7 @@ def test_a_ship_pushed_out_of_its_envelope_says_where_and_why():
     (the rate grows from 0), then out on the rate, at the first step whose rate of turn crosses it."""
     env = gym.make(COURSE_CHANGE, ship="kvlcc2").unwrapped
     limit = math.radians(0.5)
-    env.task.envelope_limits[0]["maximum_rate"] = limit
+    env.task.parameters[0]["maximum_rate"] = limit
     _, info = env.reset(seed=0)
     assert info["envelope"]["inside"] and info["envelope"]["quantity"] == ""
     rates = []
@@ -139,7 +139,7 @@ def test_the_vector_env_reports_each_ships_envelope():
     full rudder leave on the rate, the one amidships stays inside (calm water, no noise in the state)."""
     env = CourseChangeVectorEnv(num_envs=3, ship="esso_osaka_model", sensor_noise_scale=0.0)
     task = env.task
-    env.task.envelope_limits[0]["maximum_rate"] = 0.5 * task.full_rudder_rate_per_speed * task.model.service_speed
+    env.task.parameters[0]["maximum_rate"] = 0.5 * task.full_rudder_rate_per_speed * task.model.service_speed
     env.reset(seed=0)
     orders = np.array([[1.0], [0.0], [-1.0]], dtype=np.float32)
     for _ in range(100):

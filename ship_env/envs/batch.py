@@ -38,19 +38,19 @@ from ship_env.model.simulator import batch_loop
 # The loop over a batch's ships, written once: serially (range) or on all cores (prange).
 _UPDATE_LOOP = """
 @{decorator}
-def {name}(restarted_only, envelope, ship, *arrays):
+def {name}(restarted_only, ship, *arrays):
     arrays = borrowed(arrays)
-    states, conditions, step_index, episodes = arrays[0], arrays[1], arrays[3], arrays[4]
+    states, conditions, step_index, episodes, task = arrays[0], arrays[1], arrays[3], arrays[4], arrays[6]
     for i in {ships}(episodes.shape[0]):
         if episodes[i]["restarted"] or not restarted_only:
-            check_envelope(states[i], conditions[i], step_index[i], episodes[i], envelope[0], ship[0])
+            check_envelope(states[i], conditions[i], step_index[i], episodes[i], task[0], ship[0])
             update_ship(i, *arrays)
 """
 #: The loops over a batch's ships, compiled into a task module by :func:`define_update_loops`: the
-#: envelope's check (:func:`~ship_env.envs.envelope.check_envelope`, of the task's ``envelope_limits``
-#: and the model's record) and its ``update_ship(i, states, conditions, noise_keys, step_index, episodes,
-#: metrics, *task_arrays)`` for every ship, or with ``restarted_only`` for those just restarted; the
-#: arrays borrowed (no reference counts).
+#: envelope's check (:func:`~ship_env.envs.envelope.check_envelope`: the limits in the task's parameter
+#: record, its first task array; the model's record for the sway) and its ``update_ship(i, states,
+#: conditions, noise_keys, step_index, episodes, metrics, *task_arrays)`` for every ship, or with
+#: ``restarted_only`` for those just restarted; the arrays borrowed (no reference counts).
 UPDATE_LOOPS_SOURCE = "\n".join(
     (
         "from numba import prange",
@@ -158,8 +158,8 @@ class ShipBatch:
     """N ships of one task in one :class:`~ship_env.model.Simulator`.
 
     Subclasses set ``task_fields`` (their episode record's own fields), ``metrics_dtype``,
-    ``update_serial`` and ``update_parallel`` (compiled loops called as ``loop(restarted_only,
-    state, conditions, noise_keys, step_index, episodes, metrics, *task.kernel_arguments)``), and
+    ``update_serial`` and ``update_parallel`` (compiled loops called as ``loop(restarted_only, model
+    record, state, conditions, noise_keys, step_index, episodes, metrics, *task.kernel_arguments)``), and
     implement :meth:`start_episode` and :meth:`task_info`.
 
     After ``restart`` or a simulator step, ``update`` fills each ship's ``episodes`` record
@@ -316,7 +316,6 @@ class ShipBatch:
         simulator = self.simulator
         self._update(
             restarted_only,
-            self.task.envelope_limits,
             self.task.model.record,
             simulator.state,
             simulator.conditions,

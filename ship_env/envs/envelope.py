@@ -46,35 +46,25 @@ ENVELOPE_FIELDS = (
     ("envelope_limit", np.float64),  # the limit it crossed
 )
 
-#: The limits as the compiled check reads them; an unstated limit is -inf (minimum) or inf (maximum).
-LIMITS_DTYPE = np.dtype(
-    [
-        ("minimum_speed", np.float64),
-        ("minimum_froude", np.float64),
-        ("maximum_drift", np.float64),
-        ("maximum_rate", np.float64),
-        ("propeller_ahead_only", np.bool_),
-        ("froude_speed", np.float64),  # m/s, sqrt(g L)
-    ]
-)
 
-
-def envelope_limits(model: ShipModel) -> np.ndarray:
-    """``model``'s envelope (its preset's, widened by its effects') as one :data:`LIMITS_DTYPE` record."""
+def envelope_limits(model: ShipModel) -> dict[str, float | bool]:
+    """``model``'s envelope (its preset's, widened by its effects') as the compiled check reads it from the
+    task's parameter record (:meth:`~ship_env.envs.task.ShipTask.parameter_record`): ``minimum_speed``,
+    ``minimum_froude``, ``maximum_drift``, ``maximum_rate`` (an unstated limit -inf or inf),
+    ``propeller_ahead_only`` and ``froude_speed`` (m/s, sqrt(g L))."""
     envelope = model.envelope
-    record = np.zeros(1, dtype=LIMITS_DTYPE)
-    limits = record[0]
 
     def given(value: float | None, unstated: float) -> float:
         return unstated if value is None else value
 
-    limits["minimum_speed"] = given(envelope.minimum_speed, -math.inf)
-    limits["minimum_froude"] = given(envelope.minimum_froude, -math.inf)
-    limits["maximum_drift"] = given(envelope.maximum_drift, math.inf)
-    limits["maximum_rate"] = given(envelope.maximum_rate, math.inf)
-    limits["propeller_ahead_only"] = bool(envelope.propeller_ahead_only)
-    limits["froude_speed"] = math.sqrt(GRAVITY * model.length)
-    return record
+    return {
+        "minimum_speed": given(envelope.minimum_speed, -math.inf),
+        "minimum_froude": given(envelope.minimum_froude, -math.inf),
+        "maximum_drift": given(envelope.maximum_drift, math.inf),
+        "maximum_rate": given(envelope.maximum_rate, math.inf),
+        "propeller_ahead_only": bool(envelope.propeller_ahead_only),
+        "froude_speed": math.sqrt(GRAVITY * model.length),
+    }
 
 
 @kernel
@@ -90,7 +80,7 @@ def _leave(episode, quantity, step, time, value, limit):
 @kernel
 def check_envelope(state, conditions, step, episode, limits, ship):
     """Check one ship's ``state`` after a step (or its start: ``episode["restarted"]`` clears the record)
-    against the ``limits`` record (:func:`envelope_limits`); ``ship`` is the model's parameter record,
+    against the ``limits`` of the task's parameter record (:func:`envelope_limits`); ``ship`` is the model's record,
     for its sway velocity. Only the first step outside is recorded."""
     if episode["restarted"]:
         episode["envelope_quantity"] = INSIDE

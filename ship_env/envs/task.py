@@ -159,7 +159,8 @@ class ShipTask:
         self.model = ShipModel(preset, effects, {**(ship_parameters or {}), "rudder_limit": self.rudder_limit})
         #: The ship's length, speed and time over the reference ship's (:mod:`ship_env.envs.ship_scales`).
         self.scales = ship_scales(self.model)
-        #: The model's validity envelope as the compiled check reads it (:mod:`ship_env.envs.envelope`).
+        #: The model's validity envelope, as the compiled check reads it from :meth:`parameter_record`
+        #: (:mod:`ship_env.envs.envelope`).
         self.envelope_limits = envelope_limits(self.model)
         self.dt = self.scales.dt if dt is None else float(dt)
         if fix_interval is None:
@@ -185,12 +186,14 @@ class ShipTask:
     def parameter_record(self, **values: float | bool) -> np.ndarray:
         """The task's constants as its compiled update reads them: one record with ``rudder_limit``
         (rad), ``full_rudder_rate_per_speed`` (K* delta_max / L) and ``observed_speed_scale`` (m/s:
-        the preset's service speed with ``observe_design_speed``, else 0: the episode's own), then
-        ``values`` (float64, or bool for a flag)."""
+        the preset's service speed with ``observe_design_speed``, else 0: the episode's own), the
+        envelope's ``envelope_limits``, then ``values`` (float64, or bool for a flag). It is the
+        first of the task's ``kernel_arguments``."""
         values = {
             "rudder_limit": self.rudder_limit,
             "full_rudder_rate_per_speed": self.full_rudder_rate_per_speed,
             "observed_speed_scale": self.model.service_speed if self.observe_design_speed else 0.0,
+            **self.envelope_limits,
             **values,
         }
         dtype = np.dtype([(name, np.bool_ if isinstance(v, bool) else np.float64) for name, v in values.items()])

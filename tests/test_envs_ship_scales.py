@@ -98,7 +98,6 @@ def test_the_classic_autopilots_complete_a_course_change_on_a_small_and_a_large_
     assert metrics["settling_time"] < episode_duration, f"{autopilot} did not settle on {ship}: {metrics}"
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("ship", SMALL_AND_LARGE)
 def test_the_predictor_course_changer_reaches_the_end_of_a_track_on_a_small_and_a_large_ship(ship):
     """In the thesis's wind and current in the ship's scales, from before a turn of T3 to its end."""

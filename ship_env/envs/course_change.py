@@ -92,7 +92,7 @@ class CourseChangeEnv(ShipEnv):
 
     The episode is truncated after ``max_episode_steps`` (600 in the registration: 600 s at the
     container ship's 1-s step). The default step is 1 s in units of the ship's L / U
-    (:mod:`ship_env.envs.ship_scales`: 0.37 s for a 3 m model at 0.35 m/s, 1.74 s for a 320 m tanker
+    (:mod:`ship_env.envs.ship_scales`: 0.36 s for a 3 m model at 0.35 m/s, 1.69 s for a 320 m tanker
     at 15.5 kn), so 600 steps span 26 L / U on every ship, time for a 105-deg change and its
     settling; with a ``dt`` of your own, give ``max_episode_steps`` in proportion. It never
     terminates: a course change has no terminal state. ``info["envelope"]`` says whether and where

@@ -1,8 +1,8 @@
 """The tasks' scales for a ship: its length and speed against the ship the tasks were drawn for.
 
 The tasks' constants were drawn for the thesis's ship, :data:`REFERENCE_SHIP` (``container_226m``,
-L_ref = 226 m at U_ref = 19 kn, L_ref / U_ref = 23 s): a control step of 1 s, course changes of 600
-steps, track legs of 2 to 2.5 nm, position fixes every 2 s with 5 m of noise. Any other ship sails
+L_ref = 225.87 m at U_ref = 9.5 m/s, L_ref / U_ref = 23.8 s): a control step of 1 s, course changes
+of 600 steps, track legs of 2 to 2.5 nm, position fixes every 2 s with 5 m of noise. Any other ship sails
 them as a geometrically similar ship at the same Froude number would (:class:`ShipScales`):
 
 - **time in units of L / U**: ``time = (L / U) / (L_ref / U_ref)``. The control step ``dt``, the

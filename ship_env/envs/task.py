@@ -71,7 +71,7 @@ class ShipTask:
             model's rudder limit).
         dt: the control step, s (one simulator step); ``None`` (default): the ship's, 1 s in units
             of L / U (:mod:`ship_env.envs.ship_scales`: 1 s for the 226 m container ship at 19 kn,
-            0.37 s for a 3 m model at 0.35 m/s), so an episode's steps span the same manoeuvre on
+            0.36 s for a 3 m model at 0.35 m/s), so an episode's steps span the same manoeuvre on
             every ship.
         sensor_noise_scale: multiplies ``sensors.SENSOR_NOISE`` (itself in the ship's scales: the
             position's in ship lengths, the log's in U, the gyro's in U / L); 0 gives noise-free

@@ -55,7 +55,7 @@ class TrackFollowEnv(ShipEnv):
     On another ship than the 226 m container ship at 19 kn the nm and the times are its own
     (:mod:`ship_env.envs.ship_scales`): the waypoint distance is over ``track_scale`` nm (L / 226 m,
     the tracks drawn in proportion), the fixes' interval, the rate's filter time (30 s) and the
-    arc time's minutes are in units of L / U (times (L / U) / 23 s), so a policy sees the same
+    arc time's minutes are in units of L / U (times (L / U) / 24 s), so a policy sees the same
     numbers on a geometrically similar ship at the same Froude number.
 
     With ``track_preview=True`` four more, the rounded reference track at and ahead of the fix's

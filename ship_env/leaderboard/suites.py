@@ -283,7 +283,7 @@ class UnseenSuiteSpec(SuiteSpec):
     CourseChange in calm water and in wind and current (``course_change_disturbances``; the MMG
     model has no wave forces), and TrackFollow in the thesis's wind and current. The tasks take their
     scales from the ship (:mod:`ship_env.envs.ship_scales`): the tracks in proportion to 320 m, the
-    control step 1 s in units of L / U (1.74 s), so the registered episode lengths hold.
+    control step 1 s in units of L / U (1.69 s), so the registered episode lengths hold.
     The episodes (seeds, changes, tracks) are the other suites'; ``conditions`` is not used (the
     ship is :data:`MMG_KVLCC2`).
     """

@@ -203,7 +203,7 @@ def test_classic_autopilots_complete_the_course_changes_on_the_mmg_ship(disturba
 
 def test_unseen_suite_sails_the_quick_episodes_on_the_mmg_ship_with_tracks_scaled_to_it():
     mmg_kvlcc2()
-    from ship_env.leaderboard.suites import SUITE_SPECS, TRACK_FOLLOW, UNSEEN_TRACK_SCALE
+    from ship_env.leaderboard.suites import SUITE_SPECS, TRACK_FOLLOW
 
     quick = {suite.task: suite.episodes for suite in SUITE_SPECS["quick"].suites()}
     unseen = SUITE_SPECS["unseen"].suites()
@@ -217,7 +217,8 @@ def test_unseen_suite_sails_the_quick_episodes_on_the_mmg_ship_with_tracks_scale
         env = gym.make(suite.env_id, **suite.env_kwargs)
         assert type(env.unwrapped.batch.simulator.adapters[0]).__name__ == "MmgKvlcc2"
         assert env.unwrapped.task.model.length == 320.0  # the kvlcc2 preset: what the bridge knows
-    native = gym.make(TRACK_FOLLOW).unwrapped.task.tracks["T3"].leg_lengths
-    np.testing.assert_allclose(env.unwrapped.task.tracks["T3"].leg_lengths, native * UNSEEN_TRACK_SCALE)
+    native = gym.make(TRACK_FOLLOW).unwrapped.task
+    scale = env.unwrapped.task.model.length / native.model.length  # 320 m / 225.87 m (ship_env.envs.ship_scales)
+    np.testing.assert_allclose(env.unwrapped.task.tracks["T3"].leg_lengths, native.tracks["T3"].leg_lengths * scale)
     with pytest.raises(ValueError, match="no wave forces"):
         SUITE_SPECS["unseen"].__class__(course_change_disturbances=("wind_current_waves",)).suites()

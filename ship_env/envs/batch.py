@@ -26,6 +26,7 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
+from ship_env.envs.envelope import ENVELOPE_FIELDS, envelope_info
 from ship_env.envs.sensors import MEASUREMENT_NAMES, MEASUREMENT_SIZE, measure, observe_motion
 from ship_env.envs.task import ShipTask
 from ship_env.model import Conditions
@@ -37,19 +38,23 @@ from ship_env.model.simulator import batch_loop
 # The loop over a batch's ships, written once: serially (range) or on all cores (prange).
 _UPDATE_LOOP = """
 @{decorator}
-def {name}(restarted_only, *arrays):
+def {name}(restarted_only, ship, *arrays):
     arrays = borrowed(arrays)
-    episodes = arrays[4]
+    states, conditions, step_index, episodes, task = arrays[0], arrays[1], arrays[3], arrays[4], arrays[6]
     for i in {ships}(episodes.shape[0]):
         if episodes[i]["restarted"] or not restarted_only:
+            check_envelope(states[i], conditions[i], step_index[i], episodes[i], task[0], ship[0])
             update_ship(i, *arrays)
 """
-#: The loops over a batch's ships, compiled into a task module by :func:`define_update_loops`: its
-#: ``update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics, *task_arrays)`` for
-#: every ship, or with ``restarted_only`` for those just restarted; the arrays borrowed (no reference counts).
+#: The loops over a batch's ships, compiled into a task module by :func:`define_update_loops`: the
+#: envelope's check (:func:`~ship_env.envs.envelope.check_envelope`: the limits in the task's parameter
+#: record, its first task array; the model's record for the sway) and its ``update_ship(i, states,
+#: conditions, noise_keys, step_index, episodes, metrics, *task_arrays)`` for every ship, or with
+#: ``restarted_only`` for those just restarted; the arrays borrowed (no reference counts).
 UPDATE_LOOPS_SOURCE = "\n".join(
     (
         "from numba import prange",
+        "from ship_env.envs.envelope import check_envelope",
         "from ship_env.model.integrators import borrowed",
         "from ship_env.model.kernel import kernel, parallel_kernel",
         _UPDATE_LOOP.format(decorator="kernel", name="update_ships", ships="range"),
@@ -94,8 +99,8 @@ def episode_dtype(observation_size: int, task_fields: Sequence[tuple]) -> np.dty
 
     Common fields: ``restarted`` (a new episode, not yet observed), ``terminated``, ``wave_yaw``
     (1 if the sea shows in the compass and gyro, H_s > 0), ``rudder`` (rad, the actual rudder at
-    the previous update), ``reward``, ``observation`` (float32) and ``measurement``
-    (:mod:`ship_env.envs.sensors`).
+    the previous update), ``reward``, ``observation`` (float32), ``measurement``
+    (:mod:`ship_env.envs.sensors`) and the envelope's (:data:`~ship_env.envs.envelope.ENVELOPE_FIELDS`).
     """
     return np.dtype(
         [
@@ -106,6 +111,7 @@ def episode_dtype(observation_size: int, task_fields: Sequence[tuple]) -> np.dty
             ("reward", np.float64),
             ("observation", np.float32, (observation_size,)),
             ("measurement", np.float64, (MEASUREMENT_SIZE,)),
+            *ENVELOPE_FIELDS,
             *task_fields,
         ]
     )
@@ -152,8 +158,8 @@ class ShipBatch:
     """N ships of one task in one :class:`~ship_env.model.Simulator`.
 
     Subclasses set ``task_fields`` (their episode record's own fields), ``metrics_dtype``,
-    ``update_serial`` and ``update_parallel`` (compiled loops called as ``loop(restarted_only,
-    state, conditions, noise_keys, step_index, episodes, metrics, *task.kernel_arguments)``), and
+    ``update_serial`` and ``update_parallel`` (compiled loops called as ``loop(restarted_only, model
+    record, state, conditions, noise_keys, step_index, episodes, metrics, *task.kernel_arguments)``), and
     implement :meth:`start_episode` and :meth:`task_info`.
 
     After ``restart`` or a simulator step, ``update`` fills each ship's ``episodes`` record
@@ -310,6 +316,7 @@ class ShipBatch:
         simulator = self.simulator
         self._update(
             restarted_only,
+            self.task.model.record,
             simulator.state,
             simulator.conditions,
             simulator.noise_keys,
@@ -350,7 +357,9 @@ class ShipBatch:
         ``measurement``: the bridge's instruments (``sensors.MEASUREMENT_NAMES``); ``state``: the
         ship's true state (layout ``ship_env.model.state``; of a ship that diverged in the last
         :meth:`sail`, the state that left the model's validity); ``metrics``: the episode's metrics so
-        far (final at its last step); then the task's own keys (:meth:`task_info`). Arrays are
+        far (final at its last step); ``envelope``: whether the ship has stayed inside its model's
+        validity envelope this episode and, once it left, where and why
+        (:func:`~ship_env.envs.envelope.envelope_info`); then the task's own keys (:meth:`task_info`). Arrays are
         copies (the measurements and metrics views of one copy of the records).
         """
         episodes = snapshot(self.episodes, ships)
@@ -363,6 +372,7 @@ class ShipBatch:
             "measurement": {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)},
             "state": state,
             "metrics": {name: metrics[name][ships] for name in self.metrics_dtype.names or ()},
+            "envelope": envelope_info(episodes, ships),
             **self.task_info(episodes, ships),
         }
 

@@ -91,7 +91,12 @@ class CourseChangeEnv(ShipEnv):
     ## Episode End
 
     The episode is truncated after ``max_episode_steps`` (600 in the registration: 600 s at the
-    default step). It never terminates: a course change has no terminal state. A model driven
+    container ship's 1-s step). The default step is 1 s in units of the ship's L / U
+    (:mod:`ship_env.envs.ship_scales`: 0.36 s for a 3 m model at 0.35 m/s, 1.69 s for a 320 m tanker
+    at 15.5 kn), so 600 steps span 26 L / U on every ship, time for a 105-deg change and its
+    settling; with a ``dt`` of your own, give ``max_episode_steps`` in proportion. It never
+    terminates: a course change has no terminal state. ``info["envelope"]`` says whether and where
+    the ship left its model's validity envelope (the episode sails on). A model driven
     outside its validity (a non-finite state or negative forward speed, which the presets do not
     reach within their rudder limit) is a divergence: the simulator raises ``FloatingPointError``;
     the vector environment truncates that ship's episode alone (``info["diverged"]``).
@@ -103,10 +108,15 @@ class CourseChangeEnv(ShipEnv):
     ``rate_of_turn`` rad/s, ``rudder`` rad, log ``speed`` m/s, the latest position fix ``north``
     and ``east`` m and its ``fix_time`` s, for estimators such as the yaw and position filters of
     thesis 5.3-5.4); ``state``, the ship's true state (layout in
-    :mod:`ship_env.model.state`); ``new_heading`` (rad, unwrapped); ``rudder_travel_weight`` (the
-    reward's, at the episode's disturbance level); ``metrics``, the episode's
-    metrics so far (:mod:`ship_env.envs.metrics`: integrated heading error deg s, overshoot deg,
-    settling time s, rudder travel deg), final at its last step. ``reset`` adds ``scenario``
+    :mod:`ship_env.model.state`); ``envelope``, whether the ship has stayed inside its model's
+    validity envelope (the preset's ``envelope:``, :mod:`ship_env.envs.envelope`) this episode:
+    ``inside`` (bool) and, once it left, the first step outside and why, ``quantity``
+    (``"speed"``, ``"froude"``, ``"drift"``, ``"rate"`` or ``"propeller"``; ``""`` while inside),
+    ``step`` (the simulator step since the start; -1 while inside), ``time`` s, ``value`` and
+    ``limit`` (SI units: m/s, -, rad, rad/s, rps; 0 while inside); ``new_heading`` (rad,
+    unwrapped); ``rudder_travel_weight`` (the reward's, at the episode's disturbance level);
+    ``metrics``, the episode's metrics so far (:mod:`ship_env.envs.metrics`: integrated heading
+    error deg s, overshoot deg, settling time s, rudder travel deg), final at its last step. ``reset`` adds ``scenario``
     (:class:`~ship_env.envs.course_change_task.Scenario`).
 
     ## Arguments
@@ -121,10 +131,13 @@ class CourseChangeEnv(ShipEnv):
     default, ``"wind_current"``, ``"wind_current_waves"``, ``"random"``), ``course_changes_deg``,
     ``rudder_limit_deg``, ``heading_error_weight``, ``rudder_travel_weight`` (a number, or one per
     disturbance level), ``settle_band_deg``,
-    ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``,
-    ``wave_period_range``; and those every task shares (:class:`~ship_env.envs.task.ShipTask`):
-    ``ship``, ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``,
-    ``fix_interval`` (s, default 0: a fix every step), ``action_type``, ``rudder_levels``,
+    ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``, ``wave_period_range``
+    (default: the container ship's ranges in the sailed ship's scales,
+    :meth:`~ship_env.envs.weather.WeatherRanges.scaled`); and those every task shares
+    (:class:`~ship_env.envs.task.ShipTask`):
+    ``ship``, ``ship_parameters``, ``effects``, ``dt`` (s; default 1 s in units of L / U:
+    :mod:`ship_env.envs.ship_scales`), ``sensor_noise_scale``, ``fix_interval`` (s, default 0: a
+    fix every step), ``action_type``, ``rudder_levels``,
     ``observation_history``, ``decision_interval``, ``observe_design_speed`` and ``ship_variation``
     (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`), and ``dynamics`` (a ship
     simulated outside ship_env: :mod:`ship_env.model.external`).

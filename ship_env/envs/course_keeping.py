@@ -67,7 +67,9 @@ class CourseKeepingEnv(ShipEnv):
     ## Episode End
 
     A fixed duration: the episode is truncated after ``max_episode_steps`` (600 in the registration:
-    10 minutes at the default 1-s step). It never terminates. A ship driven outside the model's
+    10 minutes at the container ship's 1-s step, 26 L / U on every ship at its default step). It
+    never terminates. ``info["envelope"]`` says whether and where the ship left its model's validity
+    envelope (the episode sails on). A ship driven outside the model's
     validity (a non-finite state or negative forward speed) raises ``FloatingPointError``; the
     vector environment truncates that ship's episode alone.
 
@@ -77,10 +79,12 @@ class CourseKeepingEnv(ShipEnv):
     :mod:`ship_env.envs.sensors`: compass ``heading`` rad with the waves' yaw, gyro
     ``rate_of_turn`` rad/s, ``rudder`` rad, log ``speed`` m/s, position fix ``north``, ``east`` m
     and ``fix_time`` s, for estimators such as the yaw filter of thesis 5.3); ``state``, the
-    ship's true state; ``course`` (rad); ``metrics``, the criterion so far
-    (:mod:`ship_env.envs.metrics`: ``cost`` J deg^2, ``mean_squared_heading_error`` deg^2,
-    ``mean_squared_rudder`` deg^2, ``rudder_travel`` deg), final at the episode's last step.
-    ``reset`` adds ``scenario`` (:class:`~ship_env.envs.course_keeping_task.CourseKeepingScenario`).
+    ship's true state; ``envelope``, whether the ship has stayed inside its model's validity
+    envelope this episode and, once it left, where and why (as CourseChange-v0's); ``course``
+    (rad); ``metrics``, the criterion so far (:mod:`ship_env.envs.metrics`: ``cost`` J deg^2,
+    ``mean_squared_heading_error`` deg^2, ``mean_squared_rudder`` deg^2, ``rudder_travel`` deg),
+    final at the episode's last step. ``reset`` adds ``scenario``
+    (:class:`~ship_env.envs.course_keeping_task.CourseKeepingScenario`).
 
     ## Arguments
 
@@ -95,7 +99,8 @@ class CourseKeepingEnv(ShipEnv):
     ``rudder_limit_deg``, ``rudder_weight``, ``wind_speed_range``, ``current_speed_range``,
     ``wave_height_range``, ``wave_period_range``; and those every task shares
     (:class:`~ship_env.envs.task.ShipTask`): ``ship``, ``ship_parameters``, ``effects``, ``dt``
-    (s), ``sensor_noise_scale``, ``fix_interval`` (s), ``action_type``, ``rudder_levels``,
+    (s; default 1 s in units of L / U: :mod:`ship_env.envs.ship_scales`), ``sensor_noise_scale``,
+    ``fix_interval`` (s), ``action_type``, ``rudder_levels``,
     ``observation_history``, ``decision_interval``, ``observe_design_speed`` and ``ship_variation``
     (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`), and ``dynamics`` (a ship
     simulated outside ship_env: :mod:`ship_env.model.external`).

@@ -15,12 +15,16 @@ estimators such as the yaw and position filters.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ship_env.model import state as S
 from ship_env.model.kernel import kernel
 from ship_env.model.noise import MEASUREMENT_DOMAIN, standard_normal_pair
+
+if TYPE_CHECKING:
+    from ship_env.envs.ship_scales import ShipScales
 
 # Measurement layout: what the bridge's instruments read.
 MEASUREMENT_NAMES = ("heading", "rate_of_turn", "rudder", "speed", "north", "east", "fix_time")
@@ -64,13 +68,15 @@ _POSITION = 2  # north and east
 _NOISE_PAIRS = np.uint64(3)
 
 
-def sensors_record(noise_scale: float, fix_interval: float) -> np.ndarray:
-    """The instruments' constants (one record) for a noise scale and a position-fix interval, s."""
+def sensors_record(noise_scale: float, fix_interval: float, scales: ShipScales) -> np.ndarray:
+    """The instruments' constants (one record) for a noise scale and a position-fix interval, s, on a
+    ship of ``scales``: :data:`SENSOR_NOISE` is the reference ship's, the position's noise in ship
+    lengths, the log's in units of U and the gyro's in U / L (:mod:`ship_env.envs.ship_scales`)."""
     record = np.zeros(1, dtype=SENSORS_DTYPE)
     record[0]["heading_noise"] = noise_scale * SENSOR_NOISE["heading"]
-    record[0]["rate_noise"] = noise_scale * SENSOR_NOISE["rate_of_turn"]
-    record[0]["speed_noise"] = noise_scale * SENSOR_NOISE["speed"]
-    record[0]["position_noise"] = noise_scale * SENSOR_NOISE["position"]
+    record[0]["rate_noise"] = noise_scale * SENSOR_NOISE["rate_of_turn"] / scales.time
+    record[0]["speed_noise"] = noise_scale * SENSOR_NOISE["speed"] * scales.speed
+    record[0]["position_noise"] = noise_scale * SENSOR_NOISE["position"] * scales.length
     record[0]["fix_interval"] = fix_interval
     return record
 

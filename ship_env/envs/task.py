@@ -20,7 +20,9 @@ import numpy as np
 from gymnasium import spaces
 
 from ship_env.envs.checks import check_choice, check_number, check_whole_number
+from ship_env.envs.envelope import envelope_limits
 from ship_env.envs.sensors import sensors_record
+from ship_env.envs.ship_scales import ship_scales
 from ship_env.envs.variation import ShipFactors, ShipVariation, sailed_conditions
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
 from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory
@@ -67,9 +69,15 @@ class ShipTask:
         extra_effects: effects the task adds to the preset's defaults (the waves' when it has waves).
         rudder_limit_deg: delta_max, the hard-over angle action +-1 orders, deg (it becomes the
             model's rudder limit).
-        dt: the control step, s (one simulator step).
-        sensor_noise_scale: multiplies ``sensors.SENSOR_NOISE``; 0 gives noise-free instruments.
-        fix_interval: s between position fixes (held in between); 0 fixes at every step.
+        dt: the control step, s (one simulator step); ``None`` (default): the ship's, 1 s in units
+            of L / U (:mod:`ship_env.envs.ship_scales`: 1 s for the 226 m container ship at 19 kn,
+            0.36 s for a 3 m model at 0.35 m/s), so an episode's steps span the same manoeuvre on
+            every ship.
+        sensor_noise_scale: multiplies ``sensors.SENSOR_NOISE`` (itself in the ship's scales: the
+            position's in ship lengths, the log's in U, the gyro's in U / L); 0 gives noise-free
+            instruments.
+        fix_interval: s between position fixes (held in between); 0 fixes at every step; ``None``
+            (default): the task's ``reference_fix_interval`` in units of L / U.
         action_type: ``"continuous"`` (``Box(-1, 1, (1,))``, the ordered rudder as a fraction of
             delta_max, clipped to [-1, 1]) or ``"discrete"`` (``Discrete(rudder_levels)``: action k
             orders -delta_max + 2 k delta_max / (rudder_levels - 1)).
@@ -99,6 +107,8 @@ class ShipTask:
             design model; the adapter gives the motion.
     """
 
+    #: s between position fixes on the reference ship when ``fix_interval`` is ``None`` (0: every step).
+    reference_fix_interval: float = 0.0
     #: The observation's elements ``observation_history`` remembers (each task sets its own).
     history_observations: tuple[int, ...] = ()
     #: The task's observation space, its constants record and what its compiled update reads
@@ -115,9 +125,9 @@ class ShipTask:
         effects: Sequence[str] | None = None,
         extra_effects: Sequence[str] = (),
         rudder_limit_deg: float = 20.0,
-        dt: float = 1.0,
+        dt: float | None = None,
         sensor_noise_scale: float = 1.0,
-        fix_interval: float = 0.0,
+        fix_interval: float | None = None,
         action_type: str = "continuous",
         rudder_levels: int = 7,
         ship_variation: bool | Mapping[str, Sequence[float]] | None = None,
@@ -127,11 +137,13 @@ class ShipTask:
         dynamics: DynamicsSource | None = None,
     ) -> None:
         self.rudder_limit = math.radians(check_number("rudder_limit_deg", rudder_limit_deg, 1e-3, 90.0))
-        self.dt = check_number("dt", dt, 1e-6)
+        if dt is not None:
+            check_number("dt", dt, 1e-6)
+        if fix_interval is not None:
+            check_number("fix_interval", fix_interval, 0.0)
         self.action_type = check_choice("action_type", action_type, ACTION_TYPES)
         levels = check_whole_number("rudder_levels", rudder_levels, 2)
         noise_scale = check_number("sensor_noise_scale", sensor_noise_scale, 0.0)
-        self.sensors = sensors_record(noise_scale, check_number("fix_interval", fix_interval, 0.0))
         self.variation = None if ship_variation in (None, False) else ShipVariation(ship_variation)
         self.observation_history = check_whole_number("observation_history", observation_history, 0)
         self.decision_interval = check_whole_number("decision_interval", decision_interval, 1)
@@ -145,6 +157,15 @@ class ShipTask:
         if effects is None:
             effects = (*preset.enabled, *extra_effects)
         self.model = ShipModel(preset, effects, {**(ship_parameters or {}), "rudder_limit": self.rudder_limit})
+        #: The ship's length, speed and time over the reference ship's (:mod:`ship_env.envs.ship_scales`).
+        self.scales = ship_scales(self.model)
+        #: The model's validity envelope, as the compiled check reads it from :meth:`parameter_record`
+        #: (:mod:`ship_env.envs.envelope`).
+        self.envelope_limits = envelope_limits(self.model)
+        self.dt = self.scales.dt if dt is None else float(dt)
+        if fix_interval is None:
+            fix_interval = self.reference_fix_interval * self.scales.time
+        self.sensors = sensors_record(noise_scale, fix_interval, self.scales)
         #: K* delta_max / L: the linear model's steady rate of turn at full rudder per m/s of speed
         #: (6.4.4.2: r_ss = K* (U/L) delta_max, about 40 deg/min at 19 kn and 10 deg).
         self.full_rudder_rate_per_speed = self.model.parameter("yaw.gain") * self.rudder_limit / self.model.length
@@ -165,12 +186,14 @@ class ShipTask:
     def parameter_record(self, **values: float | bool) -> np.ndarray:
         """The task's constants as its compiled update reads them: one record with ``rudder_limit``
         (rad), ``full_rudder_rate_per_speed`` (K* delta_max / L) and ``observed_speed_scale`` (m/s:
-        the preset's service speed with ``observe_design_speed``, else 0: the episode's own), then
-        ``values`` (float64, or bool for a flag)."""
+        the preset's service speed with ``observe_design_speed``, else 0: the episode's own), the
+        envelope's ``envelope_limits``, then ``values`` (float64, or bool for a flag). It is the
+        first of the task's ``kernel_arguments``."""
         values = {
             "rudder_limit": self.rudder_limit,
             "full_rudder_rate_per_speed": self.full_rudder_rate_per_speed,
             "observed_speed_scale": self.model.service_speed if self.observe_design_speed else 0.0,
+            **self.envelope_limits,
             **values,
         }
         dtype = np.dtype([(name, np.bool_ if isinstance(v, bool) else np.float64) for name, v in values.items()])

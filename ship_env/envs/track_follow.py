@@ -25,7 +25,9 @@ class TrackFollowEnv(ShipEnv):
     to 10 deg (6.4.4.2), in the disturbances of Table 6.2: a current of 2.5 kn setting towards
     SW (225 deg) and a wind of 7 m/s blowing from NW (315 deg), with gusts. The thesis writes
     "South West" and "North West"; the usual conventions (a current by where it goes, a wind by
-    where it comes from) are assumed.
+    where it comes from) are assumed. Another ship (``ship=``) sails the tracks, the step and this
+    weather in its own scales (:mod:`ship_env.envs.ship_scales`): legs in proportion to its length,
+    the step 1 s in units of L / U, the wind's and the current's speeds in units of its speed.
 
     ## Action Space
 
@@ -49,6 +51,12 @@ class TrackFollowEnv(ShipEnv):
     | 5   | next course change| the change at the leg's end waypoint / pi, 0 on the last leg | -1  | 1   |
     | 6   | waypoint distance | fix to the leg's end waypoint along the leg, nm, clipped     | -1  | 3   |
     | 7   | cross-track rate  | the fixes' cross-track error's rate, filtered (30 s) / U0    | -1  | 1   |
+
+    On another ship than the 226 m container ship at 19 kn the nm and the times are its own
+    (:mod:`ship_env.envs.ship_scales`): the waypoint distance is over ``track_scale`` nm (L / 226 m,
+    the tracks drawn in proportion), the fixes' interval, the rate's filter time (30 s) and the
+    arc time's minutes are in units of L / U (times (L / U) / 24 s), so a policy sees the same
+    numbers on a geometrically similar ship at the same Froude number.
 
     With ``track_preview=True`` four more, the rounded reference track at and ahead of the fix's
     nearest point on it (what a track pilot's display shows; the wheel-over point lies a reaction
@@ -98,8 +106,12 @@ class TrackFollowEnv(ShipEnv):
 
     The episode terminates when the ship passes the last waypoint (crosses the perpendicular to the
     last leg there); the step that does so adds ``info["score"]``. It is truncated after
-    ``max_episode_steps`` (3600 in the registration: one hour at the default 1-s step; a track takes
-    44 to 48 minutes in the thesis's current). A ship driven outside the model's validity (a
+    ``max_episode_steps`` (3600 in the registration: one hour at the container ship's 1-s step; a
+    track takes 44 to 48 minutes in the thesis's current). The default step and the tracks follow the
+    ship (``dt`` 1 s and the legs in units of L / U and L: :mod:`ship_env.envs.ship_scales`), so a
+    track takes as many steps on every ship at its service speed; with a ``dt`` or ``track_scale`` of
+    your own, give ``max_episode_steps`` in proportion. ``info["envelope"]`` says whether and where
+    the ship left its model's validity envelope (the episode sails on). A ship driven outside the model's validity (a
     non-finite state or negative forward speed) raises ``FloatingPointError``; the vector
     environment truncates that ship's episode alone.
 
@@ -109,7 +121,11 @@ class TrackFollowEnv(ShipEnv):
     :mod:`ship_env.envs.sensors`: compass ``heading`` rad, gyro ``rate_of_turn`` rad/s, ``rudder``
     rad, log ``speed`` m/s, and the latest GPS fix ``north``, ``east`` m with its ``fix_time`` s,
     5 m noise, every 2 s, for the position filter and track predictor of thesis 5.4, 5.6);
-    ``state``, the ship's true state; ``leg`` (0-based) and ``cross_track_error`` (m, true);
+    ``state``, the ship's true state; ``envelope``, whether the ship has stayed inside its model's
+    validity envelope (the preset's ``envelope:``) this episode and, once it left, the first step
+    outside and why (``inside``, ``quantity``: ``"speed"``, ``"froude"``, ``"drift"``, ``"rate"``
+    or ``"propeller"``, ``step``, ``time`` s, ``value`` and ``limit`` in SI units;
+    :mod:`ship_env.envs.envelope`); ``leg`` (0-based) and ``cross_track_error`` (m, true);
     ``metrics``, the episode's track metrics so far (:mod:`ship_env.envs.metrics`:
     ``rms_cross_track_error`` m, the score of eq. 6.5 sampled every 2 s, ``max_cross_track_error``
     m, ``rudder_travel`` deg). ``reset`` adds ``scenario``
@@ -131,9 +147,11 @@ class TrackFollowEnv(ShipEnv):
     :class:`~ship_env.envs.track_follow_task.TrackFollowTask`): ``track`` (``"T1"`` ..
     ``"T6"``, ``"random"`` default), ``disturbance`` (``"thesis"`` default, ``"calm"``),
     ``rudder_limit_deg``, ``cross_track_weight``, ``rudder_travel_weight``, ``fix_interval``
-    (s), ``track_preview``, ``line_of_sight_weight``, ``cross_track_reward_bound``, ``start``, ``track_scale``; and
+    (s; default the thesis's 2 s in units of L / U), ``track_preview``, ``line_of_sight_weight``,
+    ``cross_track_reward_bound``, ``start``, ``track_scale`` (default L / 226 m); and
     those every task shares (:class:`~ship_env.envs.task.ShipTask`): ``ship``,
-    ``ship_parameters``, ``effects``, ``dt`` (s), ``sensor_noise_scale``, ``action_type``,
+    ``ship_parameters``, ``effects``, ``dt`` (s; default 1 s in units of L / U:
+    :mod:`ship_env.envs.ship_scales`), ``sensor_noise_scale``, ``action_type``,
     ``rudder_levels``, ``observation_history``, ``decision_interval``, ``observe_design_speed`` and
     ``ship_variation`` (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`)
     and ``dynamics`` (a ship simulated outside ship_env: :mod:`ship_env.model.external`).

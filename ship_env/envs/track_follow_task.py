@@ -16,6 +16,7 @@ pushes the same way.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -78,8 +79,9 @@ RANDOM_TRACK = "random"
 #: Where an episode starts: at the first waypoint (the thesis's run), or on a random leg before its
 #: end turn (:data:`BEFORE_TURN_NM`), so that every episode soon meets a turn.
 STARTS = ("first_waypoint", "before_turn")
-#: nm before the leg's end waypoint where a ``"before_turn"`` episode starts: the arc of the largest
-#: change (105 deg) begins 0.6 nm before it, and its wheel-over about 150 m earlier.
+#: nm before the leg's end waypoint where a ``"before_turn"`` episode starts (on the reference ship; times
+#: ``track_scale`` on another): the arc of the largest change (105 deg) begins 0.6 nm before it, and its
+#: wheel-over about 150 m earlier.
 BEFORE_TURN_NM = (1.0, 1.6)
 
 #: Keys ``reset(options=...)`` accepts.
@@ -92,27 +94,28 @@ OBS_RATE_OF_TURN = 2  # gyro rate / (K* U0 / L * delta_max)
 OBS_RUDDER = 3  # actual rudder / delta_max
 OBS_SPEED = 4  # log speed / U0
 OBS_NEXT_CHANGE = 5  # the course change at the leg's end waypoint / pi, 0 on the last leg
-OBS_WAYPOINT_DISTANCE = 6  # distance of the fix to the leg's end waypoint along the leg, nm
+OBS_WAYPOINT_DISTANCE = 6  # distance of the fix to the leg's end waypoint along the leg, nm * track_scale
 OBS_CROSS_TRACK_RATE = 7  # the fixes' cross-track error's rate, filtered, / U0
 OBSERVATION_SIZE = 8
 # With ``track_preview``: the rounded reference track at and ahead of the fix's nearest point on it.
 OBS_PATH_HEADING_ERROR = 8  # wrap(the track's course there - compass heading) / pi
 OBS_PATH_TURN = 9  # the track's curvature there * L / (K* delta_max): about +-1 on an arc, 0 on a straight
-OBS_ARC_TIME = 10  # the distance along the track to the next arc's start / U0, min, clipped (0 on an arc)
+OBS_ARC_TIME = 10  # the distance along the track to the next arc's start / U0, min in L / U units, clipped
 OBS_NEXT_TURN = 11  # the next arc's curvature * L / (K* delta_max) (the present arc's on one)
 OBS_LINE_OF_SIGHT = 12  # wrap(bearing of the track point LOOKAHEAD ahead - compass heading) / pi
 #: Ship lengths along the track from the fix's nearest point to the line-of-sight point.
 LOOKAHEAD = 2.0
-#: min: the arc-time observation's bound (the next arc, or none, further ahead than this).
+#: min (of the reference ship; in units of L / U): the arc-time observation's bound (the next arc, or none,
+#: further ahead than this).
 ARC_TIME_BOUND = 5.0
 #: The preview's bounds: its turns are within twice the rudder limit's steady rate.
 PREVIEW_LOW = np.array([-1.0, -2.0, 0.0, -2.0, -1.0], dtype=np.float32)
 PREVIEW_HIGH = np.array([1.0, 2.0, ARC_TIME_BOUND, 2.0, 1.0], dtype=np.float32)
 CROSS_TRACK_BOUND = 10.0  # ship lengths
-DISTANCE_BOUNDS = (-1.0, 3.0)  # nm: legs are at most 2.5 nm
-#: s: time constant of the first-order filter on the rate of the fixes' cross-track error (the
-#: cross-track speed a track pilot shows); it takes out the fixes' noise (5 m every 2 s: 3.5 m/s
-#: raw, about 0.6 m/s filtered) and lags a change of drift by about this time.
+DISTANCE_BOUNDS = (-1.0, 3.0)  # nm * track_scale: legs are at most 2.5 nm * track_scale
+#: s (on the reference ship; in units of L / U): time constant of the first-order filter on the rate of
+#: the fixes' cross-track error (the cross-track speed a track pilot shows); it takes out the fixes' noise
+#: (5 m every 2 s: 3.5 m/s raw, about 0.6 m/s filtered) and lags a change of drift by about this time.
 CROSS_TRACK_RATE_TIME = 30.0
 OBSERVATION_LOW = np.array(
     [-CROSS_TRACK_BOUND, -1.0, -RATE_BOUND, -1.0, 0.0, -1.0, DISTANCE_BOUNDS[0], -1.0], dtype=np.float32
@@ -156,13 +159,15 @@ class TrackFollowTask(ShipTask):
 
     Args:
         track: ``"T1"`` .. ``"T6"``, or ``"random"`` (one of the six per episode).
-        disturbance: ``"thesis"`` (Table 6.2: current 2.5 kn towards SW, wind 7 m/s from NW) or
+        disturbance: ``"thesis"`` (Table 6.2: current 2.5 kn towards SW, wind 7 m/s from NW, for the
+            container ship at 19 kn; on another ship in units of its speed: ``thesis_conditions``) or
             ``"calm"``.
         rudder_limit_deg: delta_max, deg (default 10, the experiment's); the reference track
             turns on the ship's steady turn at this rudder.
         cross_track_weight: reward per step for (cross-track error / L)^2.
         rudder_travel_weight: reward per step for |actual rudder move| / delta_max.
-        fix_interval: s between position fixes (default 2, the thesis's sampling).
+        fix_interval: s between position fixes (default ``None``: the thesis's 2 s sampling in units
+            of L / U, :mod:`ship_env.envs.ship_scales`).
         track_preview: add to the observation the rounded reference track at and ahead of the
             fix's nearest point on it (``OBS_PATH_HEADING_ERROR`` .. ``OBS_NEXT_TURN``): its course
             and curvature there, the time to the next arc (the wheel-over lies a reaction time
@@ -179,14 +184,18 @@ class TrackFollowTask(ShipTask):
             over the track's first five), ``BEFORE_TURN_NM`` (1 to 1.6 nm, uniform) before that
             end waypoint, on the leg's course, and sails on to the track's end. Training episodes
             then meet a turn within minutes, every turn of the six tracks as often.
-        track_scale: the legs' lengths times this (default 1: the thesis's 2 to 2.5 nm, drawn for
-            the 226 m container ship; ``L / 226 m`` sails the tracks in proportion to a ship of length L).
+        track_scale: the legs' lengths times this; ``None`` (default): ``L / 226 m``, the thesis's 2
+            to 2.5 nm legs, drawn for the 226 m container ship (1 for it), in proportion to a ship of
+            length L (:mod:`ship_env.envs.ship_scales`). The ``before_turn`` start and the waypoint
+            distance's unit scale with it; the score's sampling interval (the thesis's 2 s), the
+            cross-track rate's filter time and the arc time's unit with L / U.
         **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`):
             ``ship``, ``ship_parameters``, ``effects``, ``dt``, ``sensor_noise_scale``,
             ``action_type``, ``rudder_levels``.
     """
 
     history_observations = (OBS_HEADING_ERROR, OBS_RATE_OF_TURN, OBS_RUDDER)
+    reference_fix_interval = SCORE_INTERVAL
 
     def __init__(
         self,
@@ -196,12 +205,11 @@ class TrackFollowTask(ShipTask):
         rudder_limit_deg: float = THESIS_RUDDER_LIMIT_DEG,
         cross_track_weight: float = 1.0,
         rudder_travel_weight: float = 0.1,
-        fix_interval: float = SCORE_INTERVAL,
         track_preview: bool = False,
         line_of_sight_weight: float = 0.0,
         cross_track_reward_bound: float = CROSS_TRACK_BOUND,
         start: str = "first_waypoint",
-        track_scale: float = 1.0,
+        track_scale: float | None = None,
         **ship_options: Any,
     ) -> None:
         self.track = check_choice("track", track, (*TRACK_IDS, RANDOM_TRACK))
@@ -214,13 +222,22 @@ class TrackFollowTask(ShipTask):
         if not isinstance(track_preview, bool):
             raise TypeError(f"track_preview: expected true or false, got {track_preview!r}")
         self.track_preview = track_preview
-        super().__init__(rudder_limit_deg=rudder_limit_deg, fix_interval=fix_interval, **ship_options)
+        super().__init__(rudder_limit_deg=rudder_limit_deg, **ship_options)
+        #: The legs' lengths over the thesis's (default: the ship's length over the reference's).
+        self.track_scale = self.scales.length if track_scale is None else check_number("track_scale", track_scale, 1e-3)
         #: The reference tracks, rounded by this ship's steady turns at delta_max.
         self.tracks: dict[str, ReferenceTrack] = {
-            track_id: reference_track(track_id, self.model, math.degrees(self.rudder_limit), scale=track_scale)
+            track_id: reference_track(track_id, self.model, math.degrees(self.rudder_limit), scale=self.track_scale)
             for track_id in TRACK_IDS
         }
         self.track_legs = np.stack([self.tracks[track_id].legs for track_id in TRACK_IDS])
+        #: The ``"thesis"`` disturbance on this ship: Table 6.2's wind and current speeds in units of its
+        #: speed U (as :meth:`~ship_env.envs.weather.WeatherRanges.scaled` scales the drawn weather).
+        self.thesis_conditions = dataclasses.replace(
+            THESIS_CONDITIONS,
+            current_speed=THESIS_CONDITIONS.current_speed * self.scales.speed,
+            wind_speed=THESIS_CONDITIONS.wind_speed * self.scales.speed,
+        )
 
         #: The task's constants as the compiled update reads them.
         self.parameters = self.parameter_record(
@@ -229,7 +246,10 @@ class TrackFollowTask(ShipTask):
             rudder_travel_weight=self.rudder_travel_weight,
             line_of_sight_weight=self.line_of_sight_weight,
             cross_track_reward_bound=self.cross_track_reward_bound,
-            score_interval=SCORE_INTERVAL,
+            score_interval=SCORE_INTERVAL * self.scales.time,
+            cross_track_rate_time=CROSS_TRACK_RATE_TIME * self.scales.time,
+            arc_time_unit=60.0 * self.scales.time,
+            waypoint_distance_unit=NAUTICAL_MILE * self.track_scale,
             track_preview=track_preview,
         )
         #: What the compiled update reads besides the simulator's and the batch's arrays.
@@ -258,12 +278,12 @@ class TrackFollowTask(ShipTask):
             disturbance = CUSTOM_DISTURBANCE
         else:
             disturbance = self.disturbance
-            conditions = THESIS_CONDITIONS if disturbance == "thesis" else CALM
+            conditions = self.thesis_conditions if disturbance == "thesis" else CALM
         reference = self.tracks[track]
         if self.start == "first_waypoint":
             return TrackScenario(disturbance, conditions, seed, track, float(reference.courses[0]))
         leg = int(rng.integers(len(reference.course_changes)))
-        before = float(rng.uniform(*BEFORE_TURN_NM)) * NAUTICAL_MILE
+        before = float(rng.uniform(*BEFORE_TURN_NM)) * (NAUTICAL_MILE * self.track_scale)
         row = reference.legs[leg]
         return TrackScenario(
             disturbance,
@@ -336,7 +356,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
         else:
             interval = state[S.TIME] - episode["fix_time"]
             raw_rate = (fix_error - episode["fix_cross_track_error"]) / interval
-            weight = interval / (CROSS_TRACK_RATE_TIME + interval)
+            weight = interval / (p["cross_track_rate_time"] + interval)
             episode["fix_cross_track_rate"] += weight * (raw_rate - episode["fix_cross_track_rate"])
         episode["fix_cross_track_error"] = fix_error
         episode["fix_time"] = state[S.TIME]
@@ -347,7 +367,8 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
     observation[OBS_NEXT_CHANGE] = row[TURN_CHANGE] / math.pi
     to_go_north = (row[LEG_END_NORTH] - fix_north) * row[LEG_DIRECTION_NORTH]
     to_go = to_go_north + (row[LEG_END_EAST] - fix_east) * row[LEG_DIRECTION_EAST]
-    observation[OBS_WAYPOINT_DISTANCE] = min(max(to_go / NAUTICAL_MILE, DISTANCE_BOUNDS[0]), DISTANCE_BOUNDS[1])
+    distance = to_go / p["waypoint_distance_unit"]
+    observation[OBS_WAYPOINT_DISTANCE] = min(max(distance, DISTANCE_BOUNDS[0]), DISTANCE_BOUNDS[1])
     observation[OBS_CROSS_TRACK_RATE] = min(max(episode["fix_cross_track_rate"] / service_speed, -1.0), 1.0)
     if p["track_preview"]:
         _, nearest_leg, on_arc = nearest_on_track(fix_north, fix_east, legs)
@@ -355,7 +376,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
         turn_scale = 1.0 / p["full_rudder_rate_per_speed"]  # L / (K* delta_max)
         observation[OBS_PATH_HEADING_ERROR] = wrap(course - measured[MEASURED_HEADING]) / math.pi
         observation[OBS_PATH_TURN] = min(max(curvature * turn_scale, -2.0), 2.0)
-        observation[OBS_ARC_TIME] = min(arc_distance / service_speed / 60.0, ARC_TIME_BOUND)
+        observation[OBS_ARC_TIME] = min(arc_distance / service_speed / p["arc_time_unit"], ARC_TIME_BOUND)
         observation[OBS_NEXT_TURN] = min(max(next_curvature * turn_scale, -2.0), 2.0)
         ahead_north, ahead_east = point_ahead(fix_north, fix_east, legs, nearest_leg, on_arc, LOOKAHEAD * p["length"])
         bearing = math.atan2(ahead_east - fix_east, ahead_north - fix_north)

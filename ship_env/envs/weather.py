@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ship_env.envs.checks import check_choice, check_range
+from ship_env.envs.ship_scales import ShipScales
 from ship_env.envs.task import ShipTask
 from ship_env.model import Conditions
 
@@ -36,6 +37,10 @@ WEATHER_DRAWS = 7
 
 def _within(bounds: tuple[float, float], fraction: float) -> float:
     return bounds[0] + (bounds[1] - bounds[0]) * fraction
+
+
+def _times(bounds: tuple[float, float], factor: float) -> tuple[float, float]:
+    return bounds[0] * factor, bounds[1] * factor
 
 
 def has_waves(disturbance: str) -> bool:
@@ -62,6 +67,20 @@ class WeatherRanges:
         for name in ("wind_speed_range", "current_speed_range", "wave_height_range"):
             object.__setattr__(self, name, check_range(name, getattr(self, name)))
         object.__setattr__(self, "wave_period_range", check_range("wave_period_range", self.wave_period_range, 1e-3))
+
+    def scaled(self, scales: ShipScales) -> WeatherRanges:
+        """These ranges (drawn for the reference ship) in the scales of another ship
+        (:mod:`ship_env.envs.ship_scales`): wind and current speeds in units of its speed U (the
+        wind's and the current's forces and set then stand to the hull's as on the reference ship),
+        wave heights in its length L, wave periods in sqrt(L) (the waves' lengths, g T^2 / (2 pi), in
+        proportion to L)."""
+        wave_period = math.sqrt(scales.length)
+        return WeatherRanges(
+            _times(self.wind_speed_range, scales.speed),
+            _times(self.current_speed_range, scales.speed),
+            _times(self.wave_height_range, scales.length),
+            _times(self.wave_period_range, wave_period),
+        )
 
     def conditions(self, disturbance: str, draws: Sequence[float]) -> Conditions:
         """The weather of a level (one of ``DISTURBANCES``) from ``WEATHER_DRAWS`` uniforms in [0, 1).
@@ -101,8 +120,12 @@ class WeatherTask(ShipTask):
     Args:
         disturbance: ``"calm"``, ``"wind_current"``, ``"wind_current_waves"`` or ``"random"``
             (one of the three per episode).
-        wind_speed_range, current_speed_range: m/s, drawn uniformly.
-        wave_height_range, wave_period_range: significant height (m) and peak period (s).
+        wind_speed_range, current_speed_range: m/s, drawn uniformly; ``None`` (default): 5 to 10
+            m/s and 0.5 to 1.5 m/s on the 226 m container ship at 19 kn, in units of the ship's speed
+            on another (:meth:`WeatherRanges.scaled`).
+        wave_height_range, wave_period_range: significant height (m) and peak period (s); ``None``
+            (default): 1 to 4 m and 6 to 10 s on the container ship, in units of the ship's length
+            and its square root on another.
         **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`);
             ``effects=None`` takes the preset's defaults, plus ``wave_filter`` and
             ``wave_spectrum`` when ``disturbance`` can bring waves.
@@ -112,15 +135,25 @@ class WeatherTask(ShipTask):
         self,
         *,
         disturbance: str,
-        wind_speed_range: tuple[float, float] = (5.0, 10.0),
-        current_speed_range: tuple[float, float] = (0.5, 1.5),
-        wave_height_range: tuple[float, float] = (1.0, 4.0),
-        wave_period_range: tuple[float, float] = (6.0, 10.0),
+        wind_speed_range: tuple[float, float] | None = None,
+        current_speed_range: tuple[float, float] | None = None,
+        wave_height_range: tuple[float, float] | None = None,
+        wave_period_range: tuple[float, float] | None = None,
         **ship_options: Any,
     ) -> None:
         self.disturbance = check_choice("disturbance", disturbance, (*DISTURBANCES, RANDOM_DISTURBANCE))
-        self.weather = WeatherRanges(wind_speed_range, current_speed_range, wave_height_range, wave_period_range)
+        given = {
+            "wind_speed_range": wind_speed_range,
+            "current_speed_range": current_speed_range,
+            "wave_height_range": wave_height_range,
+            "wave_period_range": wave_period_range,
+        }
         super().__init__(extra_effects=WAVE_EFFECTS if has_waves(disturbance) else (), **ship_options)
+        ship_ranges = vars(WeatherRanges().scaled(self.scales))
+        #: The ranges the weather is drawn from: those given, the others the reference's in this ship's scales.
+        self.weather = WeatherRanges(
+            **{name: ship_ranges[name] if bounds is None else bounds for name, bounds in given.items()}
+        )
 
     def draw_weather(
         self, level_draw: float, weather_draws: Sequence[float], options: Mapping[str, Any]

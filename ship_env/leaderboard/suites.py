@@ -52,7 +52,7 @@ import gymnasium as gym
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG, TRACK_IDS
-from ship_env.model import ShipModel, load_ship
+from ship_env.model import load_ship
 
 COURSE_CHANGE = "ship_env/CourseChange-v0"
 TRACK_FOLLOW = "ship_env/TrackFollow-v0"
@@ -303,8 +303,6 @@ SUITE_SPECS: dict[str, SuiteSpec] = {
 MMG_KVLCC2 = Condition("MMG KVLCC2 (unseen physics)", "mmg-kvlcc2")
 #: The environments' keywords that sail it: the preset is what the bridge knows, the MMG model the motion.
 MMG_KVLCC2_ENV_KWARGS: Mapping[str, Any] = {"ship": "kvlcc2", "dynamics": "ship_env.model.mmg_kvlcc2:MmgKvlcc2"}
-#: The tracks' scale for KVLCC2: drawn for the 226 m container ship, sailed in proportion to 320 m.
-UNSEEN_TRACK_SCALE = 320.0 / 226.0
 
 
 @dataclass(frozen=True)
@@ -312,8 +310,9 @@ class UnseenSuiteSpec(SuiteSpec):
     """The unseen-physics suites: every controller on the MMG KVLCC2 at its service speed (15.5 kn).
 
     CourseChange in calm water and in wind and current (``course_change_disturbances``; the MMG
-    model has no wave forces), and TrackFollow in the thesis's wind and current on its tracks scaled
-    by :data:`UNSEEN_TRACK_SCALE`, given proportionally more time (longer tracks, a slower ship).
+    model has no wave forces), and TrackFollow in the thesis's wind and current. The tasks take their
+    scales from the ship (:mod:`ship_env.envs.ship_scales`): the tracks in proportion to 320 m, the
+    control step 1 s in units of L / U (1.69 s), so the registered episode lengths hold.
     The episodes (seeds, changes, tracks) are the other suites'; ``conditions`` is not used (the
     ship is :data:`MMG_KVLCC2`), nor may ``ship`` be given.
     """
@@ -338,16 +337,8 @@ class UnseenSuiteSpec(SuiteSpec):
             for level in self.course_change_disturbances
         ]
         if self.tracks:
-            slower = ShipModel("container_226m").service_speed / ShipModel("kvlcc2").service_speed
-            registered_steps = gym.spec(TRACK_FOLLOW).max_episode_steps
-            assert registered_steps is not None, f"{TRACK_FOLLOW} is registered with a time limit"
-            env_kwargs = {
-                **MMG_KVLCC2_ENV_KWARGS,
-                "track_scale": UNSEEN_TRACK_SCALE,
-                "max_episode_steps": math.ceil(registered_steps * UNSEEN_TRACK_SCALE * slower),
-            }
             tracks = track_episodes(self.tracks, self.repetitions)
-            suites.append(Suite("TrackFollow", TRACK_FOLLOW, env_kwargs, MMG_KVLCC2, tracks))
+            suites.append(Suite("TrackFollow", TRACK_FOLLOW, dict(MMG_KVLCC2_ENV_KWARGS), MMG_KVLCC2, tracks))
         return suites
 
 

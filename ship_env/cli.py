@@ -90,7 +90,7 @@ from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
 from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
 from ship_env.workbench.parallel import usable_cores
-from ship_env.workbench.presets import preset_document, write_preset
+from ship_env.workbench.presets import preset_document, preset_replay_model, write_preset
 from ship_env.workbench.replay import Simulated
 from ship_env.workbench.runs import GroupingError, WorkbenchRuns, inside_outside_errors, prepare_runs
 from ship_env.workbench.signals import past_the_library, plot_signals
@@ -348,7 +348,7 @@ def _workbench_setup(args: argparse.Namespace) -> ReplayModel:
             model = WORKBENCH_MODELS[args.model](ship)
         else:
             model = ShipModel(ship, args.model.split(","))
-        return ReplayModel(model.with_effects(*added) if added else model)
+        return preset_replay_model(model.with_effects(*added) if added else model)
     except (ValueError, TypeError) as error:
         raise UsageError("--add" if args.add else "--model", str(error)) from None
 

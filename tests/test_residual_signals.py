@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 
@@ -12,7 +13,8 @@ from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.signals import plot_signals, residual_signals
 from ship_env.workbench.synthetic import model_test_programme, sail_all
 
-SHIP = "esso_osaka_model"
+#: The Esso Osaka hull with the nominal coefficients these checks were designed on (not the identified preset).
+SHIP = str(Path(__file__).parent / "data" / "esso_osaka_nominal.yaml")
 SHORT_RUNS = model_test_programme(duration=60.0)
 
 

@@ -18,10 +18,11 @@ import yaml
 
 from ship_env.cli import main
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
-from ship_env.workbench import FitOptions, ReplayModel, cross_validate, load_logs, simulate, write_log
+from ship_env.workbench import FitOptions, ReplayModel, compare, cross_validate, load_logs, simulate, write_log
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.presets import DataLimit, envelope_section, preset_document, standard_errors, write_preset
 from ship_env.workbench.synthetic import Manoeuvre, hidden_effect_logs
+from ship_env.workbench.tables import error_table
 
 SHIP = "esso_osaka_model"
 HIDDEN = ("rudder_offset",)
@@ -222,3 +223,25 @@ def test_improve_writes_its_final_model_as_a_preset(sailed, tmp_path):
     assert model.has("rudder_offset")  # the ladder adds the hidden offset
     assert model.ship.std_errors["rudder_offset.angle"] > 0.0
     assert "rudder_offset.angle" in yaml.safe_load(preset.read_text())["fitted"]["terms"]
+
+
+def test_compare_sails_a_preset_in_the_current_its_fit_found(tmp_path, capsys):
+    """The fitted current is a condition of the runs (``fitted.conditions``): compare --ship replays in it."""
+    manoeuvres = [Manoeuvre(f"zigzag_{i}", "zigzag", math.radians(sign * 20.0), 40.0) for i, sign in enumerate((1, -1))]
+    _, logs = hidden_effect_logs(("current",), SHIP, seed=5, manoeuvres=manoeuvres)
+    for log in logs:
+        write_log(log, tmp_path / f"{log.name}.csv")
+    logs = load_logs([tmp_path])
+    setup = ReplayModel(ShipModel(SHIP, ["yaw", "kinematics", "current"]))
+    options = FitOptions(scales=ErrorScales.for_runs(setup.model, logs), workers=1)
+    validation = cross_validate(setup, logs, ["current.north", "current.east"], options)
+    path = tmp_path / "in_current.yaml"
+    write_preset(preset_document(validation, logs, "ship-env fit (test)", path.stem), path)
+    assert set(yaml.safe_load(path.read_text())["fitted"]["conditions"]) == {"current.north", "current.east"}
+    fits = compare(validation.fit.setup, logs, options.initial_window)
+    expected = error_table(fits.errors, options.scales, fits.pooled).text()
+    still = compare(ReplayModel(validation.fit.setup.model), logs, options.initial_window)
+    assert error_table(still.errors, options.scales, still.pooled).text() != expected  # the current shows
+    capsys.readouterr()
+    assert main(["compare", str(tmp_path), "--ship", str(path), "--model", "default"]) == 0
+    assert expected in capsys.readouterr().out

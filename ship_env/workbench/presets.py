@@ -23,6 +23,9 @@ presets' own format (``configs/ships/*.yaml``, :func:`ship_env.model.load_ship`)
   their hashes, the command, the effects and terms, the fitted steady current (a condition of the
   runs, not a property of the ship), the pooled held-out (and validation) RMS errors in deg, deg/s
   and m, the coverage, and the ship_env version.
+
+A replay of a fitted preset's runs (:func:`preset_replay_model`: ``compare --ship FILE`` and the other
+workbench commands) sails in the steady current the fit found, as the fit's own replay did.
 """
 
 from __future__ import annotations
@@ -43,6 +46,7 @@ from ship_env.workbench.coverage import Coverage
 from ship_env.workbench.errors import CHANNEL_UNITS, RunErrors
 from ship_env.workbench.fit import Estimate
 from ship_env.workbench.logs import Log
+from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.terms import CURRENT_TERMS, reverses_propeller
 from ship_env.workbench.validation import CrossValidation
 
@@ -303,6 +307,36 @@ def preset_document(
     }
 
 
+def fitted_current(model: ShipModel) -> tuple[float, float]:
+    """The steady current (m/s north, east) recorded in a fitted preset's ``fitted.conditions``; (0, 0) where none.
+
+    Raises:
+        ValueError: a recorded current term without a numeric ``value`` (naming the file and the field).
+    """
+    fitted = model.ship.fitted or {}
+    conditions = fitted.get("conditions") or {}
+    where = model.ship.path or model.ship.name
+    if not isinstance(conditions, Mapping):
+        raise ValueError(
+            f"{where}: fitted.conditions: expected a mapping of {' and '.join(CURRENT_TERMS)}, got {conditions!r}"
+        )
+    current = []
+    for key in CURRENT_TERMS:
+        entry = conditions.get(key, {"value": 0.0})
+        value = entry.get("value") if isinstance(entry, Mapping) else None
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            raise ValueError(
+                f"{where}: fitted.conditions.{key}: expected a mapping with a finite 'value' in m/s, got {entry!r}"
+            )
+        current.append(float(value))
+    return current[0], current[1]
+
+
+def preset_replay_model(model: ShipModel) -> ReplayModel:
+    """``model`` with the steady current its preset was fitted in (used where ``model`` has the ``current`` effect)."""
+    return ReplayModel(model, *fitted_current(model))
+
+
 def write_preset(document: Mapping[str, Any], path: Path) -> Path:
     """Write a preset as YAML, floats at ``repr`` precision (the caller has claimed ``path``)."""
     path.write_text(yaml.safe_dump(dict(document), sort_keys=False, width=120, allow_unicode=True))
@@ -315,8 +349,10 @@ __all__ = [
     "LogFile",
     "data_limits",
     "envelope_section",
+    "fitted_current",
     "log_file",
     "preset_document",
+    "preset_replay_model",
     "standard_errors",
     "write_preset",
 ]

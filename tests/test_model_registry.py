@@ -15,6 +15,8 @@ from ship_env.model import Conditions, ShipModel, Simulator, list_ships
 REFERENCE = Path(__file__).parent / "data" / "reference_trajectories.npz"
 #: Effects added to the library after the reference was recorded (each checked against its closed form).
 NEWER_EFFECTS = ("propeller_astern",)
+#: Presets whose values changed after the reference was recorded: the file holding the values it was recorded with.
+RECORDED_WITH = {"esso_osaka_model": str(Path(__file__).parent / "data" / "esso_osaka_nominal.yaml")}
 
 
 def _conditions(i: int) -> Conditions:
@@ -45,10 +47,11 @@ def _trajectory(model: ShipModel, method: str, ships: int) -> np.ndarray:
 @pytest.mark.parametrize("ship", list_ships())
 def test_built_in_effects_through_the_registry_give_the_reference_bit_for_bit(ship):
     reference = np.load(REFERENCE)
+    recorded = RECORDED_WITH.get(ship, ship)
     for label, model in (
-        ("preset", ShipModel(ship)),
-        ("full", ShipModel.full(ship).without_effects(*NEWER_EFFECTS)),
-        ("minimal", ShipModel.minimal(ship)),
+        ("preset", ShipModel(recorded)),
+        ("full", ShipModel.full(recorded).without_effects(*NEWER_EFFECTS)),
+        ("minimal", ShipModel.minimal(recorded)),
     ):
         for method in ("rk4", "euler"):
             for ships in (1, 6):

@@ -31,6 +31,7 @@ filter when it orders the rudder).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -45,6 +46,7 @@ from ship_env.baselines.position_filter import PositionFilter
 from ship_env.baselines.track_predictor import PredictedTrack, ShipSituation, TrackPredictor
 from ship_env.baselines.track_scaling import TrackScalingEstimator
 from ship_env.baselines.yaw_filter import YawFilter
+from ship_env.envs.ship_scales import ShipScales
 from ship_env.envs.tracks import ReferenceTrack, cross_track_error
 
 
@@ -85,6 +87,19 @@ class CourseChangerSettings:
     look_ahead: float = 1000.0
     largest_correction: float = math.radians(10.0)
     settle_band: float = math.radians(3.0)
+
+    def for_ship(self, scales: ShipScales) -> CourseChangerSettings:
+        """These settings, made for the reference ship, on a ship of ``scales``
+        (:mod:`ship_env.envs.ship_scales`): times in L / U, distances in ship lengths, angles and
+        the steering machine's rate as they are."""
+        return dataclasses.replace(
+            self,
+            prediction_step=self.prediction_step * scales.time,
+            decision_interval=self.decision_interval * scales.time,
+            approach_distance=self.approach_distance * scales.length,
+            settle_time=self.settle_time * scales.time,
+            look_ahead=self.look_ahead * scales.length,
+        )
 
 
 class PredictiveCourseChanger:

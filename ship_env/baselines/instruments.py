@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ship_env.baselines.measurement import Measurement
-from ship_env.envs.sensors import SENSOR_NOISE
+from ship_env.envs.sensors import SENSOR_NOISE, ship_sensor_noise
+from ship_env.envs.ship_scales import ShipScales
 from ship_env.model import Simulator
 
 
@@ -35,6 +36,11 @@ class InstrumentNoise:
     rate_of_turn: float = SENSOR_NOISE["rate_of_turn"]
     speed: float = SENSOR_NOISE["speed"]
     position: float = SENSOR_NOISE["position"]
+
+    @classmethod
+    def for_ship(cls, scales: ShipScales) -> InstrumentNoise:
+        """The environments' noise on a ship of ``scales`` (:func:`~ship_env.envs.sensors.ship_sensor_noise`)."""
+        return cls(**ship_sensor_noise(scales))
 
 
 class SimulatedInstruments:

@@ -44,6 +44,7 @@ from filterpy.kalman import KalmanFilter
 
 from ship_env.baselines.filter_health import InnovationGate
 from ship_env.baselines.measurement import Measurement
+from ship_env.envs.ship_scales import ShipScales
 
 SPEED, SWAY_CONSTANT, CURRENT_NORTH, CURRENT_EAST, NORTH, EAST = range(6)
 STATE_SIZE = 6
@@ -73,6 +74,22 @@ class PositionFilterNoise:
     position_model: float = 0.1
     initial_current: float = 2.0
     initial_sway: float = 50.0
+
+    def for_ship(self, scales: ShipScales) -> PositionFilterNoise:
+        """This calibration, made for the reference ship, on a ship of ``scales``
+        (:mod:`ship_env.envs.ship_scales`): lengths in ship lengths, speeds in units of U, times in
+        L / U, so each spectral density scales with its units over time."""
+        length, speed, time = scales.length, scales.speed, scales.time
+        return PositionFilterNoise(
+            log=self.log * speed,
+            position_fix=self.position_fix * length,
+            speed_walk=self.speed_walk * speed**2 / time,
+            sway_walk=self.sway_walk * length**2 / time,
+            current_walk=self.current_walk * speed**2 / time,
+            position_model=self.position_model * length**2 / time,
+            initial_current=self.initial_current * speed,
+            initial_sway=self.initial_sway * length,
+        )
 
 
 class PositionFilter:

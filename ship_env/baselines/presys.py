@@ -14,6 +14,7 @@ first with a zig-zag on its model, as the thesis did before its experiment
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import TYPE_CHECKING
 
@@ -26,15 +27,18 @@ from ship_env.baselines.online_estimators.zigzag_trial import identify_by_zigzag
 from ship_env.baselines.pd_autopilot import PDAutopilot, PDDesign, Schedule
 from ship_env.baselines.position_filter import PositionFilter, PositionFilterNoise
 from ship_env.baselines.yaw_filter import YawFilter
+from ship_env.envs.ship_scales import ship_scales
 from ship_env.model import ShipModel
 
 if TYPE_CHECKING:
     from ship_env.envs.task import ShipTask
     from ship_env.envs.track_follow_task import TrackFollowTask
 
-#: The PD tuning of the baselines: closed-loop natural frequency (rad/s; at the service speed for
-#: the distance schedule) and damping. About omega_n* = omega_n L/u = 1.4 per ship length at the
-#: service speed: the turn ends briskly, without overshoot.
+#: The PD tuning of the baselines: closed-loop natural frequency on the reference ship (rad/s; at
+#: the service speed for the distance schedule) and damping. About omega_n* = omega_n L/u = 1.4 per
+#: ship length at the service speed: the turn ends briskly, without overshoot. Every ship is designed
+#: for that omega_n*: omega_n is this over its time scale (:mod:`ship_env.envs.ship_scales`), so a
+#: 3 m model's loop is as brisk in ship lengths as the container ship's.
 NATURAL_FREQUENCY = 0.06
 DAMPING = 1.0
 #: K_R of the MRAC autopilot on course changes: the reference model follows the filter over about
@@ -54,7 +58,8 @@ def preset_parameters(model: ShipModel) -> NomotoParameters:
 
 
 def _design(model: ShipModel, rudder_limit: float, schedule: Schedule = "time") -> PDDesign:
-    return PDDesign(NATURAL_FREQUENCY, DAMPING, rudder_limit, model.service_speed, schedule)
+    natural_frequency = NATURAL_FREQUENCY / ship_scales(model).time
+    return PDDesign(natural_frequency, DAMPING, rudder_limit, model.service_speed, schedule)
 
 
 def pd_controller(task: ShipTask, schedule: Schedule = "time") -> AutopilotController:
@@ -105,11 +110,12 @@ def track_follow_controller(task: TrackFollowTask, seed: int = 0) -> TrackFollow
         reference_gain=0.0,
         adaptation_band=ADAPTATION_BAND,
     )
+    noise = PositionFilterNoise(initial_sway=10.0).for_ship(task.scales)
     position_filter = PositionFilter(
         task.dt,
         sway_constant=identified.sway_constant,
-        noise=PositionFilterNoise(position_fix=float(task.sensors[0]["position_noise"]), initial_sway=10.0),
+        noise=dataclasses.replace(noise, position_fix=float(task.sensors[0]["position_noise"])),
     )
-    settings = CourseChangerSettings(rudder_rate=model.parameter("steering_machine.rudder_rate"))
+    settings = CourseChangerSettings(rudder_rate=model.parameter("steering_machine.rudder_rate")).for_ship(task.scales)
     course_changer = PredictiveCourseChanger(autopilot, position_filter, settings, task.dt)
     return TrackFollowController(course_changer, task.tracks, task.rudder_limit)

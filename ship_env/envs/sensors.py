@@ -68,15 +68,27 @@ _POSITION = 2  # north and east
 _NOISE_PAIRS = np.uint64(3)
 
 
+def ship_sensor_noise(scales: ShipScales) -> dict[str, float]:
+    """:data:`SENSOR_NOISE` on a ship of ``scales`` (it is the reference ship's): the compass's in
+    rad, the position's in ship lengths, the log's in units of U and the gyro's in U / L
+    (:mod:`ship_env.envs.ship_scales`)."""
+    return {
+        "heading": SENSOR_NOISE["heading"],
+        "rate_of_turn": SENSOR_NOISE["rate_of_turn"] / scales.time,
+        "speed": SENSOR_NOISE["speed"] * scales.speed,
+        "position": SENSOR_NOISE["position"] * scales.length,
+    }
+
+
 def sensors_record(noise_scale: float, fix_interval: float, scales: ShipScales) -> np.ndarray:
     """The instruments' constants (one record) for a noise scale and a position-fix interval, s, on a
-    ship of ``scales``: :data:`SENSOR_NOISE` is the reference ship's, the position's noise in ship
-    lengths, the log's in units of U and the gyro's in U / L (:mod:`ship_env.envs.ship_scales`)."""
+    ship of ``scales`` (:func:`ship_sensor_noise`)."""
+    noise = ship_sensor_noise(scales)
     record = np.zeros(1, dtype=SENSORS_DTYPE)
-    record[0]["heading_noise"] = noise_scale * SENSOR_NOISE["heading"]
-    record[0]["rate_noise"] = noise_scale * SENSOR_NOISE["rate_of_turn"] / scales.time
-    record[0]["speed_noise"] = noise_scale * SENSOR_NOISE["speed"] * scales.speed
-    record[0]["position_noise"] = noise_scale * SENSOR_NOISE["position"] * scales.length
+    record[0]["heading_noise"] = noise_scale * noise["heading"]
+    record[0]["rate_noise"] = noise_scale * noise["rate_of_turn"]
+    record[0]["speed_noise"] = noise_scale * noise["speed"]
+    record[0]["position_noise"] = noise_scale * noise["position"]
     record[0]["fix_interval"] = fix_interval
     return record
 

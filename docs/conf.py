@@ -1,5 +1,7 @@
-"""Sphinx configuration: the API pages are built from the docstrings, the walk-throughs include the
-README's sections (one text for both), the effects table is generated from the declarations."""
+"""Sphinx configuration: the guides and results pages are pages of their own (docs/*.md, docs/results/),
+the API reference is built from the docstrings (docs/api/), and what the code draws or prints is generated
+at build time by the extensions in docs/_ext (the effects table, the ship presets, each command's help,
+each environment's episode, the workbench's walk-through, the benchmark's report)."""
 
 import sys
 from pathlib import Path
@@ -11,10 +13,26 @@ import ship_env  # noqa: E402  (after the path set-up above)
 
 project = "ship_env"
 release = version = ship_env.__version__
-extensions = ["sphinx.ext.autodoc", "sphinx.ext.napoleon", "myst_parser", "effect_table", "docstrings", "command_help"]
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.napoleon",
+    "myst_parser",
+    "effect_table",
+    "ship_presets",
+    "docstrings",
+    "command_help",
+    "episodes",
+    "workbench_figures",
+    "benchmark_report",
+]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build"]
-html_theme = "alabaster"
+# _generated holds what the build draws; results/leaderboard what `ship-env leaderboard` wrote (included, not pages).
+exclude_patterns = ["_build", "_generated", "results/leaderboard"]
+
+html_theme = "furo"
+html_title = f"ship_env {release}"
+html_theme_options = {"navigation_with_keys": True}
+html_show_copyright = False
 
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"
@@ -23,6 +41,4 @@ napoleon_google_docstring = True
 napoleon_numpy_docstring = False
 napoleon_use_ivar = True  # "Attributes:" as fields, not a second entry beside autodoc's members
 
-# The included README sections start at "##": their anchors are not cross-referenced.
-myst_heading_anchors = 0
-suppress_warnings = ["myst.header"]
+myst_heading_anchors = 3

@@ -4,7 +4,8 @@
   its name, what it models, the thesis equations, its parameters (unit, meaning, range) and
   whether a model needs it.
 - ``effect-modules``: the API of each built-in effect's module
-  (:data:`ship_env.model.effects.LIBRARY`), in the order they register.
+  (:data:`ship_env.model.effects.LIBRARY`), in the order they register; it writes reStructuredText, so a
+  Markdown page calls it inside ``eval-rst``.
 """
 
 from __future__ import annotations

@@ -109,6 +109,24 @@ def test_the_shipped_policy_sailing_another_ship_is_named_as_trained_on_its_own(
     assert on_the_file.name == f"PPO (shipped, trained on {DEFAULT_SHIP})"
 
 
+def test_a_policy_shipped_for_one_ship_sails_that_ships_board_only(ship_file):
+    """The PPO shipped for the identified Esso Osaka model sails its board beside the container ship's
+    (zero-shot); on the container ship's board and on a third ship's it is left out."""
+    env = gym.make(COURSE_CHANGE)
+    spaces = {COURSE_CHANGE: (env.observation_space, env.action_space)}
+    env.close()
+    on_esso = policy_entrants([], spaces, ship="esso_osaka_model")
+    assert sorted(entrant.name for entrant in on_esso) == ["PPO (shipped)", f"PPO (shipped, trained on {DEFAULT_SHIP})"]
+    trained_on_esso = next(entrant for entrant in on_esso if entrant.name == "PPO (shipped)")
+    assert all("ppo_esso_osaka_model" in str(path) for path in trained_on_esso.policies)
+    for board_ship in (DEFAULT_SHIP, str(ship_file)):
+        assert all(
+            "ppo_esso_osaka_model" not in str(path)
+            for e in policy_entrants([], spaces, ship=board_ship)
+            for path in e.policies
+        )
+
+
 @pytest.mark.parametrize(
     ("arguments", "message"),
     [

@@ -170,6 +170,11 @@ def policy_entrants(
 ) -> list[Entrant]:
     """Learned entrants: the shipped policies (if ``shipped``) and the policies at ``paths``.
 
+    The shipped policies sailed are those trained on the board's ``ship`` and those trained on the
+    tasks' own ship, :data:`DEFAULT_SHIP` (sailing any other ship zero-shot); a shipped policy trained
+    on a third ship (e.g. ``ppo_esso_osaka_model``, on the identified Esso Osaka model) sails only
+    that ship's board.
+
     Each path (and each shipped entrant's folder) is one entrant: a policy file, a training run's
     folder, or a folder of one run per training seed (``seed<S>/``, as ``ship-env train --seeds``
     writes them). A policy sails the environment its metadata names (with the observation options
@@ -187,7 +192,8 @@ def policy_entrants(
     labelled = []
     for folder in shipped_entrants() if shipped else []:
         files = [read_policy_file(path) for path in seed_models(folder)]
-        if files[0].env_id in env_spaces:
+        elsewhere = trained_elsewhere(files[0], ship)
+        if files[0].env_id in env_spaces and elsewhere in (None, ship_name(DEFAULT_SHIP)):
             labelled.append((files, "shipped", False))
     labelled += [
         ([read_policy_file(path, trust_policy_code) for path in seed_models(path)], str(path), trust_policy_code)

@@ -51,3 +51,20 @@ def test_course_changer_holds_up_in_other_gusts_and_instrument_noise(seed):
     rms = [float(sail(track, seed)["rms_cross_track_error"]) for track in TRACK_IDS]
     print(f"seed {seed}: " + ", ".join(f"{value:.1f}" for value in rms) + f" | mean {np.mean(rms):.1f}")
     assert np.mean(rms) < THESIS_TRACK_PREDICTOR_RMS
+
+
+@pytest.mark.parametrize(("track", "seed"), [("T4", 1), ("T1", 4)])
+def test_course_changer_starts_on_the_leg_a_before_turn_episode_starts_on(track, seed):
+    """``start="before_turn"`` (the leaderboard's test suite) puts the ship on a later leg (T4 seed 1:
+    the fifth, T1 seed 4: the third); the course changer keeps to that leg and turns onto the next,
+    inside the thesis navigators' RMS as from the first waypoint (not steering for the first leg's course)."""
+    env = gym.make("ship_env/TrackFollow-v0", track=track, start="before_turn")
+    controller = track_follow_controller(env.unwrapped.task)
+    observation, info = env.reset(seed=seed)
+    assert info["leg"] > 0
+    controller.reset(observation, info)
+    terminated = truncated = False
+    while not (terminated or truncated):
+        observation, _, terminated, truncated, info = env.step(controller.act(observation, info))
+    assert terminated
+    assert info["score"]["rms_cross_track_error"] < THESIS_TRACK_PREDICTOR_RMS

@@ -69,7 +69,7 @@ def test_calibrations_scale_by_their_units() -> None:
     assert moved.prediction_step == 4.0 * settings.prediction_step
     assert moved.decision_interval == 4.0 * settings.decision_interval
     assert moved.settle_time == 4.0 * settings.settle_time
-    unchanged = ("rudder_rate", "largest_correction", "settle_band")
+    unchanged = ("rudder_rate", "largest_correction", "settle_band", "settled_current")
     assert all(getattr(moved, name) == getattr(settings, name) for name in unchanged)
     assert {field.name for field in dataclasses.fields(CourseChangerSettings)} == {
         "rudder_rate",

@@ -14,7 +14,10 @@ On a leg k (waypoint k to k + 1, course chi_k), every sample:
   from the leg (positive to starboard) and Delta a look-ahead distance, corrected for the
   estimated current u_c (which holds the wind's leeway too): psi = chi_d - asin(u_c,perp / u),
   u_c,perp the current's component to starboard of chi_d;
-- **wheel-over** (every ``decision_interval`` s within ``approach_distance`` of the waypoint): the
+- **wheel-over** (every ``decision_interval`` s within ``approach_distance`` of the waypoint, once
+  the position filter's current is settled: its standard deviation below ``settled_current`` times
+  the speed, about 25 s after a start for the container ship, so a ship started near a turn does
+  not turn on the filter's first guess of the current): the
   trial heading psi_t for leg k + 1 (its course corrected for the current likewise), predicted
   for executing now and for executing one decision interval later, both adapted with K_rho and
   the current (6.3.4). Their mean squared distance to the reference track over the turn is
@@ -77,6 +80,8 @@ class CourseChangerSettings:
         look_ahead: Delta of the track keeping, m.
         largest_correction: c_max, the track keeping's largest heading correction, rad.
         settle_band: heading error below which a turn is over, rad.
+        settled_current: the current estimate's standard deviation, as a fraction of the speed, below
+            which wheel-over decisions are made (0.02: a heading error of about 1 deg from the current).
     """
 
     rudder_rate: float
@@ -87,6 +92,7 @@ class CourseChangerSettings:
     look_ahead: float = 1000.0
     largest_correction: float = math.radians(10.0)
     settle_band: float = math.radians(3.0)
+    settled_current: float = 0.02
 
     def for_ship(self, scales: ShipScales) -> CourseChangerSettings:
         """These settings, made for the reference ship, on a ship of ``scales``
@@ -136,17 +142,19 @@ class PredictiveCourseChanger:
         self._first_sample = True
 
     # -- running --------------------------------------------------------------------------------
-    def reset(self, measurement: Measurement, track: ReferenceTrack) -> None:
-        """Start at the first waypoint of ``track`` on its first leg."""
+    def reset(self, measurement: Measurement, track: ReferenceTrack, leg: int = 0) -> None:
+        """Start on ``track``'s ``leg`` (0: from its first waypoint), keeping to that leg until its wheel-over."""
+        if not 0 <= leg < len(track.courses):
+            raise ValueError(f"CourseChanger.reset: leg {leg} is not one of the track's 0..{len(track.courses) - 1}")
         self._track = track
-        self.leg = 0
+        self.leg = leg
         self.turning = False
         self.wheel_over_prediction = None
         self.scaling.reset()
         self.autopilot.reset(measurement)
         yaw_filter = self.autopilot.yaw_filter
         self.position_filter.reset(measurement, yaw_filter.rate_of_turn, yaw_filter.heading)
-        self.setpoint = float(track.courses[0])
+        self.setpoint = float(track.courses[leg])
         self._time_since_decision = self.settings.decision_interval
         self._first_sample = True
 
@@ -187,7 +195,9 @@ class PredictiveCourseChanger:
             return
         self._time_since_decision = 0.0
         to_go = self._distance_to_waypoint(self.leg)
-        if to_go > self.settings.approach_distance:
+        position_filter = self.position_filter
+        unsettled = position_filter.current_uncertainty > self.settings.settled_current * position_filter.speed
+        if to_go > self.settings.approach_distance or (unsettled and to_go >= 0.0):
             return
         trial_heading = self._course_heading(float(track.courses[self.leg + 1]))
         start = self._situation()
@@ -281,7 +291,9 @@ class TrackFollowController:
         self.rudder_limit = rudder_limit
 
     def reset(self, observation: np.ndarray, info: Mapping[str, Any]) -> None:
-        self.course_changer.reset(Measurement.from_info(info), self.tracks[info["scenario"].track])
+        """Start on the leg the episode starts on (``info["leg"]``: not the first with ``start="before_turn"``)."""
+        track = self.tracks[info["scenario"].track]
+        self.course_changer.reset(Measurement.from_info(info), track, int(info["leg"]))
 
     def act(self, observation: np.ndarray, info: Mapping[str, Any]) -> np.ndarray:
         rudder = self.course_changer.order(Measurement.from_info(info))

@@ -236,6 +236,11 @@ class PositionFilter:
         return float(self.kalman.x[CURRENT_NORTH, 0]), float(self.kalman.x[CURRENT_EAST, 0])
 
     @property
+    def current_uncertainty(self) -> float:
+        """The larger standard deviation of the current's two estimates, m/s (the filter's covariance)."""
+        return math.sqrt(max(self.kalman.P[CURRENT_NORTH, CURRENT_NORTH], self.kalman.P[CURRENT_EAST, CURRENT_EAST]))
+
+    @property
     def position(self) -> tuple[float, float]:
         """(x_s^, y_s^), north and east, m."""
         return float(self.kalman.x[NORTH, 0]), float(self.kalman.x[EAST, 0])

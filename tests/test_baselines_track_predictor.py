@@ -179,7 +179,7 @@ def sail_predicted_course_change(seed: int, identify: bool, change_deg: float = 
 
 
 @pytest.mark.parametrize("identify", [True, False], ids=["identified", "preset"])
-@pytest.mark.parametrize("seed", [0, 1])
+@pytest.mark.parametrize("seed", [0, pytest.param(1, marks=pytest.mark.slow)])
 def test_adapted_prediction_made_at_wheel_over_follows_the_sailed_track(seed, identify):
     result = sail_predicted_course_change(seed, identify)
     errors = {

@@ -35,6 +35,7 @@ SHIPPED_PPO = "PPO (shipped)"
 TINY = SuiteSpec(course_changes_deg=(45.0,), tracks=(), conditions=(NOMINAL,), course_change_disturbances=("calm",))
 
 
+@pytest.mark.slow
 def test_the_same_seeds_give_the_same_table_to_the_last_digit():
     first = run_leaderboard(TINY, progress=False)
     second = run_leaderboard(TINY, progress=False)
@@ -85,6 +86,7 @@ def test_the_test_suite_shares_no_episode_with_dev_or_full():
     assert {kwargs["start"] for kwargs, _ in test_tracks} == {"before_turn"}
 
 
+@pytest.mark.slow
 def test_a_track_sailed_from_before_a_turn_has_no_thesis_navigator_rows():
     """The thesis's navigators sailed whole tracks: their rows stand beside whole tracks only."""
     spec = dataclasses.replace(
@@ -120,6 +122,7 @@ def _beside_the_fixed_pd(table, name: str):
     return fixed, other
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("disturbance", ["calm", "wind_current"])
 def test_gain_scheduled_pd_beats_the_fixed_pd_at_half_speed(robustness, disturbance):
     """Fixed gains at half speed leave the loop at half its natural frequency and with damping 0.60
@@ -141,6 +144,7 @@ def test_gain_scheduled_pd_beats_the_fixed_pd_at_half_speed(robustness, disturba
         assert adaptive.values["rudder_travel"] < fixed.values["rudder_travel"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("disturbance", ["calm", "wind_current"])
 def test_mrac_beats_the_fixed_pd_when_the_ships_k_and_tau_are_halved(robustness, disturbance):
     table = robustness.table(f"CourseChange {disturbance} | K*, tau* x0.5")
@@ -150,6 +154,7 @@ def test_mrac_beats_the_fixed_pd_when_the_ships_k_and_tau_are_halved(robustness,
     assert mrac.values["rudder_travel"] < fixed.values["rudder_travel"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("disturbance", ["calm", "wind_current"])
 def test_mrac_keeps_the_design_loop_when_the_ships_k_and_tau_are_doubled(
     robustness, nominal_course_changes, disturbance
@@ -172,6 +177,7 @@ def test_mrac_keeps_the_design_loop_when_the_ships_k_and_tau_are_doubled(
     assert mrac.values["rudder_travel"] < fixed.values["rudder_travel"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("disturbance", ["calm", "wind_current"])
 def test_shipped_ppo_beats_the_best_classic_baseline(nominal_course_changes, disturbance):
     """Five training seeds x ten course changes: the probability of improvement's interval lies above parity."""
@@ -187,6 +193,7 @@ def test_shipped_ppo_beats_the_best_classic_baseline(nominal_course_changes, dis
     assert table.standing(SHIPPED_PPO).rank == 1
 
 
+@pytest.mark.slow
 def test_outputs_are_tables_csv_and_plots(tmp_path):
     spec = SuiteSpec(
         course_changes_deg=(30.0,), tracks=("T2",), conditions=(NOMINAL,), course_change_disturbances=("calm",)
@@ -225,6 +232,7 @@ def test_outputs_are_tables_csv_and_plots(tmp_path):
         assert len(list(csv.DictReader(handle))) == len(board.results)
 
 
+@pytest.mark.slow
 def test_leaderboard_command_prints_ranked_tables_and_writes_files(tmp_path, capsys):
     status = main(
         [
@@ -262,6 +270,7 @@ def test_settling_time_averages_the_settled_episodes_only():
         assert math.isfinite(standing.values["settling_time"])
 
 
+@pytest.mark.slow
 def test_ray_backend_gives_the_local_table():
     """One Ray task per controller, training seed and suite; the same table and intervals to the last digit."""
     ray = pytest.importorskip("ray", reason="Ray (the dev extra) is not installed")
@@ -283,6 +292,7 @@ def test_a_ray_address_that_does_not_answer_is_named(tmp_path, capsys):
     assert "argument --ray-address: Ray address '127.0.0.1:1': no Ray cluster answers there" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_a_folder_of_seeds_is_one_entrant_sailed_with_each_seed(tmp_path, capsys):
     """``ship-env train --seeds 0-1`` writes seed0/ and seed1/; ``--policies`` that folder ranks one entrant."""
     config = tmp_path / "ppo.yaml"

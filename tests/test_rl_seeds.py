@@ -121,6 +121,7 @@ def test_a_ray_address_that_does_not_answer_is_named(tmp_path, tiny_config, caps
     assert not (tmp_path / "runs").exists()
 
 
+@pytest.mark.slow  # starting Ray takes half a minute
 def test_seeds_trained_as_ray_tasks_are_the_seeds_trained_here(tmp_path, tiny_config, capsys):
     ray = pytest.importorskip("ray", reason="Ray (the dev extra) is not installed")
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)

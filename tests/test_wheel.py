@@ -109,8 +109,13 @@ def test_both_packages_import_from_the_fresh_environment(installed: Path):
     assert typed.strip() == "True"
 
 
-def test_the_command_line_runs_from_the_wheel(installed: Path, tmp_path: Path):
+def test_the_command_line_starts_from_the_wheel(installed: Path, tmp_path: Path):
     assert "manoeuvre" in run(installed / "ship-env", "--help", cwd=tmp_path)
+
+
+@pytest.mark.slow
+def test_the_command_line_sails_from_the_wheel_with_the_numbers_of_the_source_tree(installed: Path, tmp_path: Path):
+    """The installed package compiles its kernels afresh (numba's cache lies beside the sources): a minute."""
     figures = tmp_path / "figures.json"
     run(
         installed / "ship-env",

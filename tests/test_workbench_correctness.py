@@ -14,7 +14,7 @@ from ship_env.model import ShipModel
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, fit, simulate
 from ship_env.workbench.diagnose import CandidateResult
 from ship_env.workbench.documents import fit_document
-from ship_env.workbench.errors import ErrorScales, pooled, run_errors
+from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, pooled_jackknife, run_errors
 from ship_env.workbench.fit import Problem, unknown_variances
 from ship_env.workbench.improve import Rules, _terms_at_null, verdict
 from ship_env.workbench.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
@@ -138,3 +138,13 @@ def test_the_variances_of_a_long_jacobian_are_those_of_the_normal_equations():
     jacobian[:, 2] = 2.0 * jacobian[:, 0]  # two terms that move the replays only together: neither is determined
     determined = np.linalg.inv(jacobian[:, :2].T @ jacobian[:, :2])[1, 1]  # the third adds nothing to the second's
     assert list(unknown_variances(jacobian)) == [math.inf, pytest.approx(determined, rel=1e-10), math.inf]
+
+
+def test_the_jackknife_of_pooled_errors_is_half_the_difference_of_two_runs_and_zero_for_equal_ones():
+    """Two runs: leaving one out pools the other, so the spread is |E_1 - E_2| / 2 whatever their lengths."""
+    short, long = RunErrors("a", 100, 0.02, 0.001, 0.5, 0.3), RunErrors("b", 900, 0.06, 0.003, 0.5, math.nan)
+    spread = pooled_jackknife([short, long])
+    assert spread.heading == pytest.approx(0.02) and spread.rate_of_turn == pytest.approx(0.001)
+    assert spread.position == 0.0 and math.isnan(spread.track)  # one run measures the track: no spread known
+    assert pooled_jackknife([short, short, short]).heading == 0.0
+    assert math.isnan(pooled_jackknife([short]).heading)

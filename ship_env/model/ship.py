@@ -37,6 +37,10 @@ from ship_env.model.dynamics import FINGERPRINT_PREFIX, check_contributions, fin
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
 from ship_env.paths import config_dir
 
+#: The YAML loader for ship presets: libyaml's safe loader where PyYAML was built with it (the same
+#: documents, read about eight times faster: every environment made reads its ship), else PyYAML's own.
+SAFE_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
 PRINCIPAL: tuple[Parameter, ...] = (
     Parameter("length", "m", "L, the length that normalises the model (2.40)", minimum=1e-3),
     Parameter("breadth", "m", "B, moulded breadth (drawings only)", minimum=0.0),
@@ -181,7 +185,7 @@ def load_ship(name_or_path: str | Path) -> Ship:
         if not path.is_file():
             raise ValueError(f"ship: unknown preset {str(name_or_path)!r}; known: {', '.join(list_ships())}")
     with path.open() as handle:
-        document = yaml.safe_load(handle)
+        document = yaml.load(handle, Loader=SAFE_LOADER)
     if not isinstance(document, Mapping):
         raise TypeError(f"{path}: expected a mapping at the top level")
     unknown = set(document) - {"name", "description", "principal", "envelope", "effects", "fitted"}

@@ -218,3 +218,29 @@ def pooled(errors: Sequence[RunErrors], name: str = "pooled") -> RunErrors:
         track=pool("track"),
         diverged=sum(e.diverged for e in errors),
     )
+
+
+def pooled_jackknife(errors: Sequence[RunErrors]) -> RunErrors:
+    """Jackknife standard errors, over the runs, of the pooled errors (:func:`pooled`), channel by channel.
+
+    With E_i a channel's pooled RMS with run i left out, sqrt((n - 1) / n * sum_i (E_i - mean E)^2) over
+    the n runs: how much a pooled figure owes to which runs were measured (two runs: half their
+    difference). NaN with fewer than two runs.
+    """
+    count = len(errors)
+    without = [pooled([e for j, e in enumerate(errors) if j != i]) for i in range(count)]
+
+    def spread(channel: str) -> float:
+        if count < 2:
+            return math.nan
+        values = np.array([getattr(e, channel) for e in without])
+        return float(math.sqrt((count - 1) / count * np.sum((values - values.mean()) ** 2)))
+
+    return RunErrors(
+        name="jackknife",
+        samples=sum(e.samples for e in errors),
+        heading=spread("heading"),
+        rate_of_turn=spread("rate_of_turn"),
+        position=spread("position"),
+        track=spread("track"),
+    )

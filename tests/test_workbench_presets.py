@@ -17,6 +17,8 @@ import pytest
 import yaml
 
 from ship_env.cli import main
+from ship_env.leaderboard.board import run_leaderboard
+from ship_env.leaderboard.suites import NOMINAL, SuiteSpec
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
 from ship_env.workbench import FitOptions, ReplayModel, compare, cross_validate, load_logs, simulate, write_log
 from ship_env.workbench.errors import ErrorScales
@@ -245,3 +247,20 @@ def test_compare_sails_a_preset_in_the_current_its_fit_found(tmp_path, capsys):
     capsys.readouterr()
     assert main(["compare", str(tmp_path), "--ship", str(path), "--model", "default"]) == 0
     assert expected in capsys.readouterr().out
+
+
+def test_the_leaderboard_sails_the_preset_with_autopilots_designed_from_it(fitted):
+    """A preset written from a fit is a leaderboard's ship: named in its tables, the four classic
+    course-changing autopilots (designed from its fitted K*, tau*) settle a 30 deg change each way."""
+    _, path = fitted
+    spec = SuiteSpec(
+        course_changes_deg=(30.0,),
+        tracks=(),
+        conditions=(NOMINAL,),
+        course_change_disturbances=("calm",),
+        ship=str(path),
+    )
+    board = run_leaderboard(spec, shipped=False, progress=False)
+    assert board.ship_name == path.stem
+    rows = [line for line in board.markdown().splitlines() if "| classic |" in line]
+    assert len(rows) == 4 and all("| 2/2 |" in row for row in rows), rows

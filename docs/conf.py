@@ -26,8 +26,8 @@ extensions = [
     "benchmark_report",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-# _generated holds what the build draws; results/leaderboard what `ship-env leaderboard` wrote (included, not pages).
-exclude_patterns = ["_build", "_generated", "results/leaderboard"]
+# _generated holds what the build draws; results/leaderboard* what `ship-env leaderboard` wrote (included, not pages).
+exclude_patterns = ["_build", "_generated", "results/leaderboard", "results/leaderboard_esso_osaka"]
 
 html_theme = "furo"
 html_title = f"ship_env {release}"

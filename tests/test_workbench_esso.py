@@ -81,10 +81,12 @@ MARGIN_SIGMAS = 2.0
 
 
 def command(folder: Path, *arguments: str) -> dict:
-    """Run a documented command in this process with ``--json``; its document (the CLI's own defaults throughout)."""
-    path = folder / f"{len(list(folder.iterdir()))}-{arguments[0]}.json"
-    assert main([*arguments, "--json", str(path)]) == 0
-    return json.loads(path.read_text())
+    """Run a documented command in this process with ``--json``; its document (the CLI's own defaults
+    throughout; ``improve``'s report goes beside the document, not into the working directory)."""
+    stem = folder / f"{len(list(folder.iterdir()))}-{arguments[0]}"
+    report = ["--report", f"{stem}-report"] if arguments[0] == "improve" else []
+    assert main([*arguments, *report, "--json", f"{stem}.json"]) == 0
+    return json.loads(Path(f"{stem}.json").read_text())
 
 
 def per_run(section: dict, pooled_name: str) -> list[RunErrors]:

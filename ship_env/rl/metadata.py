@@ -13,9 +13,12 @@ import platform
 from dataclasses import MISSING, asdict, dataclass, fields
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import ship_env
+
+if TYPE_CHECKING:
+    from ship_env.rl.agents import AgentConfig
 
 #: The file names of a run's folder.
 MODEL_FILE = "model.zip"
@@ -73,6 +76,37 @@ class PolicyMetadata:
     versions: dict[str, str]
     command: str
     trained_agent: dict[str, Any] | None = None
+
+    @classmethod
+    def of_run(
+        cls,
+        config: AgentConfig,
+        *,
+        seed: int,
+        steps: int,
+        timesteps: int,
+        wall_time_s: float,
+        torch_threads: int,
+        command: str,
+        trained_agent: dict[str, Any] | None = None,
+    ) -> PolicyMetadata:
+        """The metadata of a run of ``config``: its environment, algorithm and entry, with the
+        packages installed now (:func:`package_versions`) and the run's own figures."""
+        return cls(
+            env_id=config.env_id,
+            env_kwargs=dict(config.env_kwargs),
+            algo=config.algo,
+            config=dict(config.entry),
+            config_file=str(config.source),
+            seed=seed,
+            steps=steps,
+            timesteps=timesteps,
+            wall_time_s=round(wall_time_s, 3),
+            torch_threads=torch_threads,
+            versions=package_versions(),
+            command=command,
+            trained_agent=trained_agent,
+        )
 
     def write(self, folder: Path) -> Path:
         """Write ``folder/metadata.json``; returns its path."""

@@ -40,6 +40,25 @@ def package_versions() -> dict[str, str]:
     return versions
 
 
+def machine_description() -> dict[str, str]:
+    """The machine a run trains on: its architecture, CPU model and the instruction set torch's CPU
+    kernels use (``AVX512``, ``AVX2``, ...). The same command gives the same weights only on the same
+    kind of machine: the CPU's instruction set changes the rounding of the linear algebra."""
+    import torch
+
+    cpu = platform.processor()
+    try:
+        with open("/proc/cpuinfo") as cpuinfo:
+            cpu = next((line.split(":", 1)[1].strip() for line in cpuinfo if line.startswith("model name")), cpu)
+    except OSError:
+        pass
+    return {
+        "architecture": platform.machine(),
+        "cpu": cpu,
+        "torch_cpu_capability": str(torch.backends.cpu.get_cpu_capability()),
+    }
+
+
 @dataclass(frozen=True)
 class PolicyMetadata:
     """A training run as ``metadata.json`` records it.
@@ -61,6 +80,8 @@ class PolicyMetadata:
         trained_agent: for a run that continued a saved agent (``--trained-agent``), that agent's
             ``model.zip`` path, its SHA-256 and the command that trained it; ``None`` for a run
             from new weights.
+        machine: the machine trained on (:func:`machine_description`); ``None`` in runs recorded
+            before it was.
     """
 
     env_id: str
@@ -76,6 +97,7 @@ class PolicyMetadata:
     versions: dict[str, str]
     command: str
     trained_agent: dict[str, Any] | None = None
+    machine: dict[str, str] | None = None
 
     @classmethod
     def of_run(
@@ -106,6 +128,7 @@ class PolicyMetadata:
             versions=package_versions(),
             command=command,
             trained_agent=trained_agent,
+            machine=machine_description(),
         )
 
     def write(self, folder: Path) -> Path:

@@ -40,7 +40,7 @@ from stable_baselines3.common.policies import ActorCriticPolicy
 from ship_env.baselines.controller import Controller
 from ship_env.baselines.presys import track_follow_controller
 from ship_env.rl.agents import DEFAULT_TORCH_THREADS, AgentConfig, load_agent_config
-from ship_env.rl.metadata import MODEL_FILE, PolicyMetadata, package_versions
+from ship_env.rl.metadata import MODEL_FILE, PolicyMetadata
 from ship_env.rl.training import make_training_env
 
 CONFIG = Path(__file__).resolve().parents[1] / "ship_env" / "configs" / "agents" / "ppo_cloned_course_changer.yaml"
@@ -142,18 +142,13 @@ def clone(
     vector_env.close()
     out.mkdir(parents=True, exist_ok=True)
     model.save(out / MODEL_FILE)
-    PolicyMetadata(
-        env_id=config.env_id,
-        env_kwargs=dict(config.env_kwargs),
-        algo=config.algo,
-        config=dict(config.entry),
-        config_file=str(config.source),
+    PolicyMetadata.of_run(
+        config,
         seed=seed,
         steps=0,
         timesteps=0,
-        wall_time_s=round(time.perf_counter() - start, 3),
+        wall_time_s=time.perf_counter() - start,
         torch_threads=torch.get_num_threads(),
-        versions=package_versions(),
         command=command,
     ).write(out)
     return squared_error

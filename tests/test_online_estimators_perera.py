@@ -56,6 +56,7 @@ def test_violent_rudder_finds_the_published_parameters_in_the_published_times(se
     assert max(final_errors(history, trial.truth).values()) < 0.10
 
 
+@pytest.mark.slow
 def test_zigzag_with_a_steering_machine_does_not():
     """The paper's second conclusion holds for a zig-zag sailed with a ship's steering machine (5 deg/s)."""
     trial, history = identify(ZIGZAG, STEERING_MACHINE)

@@ -12,6 +12,7 @@ from stable_baselines3 import PPO
 import ship_env
 from ship_env.cli import main
 from ship_env.rl.agents import ALGORITHMS, load_agent_config
+from ship_env.rl.metadata import machine_description
 from ship_env.rl.policy_file import read_policy_file
 
 COURSE_CHANGE = "ship_env/CourseChange-v0"
@@ -132,6 +133,7 @@ def test_train_command_writes_model_and_metadata(tmp_path, capsys):
     )  # measured, not asserted on: a fast machine may round it to 0
     assert metadata["versions"]["ship-env"] == ship_env.__version__
     assert {"stable-baselines3", "torch", "numpy", "gymnasium", "python"} <= set(metadata["versions"])
+    assert metadata["machine"] == machine_description() and metadata["machine"]["torch_cpu_capability"]
     assert shlex.split(metadata["command"]) == [
         "ship-env",
         "train",
@@ -170,19 +172,31 @@ def test_train_command_rejects_an_environment_without_a_config_entry(tmp_path, c
     assert "no entry for 'ship_env/CourseKeeping-v0'" in err and "ppo.yaml" in err
 
 
+#: The shipped TrackFollow PPO's weights are not reproduced on this machine type, not even by the commit
+#: that shipped them (d0b6ad0): they were trained on another machine, which their metadata (recorded
+#: before runs named their machine) does not say; forcing MKL to older instruction sets changes the
+#: weights within 8192 steps. Retrained and shipped again, they will record their machine.
+TRAINED_ELSEWHERE = pytest.mark.xfail(strict=True, reason="the shipped weights were trained on another machine")
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("env_id", [COURSE_CHANGE, TRACK_FOLLOW])
+@pytest.mark.parametrize("env_id", [COURSE_CHANGE, pytest.param(TRACK_FOLLOW, marks=TRAINED_ELSEWHERE)])
 def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id):
-    """Same command, seed, thread count and package versions: the same weights, bit for bit (the
-    shipped entrant's last training seed)."""
+    """Same command, seed, thread count, package versions and kind of machine: the same weights, bit
+    for bit (the shipped entrant's last training seed). A run recorded on another machine is skipped,
+    naming both."""
     import torch
     from stable_baselines3.common.save_util import load_from_zip_file
 
+    from ship_env.rl.metadata import PolicyMetadata
     from ship_env.rl.policy_file import seed_models
     from ship_env.rl.shipped import shipped_folder
 
     model = seed_models(shipped_folder(env_id, "ppo"))[-1]
-    words = shlex.split(json.loads((model.parent / "metadata.json").read_text())["command"])
+    metadata = PolicyMetadata.read(model.parent / "metadata.json")
+    if metadata.machine is not None and metadata.machine != machine_description():
+        pytest.skip(f"trained on {metadata.machine}; this machine is {machine_description()}")
+    words = shlex.split(metadata.command)
     out_index = words.index("--out") + 1
     words[out_index] = str(tmp_path / "run")
     assert main([*words[1:], "--no-progress"]) == 0

@@ -3,7 +3,8 @@
 OpenAI's ``baselines`` is still installed in many RL environments; ship-env must install and import
 beside it (its classic baselines are ``ship_env.baselines``). The fresh environment borrows this
 interpreter's installed dependencies through a ``.pth`` line (their plain import path, without the
-editable install of ship_env), so pip needs no index: ``--no-index --no-deps``.
+editable install of ship_env), so pip needs no index: ``--no-index --no-deps``. Building the two wheels
+and the environment takes longer than the default run allows: the whole module is in the slow set.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import ship_env
 from ship_env.manoeuvres.turning_circle import turning_circle
 from ship_env.model import ShipModel
 
+pytestmark = pytest.mark.slow
 ROOT = Path(__file__).resolve().parents[1]
 STUB_NAME = "the stub baselines"
 
@@ -113,7 +115,6 @@ def test_the_command_line_starts_from_the_wheel(installed: Path, tmp_path: Path)
     assert "manoeuvre" in run(installed / "ship-env", "--help", cwd=tmp_path)
 
 
-@pytest.mark.slow
 def test_the_command_line_sails_from_the_wheel_with_the_numbers_of_the_source_tree(installed: Path, tmp_path: Path):
     """The installed package compiles its kernels afresh (numba's cache lies beside the sources): a minute."""
     figures = tmp_path / "figures.json"
@@ -136,7 +137,6 @@ def test_the_command_line_sails_from_the_wheel_with_the_numbers_of_the_source_tr
     assert circle["figures"]["advance"]["value"] == pytest.approx(here.advance, rel=1e-9)
 
 
-@pytest.mark.slow
 @pytest.mark.parametrize("example", sorted((ROOT / "examples").glob("*.py")), ids=lambda path: path.name)
 def test_the_examples_run_from_the_wheel(installed: Path, example: Path, tmp_path: Path):
     run(installed / "python", example, cwd=tmp_path)

@@ -194,13 +194,12 @@ def policy_entrants(
         files = [read_policy_file(path) for path in seed_models(folder)]
         elsewhere = trained_elsewhere(files[0], ship)
         if files[0].env_id in env_spaces and elsewhere in (None, ship_name(DEFAULT_SHIP)):
-            labelled.append((files, "shipped", False))
-    labelled += [
-        ([read_policy_file(path, trust_policy_code) for path in seed_models(path)], str(path), trust_policy_code)
-        for path in paths
-    ]
+            labelled.append((files, "shipped", False, elsewhere))
+    for path in paths:
+        files = [read_policy_file(model, trust_policy_code) for model in seed_models(path)]
+        labelled.append((files, str(path), trust_policy_code, trained_elsewhere(files[0], ship)))
     entrants = []
-    for files, label, trusted in labelled:
+    for files, label, trusted, elsewhere in labelled:
         first = files[0]
         if len({policy_file.env_id for policy_file in files}) > 1:
             raise PolicyFileError(
@@ -230,7 +229,6 @@ def policy_entrants(
                 policy_file.check(env_id, *pair)
         policies = tuple(policy_file.path for policy_file in files)
         observed = tuple(sorted(observation_kwargs.items()))
-        elsewhere = trained_elsewhere(first, ship)
         name = f"{first.algo} ({label})" if elsewhere is None else f"{first.algo} ({label}, trained on {elsewhere})"
         entrants += [
             Entrant(name, env_id, "learned", policies, _training_seeds(files), observed, trusted) for env_id in fitting

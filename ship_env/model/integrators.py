@@ -128,10 +128,24 @@ def step_ship_with_noise(state, ordered_rudder, conditions, white_noise, draws, 
     rudder = state[S.RUDDER]
     held = held_yaw_acceleration(state, conditions, draws, dt, p)
     rudder_end = actual_rudder(state, rudder, order, dt, conditions, p)
+    # One call site for the four slopes (the stages in a loop): the composed derivative is inlined
+    # once, which compiles in half the time of four inlined copies, with the same numbers.
+    stage = work[4]
+    half = 0.5 * dt
+    rudder_half = actual_rudder(state, rudder, order, half, conditions, p)
+    for slope in range(1 if method == EULER else 4):
+        if slope == 0:
+            stage_rudder = actual_rudder(state, rudder, order, 0.0, conditions, p)
+            for j in range(size):
+                stage[j] = state[j]
+        else:
+            stage_rudder = rudder_end if slope == 3 else rudder_half
+            interval = dt if slope == 3 else half
+            previous = work[slope - 1]
+            for j in range(size):
+                stage[j] = state[j] + interval * previous[j]
+        derivatives(stage, stage_rudder, conditions, white_noise, draws, held, p, work[slope])
     k1 = work[0]
-    derivatives(
-        state, actual_rudder(state, rudder, order, 0.0, conditions, p), conditions, white_noise, draws, held, p, k1
-    )
     if method == EULER:
         for j in range(size):
             state[j] += dt * k1[j]
@@ -139,18 +153,6 @@ def step_ship_with_noise(state, ordered_rudder, conditions, white_noise, draws, 
         k2 = work[1]
         k3 = work[2]
         k4 = work[3]
-        stage = work[4]
-        half = 0.5 * dt
-        rudder_half = actual_rudder(state, rudder, order, half, conditions, p)
-        for j in range(size):
-            stage[j] = state[j] + half * k1[j]
-        derivatives(stage, rudder_half, conditions, white_noise, draws, held, p, k2)
-        for j in range(size):
-            stage[j] = state[j] + half * k2[j]
-        derivatives(stage, rudder_half, conditions, white_noise, draws, held, p, k3)
-        for j in range(size):
-            stage[j] = state[j] + dt * k3[j]
-        derivatives(stage, rudder_end, conditions, white_noise, draws, held, p, k4)
         for j in range(size):
             state[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
     state[S.RUDDER] = rudder_end

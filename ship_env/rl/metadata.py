@@ -13,9 +13,12 @@ import platform
 from dataclasses import MISSING, asdict, dataclass, fields
 from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import ship_env
+
+if TYPE_CHECKING:
+    from ship_env.rl.agents import AgentConfig
 
 #: The file names of a run's folder.
 MODEL_FILE = "model.zip"
@@ -35,6 +38,25 @@ def package_versions() -> dict[str, str]:
         except PackageNotFoundError:
             versions[package] = "not installed"
     return versions
+
+
+def machine_description() -> dict[str, str]:
+    """The machine a run trains on: its architecture, CPU model and the instruction set torch's CPU
+    kernels use (``AVX512``, ``AVX2``, ...). The same command gives the same weights only on the same
+    kind of machine: the CPU's instruction set changes the rounding of the linear algebra."""
+    import torch
+
+    cpu = platform.processor()
+    try:
+        with open("/proc/cpuinfo") as cpuinfo:
+            cpu = next((line.split(":", 1)[1].strip() for line in cpuinfo if line.startswith("model name")), cpu)
+    except OSError:
+        pass
+    return {
+        "architecture": platform.machine(),
+        "cpu": cpu,
+        "torch_cpu_capability": str(torch.backends.cpu.get_cpu_capability()),
+    }
 
 
 @dataclass(frozen=True)
@@ -58,6 +80,8 @@ class PolicyMetadata:
         trained_agent: for a run that continued a saved agent (``--trained-agent``), that agent's
             ``model.zip`` path, its SHA-256 and the command that trained it; ``None`` for a run
             from new weights.
+        machine: the machine trained on (:func:`machine_description`); ``None`` in runs recorded
+            before it was.
     """
 
     env_id: str
@@ -73,6 +97,39 @@ class PolicyMetadata:
     versions: dict[str, str]
     command: str
     trained_agent: dict[str, Any] | None = None
+    machine: dict[str, str] | None = None
+
+    @classmethod
+    def of_run(
+        cls,
+        config: AgentConfig,
+        *,
+        seed: int,
+        steps: int,
+        timesteps: int,
+        wall_time_s: float,
+        torch_threads: int,
+        command: str,
+        trained_agent: dict[str, Any] | None = None,
+    ) -> PolicyMetadata:
+        """The metadata of a run of ``config``: its environment, algorithm and entry, with the
+        packages installed now (:func:`package_versions`) and the run's own figures."""
+        return cls(
+            env_id=config.env_id,
+            env_kwargs=dict(config.env_kwargs),
+            algo=config.algo,
+            config=dict(config.entry),
+            config_file=str(config.source),
+            seed=seed,
+            steps=steps,
+            timesteps=timesteps,
+            wall_time_s=round(wall_time_s, 3),
+            torch_threads=torch_threads,
+            versions=package_versions(),
+            command=command,
+            trained_agent=trained_agent,
+            machine=machine_description(),
+        )
 
     def write(self, folder: Path) -> Path:
         """Write ``folder/metadata.json``; returns its path."""

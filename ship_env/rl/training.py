@@ -28,7 +28,7 @@ from stable_baselines3.common.vec_env import VecEnv, VecMonitor, VecNormalize
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.sb3_adapter import SB3VecEnvAdapter
 from ship_env.rl.agents import DEFAULT_TORCH_THREADS, AgentConfig
-from ship_env.rl.metadata import MODEL_FILE, PolicyMetadata, package_versions
+from ship_env.rl.metadata import MODEL_FILE, PolicyMetadata
 from ship_env.rl.policy_file import PolicyFile, PolicyFileError, read_policy_file
 
 #: The folder under a run's output that holds its TensorBoard logs (when tensorboard is installed).
@@ -214,18 +214,13 @@ def train(
     wall_time = time.perf_counter() - start
     model_path = out / MODEL_FILE
     model.save(model_path)
-    metadata = PolicyMetadata(
-        env_id=config.env_id,
-        env_kwargs=dict(config.env_kwargs),
-        algo=config.algo,
-        config=dict(config.entry),
-        config_file=str(config.source),
+    metadata = PolicyMetadata.of_run(
+        config,
         seed=seed,
         steps=steps,
         timesteps=int(model.num_timesteps),
-        wall_time_s=round(wall_time, 3),
+        wall_time_s=wall_time,
         torch_threads=torch_threads,
-        versions=package_versions(),
         command=command,
         trained_agent=None if saved is None else starting_agent(saved),
     )

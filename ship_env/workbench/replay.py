@@ -237,12 +237,13 @@ def _track_step(state, first, conditions, time, heading, rate, params, slope, st
     dt = time[first + 1] - time[first]
     state[S.HEADING] = heading[first]
     state[S.RATE_OF_TURN] = rate[first]
-    derivatives(state, state[S.RUDDER], conditions, white_noise, draws, 0.0, p, slope[0])
-    for j in range(state.shape[0]):
-        stage[j] = state[j] + dt * slope[0, j]
-    stage[S.HEADING] = heading[first + 1]
-    stage[S.RATE_OF_TURN] = rate[first + 1]
-    derivatives(stage, state[S.RUDDER], conditions, white_noise, draws, 0.0, p, slope[1])
+    # One call site for both slopes (inlined once: half the compile time, the same numbers).
+    for index in range(2):
+        for j in range(state.shape[0]):
+            stage[j] = state[j] if index == 0 else state[j] + dt * slope[0, j]
+        stage[S.HEADING] = heading[first + index]
+        stage[S.RATE_OF_TURN] = rate[first + index]
+        derivatives(stage, state[S.RUDDER], conditions, white_noise, draws, 0.0, p, slope[index])
     for j in (S.TIME, S.NORTH, S.EAST, S.SPEED_LOSS):
         state[j] += 0.5 * dt * (slope[0, j] + slope[1, j])
     for j in range(S.MOTION_SIZE, state.shape[0]):

@@ -194,8 +194,9 @@ def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id):
 
     model = seed_models(shipped_folder(env_id, "ppo"))[-1]
     metadata = PolicyMetadata.read(model.parent / "metadata.json")
-    if metadata.machine is not None and metadata.machine != machine_description():
-        pytest.skip(f"trained on {metadata.machine}; this machine is {machine_description()}")
+    here = machine_description()
+    if metadata.machine is not None and metadata.machine != here:
+        pytest.skip(f"trained on {metadata.machine}; this machine is {here}")
     words = shlex.split(metadata.command)
     out_index = words.index("--out") + 1
     words[out_index] = str(tmp_path / "run")

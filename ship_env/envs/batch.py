@@ -35,7 +35,8 @@ from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel
 from ship_env.model.simulator import batch_loop
 
-# The loop over a batch's ships, written once: serially (range) or on all cores (prange).
+# The loop over a batch's ships, written once: serially (range) or on all cores (prange). The ship's index
+# is passed signed, as range gives it, so that prange's unsigned one compiles no second ``update_ship``.
 _UPDATE_LOOP = """
 @{decorator}
 def {name}(restarted_only, ship, *arrays):
@@ -44,7 +45,7 @@ def {name}(restarted_only, ship, *arrays):
     for i in {ships}(episodes.shape[0]):
         if episodes[i]["restarted"] or not restarted_only:
             check_envelope(states[i], conditions[i], step_index[i], episodes[i], task[0], ship[0])
-            update_ship(i, *arrays)
+            update_ship(np.int64(i), *arrays)
 """
 #: The loops over a batch's ships, compiled into a task module by :func:`define_update_loops`: the
 #: envelope's check (:func:`~ship_env.envs.envelope.check_envelope`: the limits in the task's parameter
@@ -53,6 +54,7 @@ def {name}(restarted_only, ship, *arrays):
 #: ``restarted_only`` for those just restarted; the arrays borrowed (no reference counts).
 UPDATE_LOOPS_SOURCE = "\n".join(
     (
+        "import numpy as np",
         "from numba import prange",
         "from ship_env.envs.envelope import check_envelope",
         "from ship_env.model.integrators import borrowed",

@@ -212,8 +212,20 @@ def step_ships(states, ordered_rudder, conditions, noise_keys, step_index, draws
     Each ship is stepped by ``step_ship``; ``valid[i]`` receives its verdict and ``step_index[i]``
     counts the step.
     """
+    # np.int64(0), not the literal 0: ``_step_range`` is then compiled once, for this and the parallel step.
     _step_range(
-        0, states.shape[0], states, ordered_rudder, conditions, noise_keys, step_index, draws, params, dt, method, valid
+        np.int64(0),
+        states.shape[0],
+        states,
+        ordered_rudder,
+        conditions,
+        noise_keys,
+        step_index,
+        draws,
+        params,
+        dt,
+        method,
+        valid,
     )
 
 

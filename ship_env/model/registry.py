@@ -29,6 +29,7 @@ import inspect
 import math
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
+from functools import cache
 from types import ModuleType
 from typing import Any, TypeVar
 
@@ -92,6 +93,7 @@ class RegisteredEffect:
         return _arguments(function)
 
 
+@cache
 def _arguments(function: Callable[..., Any]) -> tuple[str, ...]:
     return tuple(inspect.signature(_python_function(function)).parameters)
 

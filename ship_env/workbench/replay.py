@@ -328,9 +328,11 @@ def _replay(records, tasks, runs, no_draws, out, valid_samples):
     """
     size = tasks[3].shape[1]
     for task in prange(tasks[0].shape[0]):
-        # The step's scratch space, then the track step's two slopes, its stage and white noise, the state.
+        # The step's scratch space, then the track step's two slopes, its stage and white noise, the state;
+        # the task's index as a signed integer, as in ``_replay``'s typing before prange's unsigned loop, so
+        # that ``_replay_task`` is compiled once.
         _replay_task(
-            task,
+            np.int64(task),
             np.zeros((WORK_ROWS + 5, size)),
             np.zeros(S.CONDITION_SIZE),
             records,

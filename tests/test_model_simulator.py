@@ -206,6 +206,17 @@ def test_config_number_without_a_source_is_rejected(tmp_path):
         load_ship(path)
 
 
+def test_a_ship_file_edited_in_place_is_read_afresh(tmp_path):
+    """A ship file is parsed once per text: an edit of the same length, in the same instant, is read."""
+    path = _write_variant(tmp_path, lambda d: d["effects"]["yaw"]["gain"].update(value=1.5))
+    first = load_ship(path)
+    first.values["yaw"]["gain"] = 9.0  # what one caller does to its ship reaches no other
+    path.write_text(path.read_text().replace("value: 1.5", "value: 1.7"))
+    assert load_ship(path).values["yaw"]["gain"] == 1.7
+    path.write_text(path.read_text().replace("value: 1.7", "value: 1.5"))
+    assert load_ship(path).values["yaw"]["gain"] == 1.5
+
+
 def test_unknown_effect_in_a_config_is_rejected(tmp_path):
     path = _write_variant(tmp_path, lambda d: d["effects"].update(bow_thruster={"enabled": True}))
     with pytest.raises(ValueError, match=r"unknown effect 'bow_thruster'"):

@@ -20,10 +20,11 @@ hashes, the command, the held-out errors, the version). Both are optional in eve
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
-from functools import cache
+from functools import cache, lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -177,6 +178,13 @@ def _read_envelope(entries: object, label: str, provenance: _Provenance) -> Enve
     return Envelope(**limits)
 
 
+@lru_cache(maxsize=64)
+def _parsed(text: str) -> Any:
+    """A ship YAML file's document, parsed once per text: every environment made reads its ship, and
+    the file is read each time, so an edited file is parsed afresh. Callers get a copy (``load_ship``)."""
+    return yaml.load(text, Loader=SAFE_LOADER)
+
+
 def load_ship(name_or_path: str | Path) -> Ship:
     """Read a ship preset by name (``container_226m``) or from a YAML file path."""
     path = Path(name_or_path)
@@ -184,8 +192,7 @@ def load_ship(name_or_path: str | Path) -> Ship:
         path = config_dir() / "ships" / f"{name_or_path}.yaml"
         if not path.is_file():
             raise ValueError(f"ship: unknown preset {str(name_or_path)!r}; known: {', '.join(list_ships())}")
-    with path.open() as handle:
-        document = yaml.load(handle, Loader=SAFE_LOADER)
+    document = copy.deepcopy(_parsed(path.read_text()))
     if not isinstance(document, Mapping):
         raise TypeError(f"{path}: expected a mapping at the top level")
     unknown = set(document) - {"name", "description", "principal", "envelope", "effects", "fitted"}

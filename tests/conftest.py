@@ -12,18 +12,6 @@ from ship_env.model import Conditions, ShipModel, Simulator
 
 CONTAINER = "container_226m"
 
-#: The test files that replay logs with the workbench (its compiled replay of the built-in effects): one
-#: xdist group, so that one worker compiles the replay where the on-disk cache lacks it while the others
-#: run the rest (pyproject's --dist loadgroup). A file that names its own group keeps it.
-WORKBENCH_FILES = ("test_workbench_", "test_demo_logs", "test_esso_osaka_preset", "test_residual_signals")
-
-
-@pytest.hookimpl(tryfirst=True)  # before pytest-xdist reads the groups
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    for item in items:
-        if item.path.name.startswith(WORKBENCH_FILES) and item.get_closest_marker("xdist_group") is None:
-            item.add_marker(pytest.mark.xdist_group("workbench"))
-
 
 def run(
     model: ShipModel,

@@ -1,9 +1,10 @@
 """The core install: everything but training, the leaderboard, Ray and the benchmark runs without the extras.
 
 A fresh interpreter in which every extra's package fails to import (a ``sys.meta_path`` finder
-raises ImportError for them, as an install without them would) imports every module of the core's
-packages, steps an environment, and (in the slow set) writes demo logs and fits them; ``ship-env train`` and
-``ship-env leaderboard`` end with a message naming the extra that installs what they lack.
+raises ImportError for them, as an install without them would) imports ship_env, steps an
+environment, writes demo logs and fits them, and imports every module of the core's packages;
+``ship-env train`` and ``ship-env leaderboard`` end with a message naming the extra that installs
+what they lack.
 """
 
 from __future__ import annotations
@@ -49,6 +50,8 @@ sys.meta_path.insert(0, Absent())
 """
 
 PROBE = """
+import importlib
+import pkgutil
 import sys
 import gymnasium as gym
 import numpy as np
@@ -65,18 +68,15 @@ assert np.all(np.isfinite(observation))
 print("environment: stepped")
 
 folder = sys.argv[1]
-if sys.argv[2] == "fit":
-    assert main(["demo-logs", folder, "--hidden", "rudder_offset", "--duration", "20"]) == 0
-    assert main(["fit", folder + "/zigzag", "--workers", "1"]) == 0
-    print("workbench: fitted")
-else:
-    import importlib, pkgutil
-    for package in ("model", "envs", "baselines", "manoeuvres", "workbench"):
-        found = pkgutil.walk_packages(importlib.import_module("ship_env." + package).__path__, f"ship_env.{package}.")
-        for module in found:
-            if module.name != "ship_env.envs.sb3_adapter":  # the rl extra's, tried below
-                importlib.import_module(module.name)
-    print("core: imported")
+assert main(["demo-logs", folder, "--hidden", "rudder_offset", "--duration", "20"]) == 0
+assert main(["fit", folder + "/zigzag", "--workers", "1"]) == 0
+print("workbench: fitted")
+for package in ("model", "envs", "baselines", "manoeuvres", "workbench"):
+    found = pkgutil.walk_packages(importlib.import_module("ship_env." + package).__path__, f"ship_env.{package}.")
+    for module in found:
+        if module.name != "ship_env.envs.sb3_adapter":  # the rl extra's, tried below
+            importlib.import_module(module.name)
+print("core: imported")
 for command in ("manoeuvre", "train", "leaderboard"):
     try:
         main([command, "--help"])
@@ -97,30 +97,17 @@ def test_the_core_dependencies_hold_no_extra():
     assert not CORE_MODULES & EXTRA_MODULES, CORE_MODULES & EXTRA_MODULES
 
 
-def _run_the_core(tmp_path: Path, workbench: str) -> subprocess.CompletedProcess:
-    """The probe in a fresh interpreter without the extras; ``workbench``: "fit" (demo logs written and
-    fitted) or "import" (every module of the core's packages imported)."""
+def test_the_core_runs_without_the_extras_and_names_the_extra_a_command_needs(tmp_path):
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     result = subprocess.run(
-        [sys.executable, "-c", BLOCKER + PROBE, str(tmp_path / "demo"), workbench],
+        [sys.executable, "-c", BLOCKER + PROBE, str(tmp_path / "demo")],
         cwd=tmp_path,
         env=env,
         capture_output=True,
         text=True,
     )
     assert result.returncode == 0, result.stdout + result.stderr
-    return result
-
-
-@pytest.mark.slow  # a fresh interpreter compiles the workbench's kernels where the cache lacks them (15-25 s)
-def test_the_core_writes_and_fits_demo_logs_without_the_extras(tmp_path):
-    result = _run_the_core(tmp_path, "fit")
-    assert "workbench: fitted" in result.stdout and "environment: stepped" in result.stdout
-
-
-def test_the_core_runs_without_the_extras_and_names_the_extra_a_command_needs(tmp_path):
-    result = _run_the_core(tmp_path, "import")
-    for line in ("environment: stepped", "core: imported", "help: shown"):
+    for line in ("environment: stepped", "workbench: fitted", "core: imported", "help: shown"):
         assert line in result.stdout
     assert 'Needs the rl extra: pip install "ship-env[rl]".' in result.stdout
     assert 'Needs the leaderboard extra: pip install "ship-env[leaderboard]".' in result.stdout

@@ -18,9 +18,6 @@ SHIP = "esso_osaka_model"
 NAME = effect_with_draw.EFFECT.name
 PERIODS = (6.0, 9.0, 12.0)
 
-#: On one test worker: its kernels (one set per model of the effect) are compiled once.
-pytestmark = pytest.mark.xdist_group("effect_with_draw")
-
 
 @pytest.fixture
 def plugin():

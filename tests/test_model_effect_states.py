@@ -23,9 +23,6 @@ SHIP = "esso_osaka_model"
 NAME = effect_with_state.EFFECT.name
 LAG = "lagged_rudder"
 
-#: On one test worker: its kernels (one set per model of the effect) are compiled once.
-pytestmark = pytest.mark.xdist_group("effect_with_state")
-
 
 @pytest.fixture
 def plugin():

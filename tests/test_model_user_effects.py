@@ -30,9 +30,6 @@ from ship_env.workbench.synthetic import LogSettings, model_test_programme, sail
 SHIP = "esso_osaka_model"
 NAME = effect_plugin.EFFECT.name
 
-#: On one test worker: its kernels (one set per model of the effect) are compiled once.
-pytestmark = pytest.mark.xdist_group("effect_plugin")
-
 
 @pytest.fixture
 def plugin():

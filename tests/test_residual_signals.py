@@ -46,7 +46,6 @@ def test_the_missing_yaw_acceleration_follows_the_hidden_effects_signal(hidden, 
         assert abs(strongest.correlation) > 0.6, signals.text()
 
 
-@pytest.mark.xdist_group("effect_plugin")  # with test_model_user_effects: the same compiled kernels
 def test_a_stalling_rudder_points_to_the_rudder_and_is_drawn(tmp_path):
     import effect_plugin
 

@@ -212,20 +212,10 @@ def step_ships(states, ordered_rudder, conditions, noise_keys, step_index, draws
     Each ship is stepped by ``step_ship``; ``valid[i]`` receives its verdict and ``step_index[i]``
     counts the step.
     """
-    # np.int64(0), not the literal 0: ``_step_range`` is then compiled once, for this and the parallel step.
+    first = np.int64(0)  # not the literal 0: ``_step_range`` is then compiled once, for this and the parallel step
+    count = states.shape[0]
     _step_range(
-        np.int64(0),
-        states.shape[0],
-        states,
-        ordered_rudder,
-        conditions,
-        noise_keys,
-        step_index,
-        draws,
-        params,
-        dt,
-        method,
-        valid,
+        first, count, states, ordered_rudder, conditions, noise_keys, step_index, draws, params, dt, method, valid
     )
 
 

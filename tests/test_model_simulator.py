@@ -283,3 +283,40 @@ def test_the_model_runs_as_pure_python_with_the_compiled_numbers():
     pure_python = json.loads(result.stdout)
     for name, compiled in short_run().items():
         np.testing.assert_allclose(pure_python[name], compiled, rtol=1e-9, atol=1e-12, err_msg=name)
+
+
+#: Steps ships and environments on all cores and in one thread, and replays a run, then prints the
+#: types each loop's kernel was compiled for with its first argument, the index.
+_LOOPS = """
+import gymnasium as gym
+import numpy as np
+from ship_env.envs import course_change_task
+from ship_env.model import ShipModel, Simulator, integrators
+from ship_env.model.simulator import PARALLEL_SHIPS
+from ship_env.workbench import ReplayModel, simulate
+from ship_env.workbench.replay import _replay_task
+from ship_env.workbench.synthetic import model_test_programme, sail_all
+
+sim = Simulator(ShipModel("container_226m"), num_ships=PARALLEL_SHIPS)
+sim.reset(seed=0)
+envs = gym.make_vec("ship_env/CourseChange-v0", num_envs=PARALLEL_SHIPS, vectorization_mode="vector_entry_point")
+envs.reset(seed=0)
+for _ in range(3):  # on all cores first, then in one thread (simulator.Cores)
+    sim.step(np.zeros(PARALLEL_SHIPS))
+    envs.step(np.zeros((PARALLEL_SHIPS, 1), dtype=np.float32))
+truth = ReplayModel(ShipModel("container_226m"))
+simulate(truth, sail_all(truth, model_test_programme(duration=30.0)[:1], seed=1))
+for kernel in (integrators._step_range, integrators._step_rows, course_change_task.update_ship, _replay_task):
+    print(kernel.__name__, sorted({str(signature[0]) for signature in kernel.signatures}))
+"""
+
+
+@pytest.mark.slow  # an empty cache: every kernel compiled (about 40 s)
+def test_a_kernel_a_loop_calls_is_compiled_for_a_signed_index_only(tmp_path):
+    """The serial and the parallel loops over ships (and the replay's over tasks) call one compiled
+    kernel: the parallel loop's unsigned index and a start of 0 are passed as int64."""
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), "NUMBA_NUM_THREADS": "2"}
+    result = subprocess.run([sys.executable, "-c", _LOOPS], env=env, capture_output=True, text=True, timeout=600)
+    assert result.returncode == 0, result.stderr
+    printed = result.stdout.splitlines()
+    assert printed == [f"{name} ['int64']" for name in ("_step_range", "_step_rows", "update_ship", "_replay_task")]

@@ -40,6 +40,7 @@ def test_manoeuvre_defaults_print_the_imo_figures(capsys):
     assert "manoeuvres" in err  # the progress bar goes to stderr
 
 
+@pytest.mark.slow
 def test_manoeuvre_options_choose_runs_and_write_plots_and_json(tmp_path, capsys):
     json_file = tmp_path / "figures.json"
     status = main(
@@ -118,6 +119,7 @@ def test_bad_arguments_exit_2_naming_the_argument(arguments, named, capsys):
         assert text in err
 
 
+@pytest.mark.slow
 def test_bad_arguments_give_no_traceback_from_the_installed_command():
     done = subprocess.run(
         [sys.executable, "-m", "ship_env.cli", "manoeuvre", "--effects", "nope"],

@@ -53,6 +53,7 @@ def test_vector_env_equals_single_envs_seeded_s_plus_i_across_resets():
     assert episodes.min() >= 2 and elapsed.min() < elapsed.max()
 
 
+@pytest.mark.slow
 def test_make_vec_uses_the_vector_entry_point_on_all_cores_like_single_envs():
     assert_all_core_vector_truncates_like_a_single_env(ENV_ID, CourseKeepingVectorEnv, CourseKeepingEnv(), 4)
 

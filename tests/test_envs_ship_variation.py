@@ -139,7 +139,9 @@ def test_bad_factors_in_conditions_raise():
         Conditions(yaw_gain_factor=-1.0)
 
 
-@pytest.mark.parametrize("env_id", ["ship_env/CourseChange-v0", "ship_env/TrackFollow-v0"])
+@pytest.mark.parametrize(
+    "env_id", ["ship_env/CourseChange-v0", pytest.param("ship_env/TrackFollow-v0", marks=pytest.mark.slow)]
+)
 def test_observation_history_remembers_the_previous_steps(env_id):
     plain = gym.make(env_id)
     remembering = gym.make(env_id, observation_history=2)

@@ -262,6 +262,7 @@ def test_a_ship_with_twice_the_gain_diverges_and_ends_only_its_own_episode():
     )
 
 
+@pytest.mark.slow
 def test_vector_env_truncates_and_the_parallel_update_equals_the_serial_one():
     assert_all_core_vector_truncates_like_a_single_env(ENV_ID, TrackFollowVectorEnv, TrackFollowEnv(), 8)
 
@@ -324,6 +325,7 @@ def test_a_decision_interval_holds_the_order_and_sums_the_rewards_through_the_te
     assert info["state"][S.TIME] > plain_info["state"][S.TIME], "the ship ended within the interval"
 
 
+@pytest.mark.slow
 def test_vector_env_with_a_decision_interval_and_starts_before_turns_equals_single_envs():
     num_envs, seed = 3, 2
     options = {"decision_interval": 4, "start": "before_turn"}

@@ -90,6 +90,7 @@ def test_registering_it_changes_no_number_of_the_built_ins(plugin):
         assert np.all(trajectory[..., -1] == 0.0)  # off, it stays at its initial value (rudder 0 at reset)
 
 
+@pytest.mark.slow
 def test_a_hidden_instance_is_recovered_by_fit_add(plugin, tmp_path, capsys):
     """Noise-free logs of the lagged ship: ``fit --add`` with the plugin finds every term (from T_l = 2 s)."""
     truth = ReplayModel(_lag_model(6.0))

@@ -85,6 +85,7 @@ def test_its_parameters_come_from_the_ship_yaml_or_its_defaults(plugin, tmp_path
         ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME], {f"{NAME}.loss": 3.0})
 
 
+@pytest.mark.slow
 def test_a_hidden_instance_is_recovered_by_the_fit(plugin):
     truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME], {f"{NAME}.loss": 0.6}))
     logs = sail_all(truth, model_test_programme(duration=60.0)[:4], seed=5, settings=LogSettings())
@@ -180,7 +181,9 @@ def test_a_contribution_returning_nan_is_named_before_any_simulation(contributio
 
 
 def test_an_entry_point_registers_an_installed_effect(tmp_path, monkeypatch):
-    """A package that declares ``[project.entry-points."ship_env.effects"]`` (a dist-info on sys.path)."""
+    """A package that declares ``[project.entry-points."ship_env.effects"]`` (a dist-info on sys.path)
+    registers the package's own effect, with the equations that
+    ``test_a_registered_effect_sails_single_and_batched_bit_for_bit`` sails."""
     distribution = tmp_path / "ship_effects_example-1.0.dist-info"
     distribution.mkdir()
     (distribution / "METADATA").write_text("Metadata-Version: 2.1\nName: ship-effects-example\nVersion: 1.0\n")
@@ -188,9 +191,17 @@ def test_an_entry_point_registers_an_installed_effect(tmp_path, monkeypatch):
     monkeypatch.syspath_prepend(str(tmp_path))
     EFFECTS.load_entry_points()
     try:
-        assert EFFECTS.entry(NAME).origin == f"entry point '{NAME}' (effect_plugin)"
+        entry = EFFECTS.entry(NAME)
+        assert entry.origin == f"entry point '{NAME}' (effect_plugin)"
+        assert entry.effect is effect_plugin.EFFECT
         model = ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME], {f"{NAME}.loss": 0.8})
-        assert _turn(model, 1)[0, S.RATE_OF_TURN] < _turn(ShipModel(SHIP, REQUIRED_EFFECTS), 1)[0, S.RATE_OF_TURN]
+        assert model.effects[-1] == NAME and model.parameter(f"{NAME}.loss") == 0.8
+        installed = EFFECTS.fingerprint([NAME])
+    finally:
+        EFFECTS.unregister(NAME)
+    register_effect(effect_plugin.EFFECT, effect_plugin.CONTRIBUTIONS)
+    try:
+        assert EFFECTS.fingerprint([NAME]) == installed  # the same equations: the same compiled model
     finally:
         EFFECTS.unregister(NAME)
     (distribution / "entry_points.txt").write_text("[ship_env.effects]\nbroken = no_such_module_for_ship_env\n")

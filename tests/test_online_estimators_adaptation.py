@@ -47,7 +47,8 @@ def compare(pair: str, drift: float, trials):
     return comparison
 
 
-@pytest.mark.parametrize("pair", ["least squares", pytest.param("EKF", marks=pytest.mark.slow)])
+@pytest.mark.slow
+@pytest.mark.parametrize("pair", ["least squares", "EKF"])
 def test_random_walk_tracks_a_loading_change_better_when_adaptation_must_be_fast(trials, pair):
     comparison = compare(pair, 1e-4, trials)
     assert comparison.random_walk_tracks_better

@@ -13,6 +13,7 @@ from ship_env.cli import main
 BENCHMARK = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_identification.py"
 
 
+@pytest.mark.slow
 def test_identify_bench_prints_the_table_and_writes_plots_and_json(tmp_path, capsys):
     plots, results = tmp_path / "plots", tmp_path / "bench.json"
     status = main(

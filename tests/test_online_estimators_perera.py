@@ -47,7 +47,8 @@ def violent(seed: int):
     return dataclasses.replace(VIOLENT_RUDDER, seed=seed)
 
 
-@pytest.mark.parametrize("seed", [0, pytest.param(1, marks=pytest.mark.slow), pytest.param(2, marks=pytest.mark.slow)])
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [0, 1, 2])
 def test_violent_rudder_finds_the_published_parameters_in_the_published_times(seed):
     trial, history = identify(violent(seed), FAST, seed)
     settling = settling_times(history, trial.truth)

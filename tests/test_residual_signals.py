@@ -46,6 +46,7 @@ def test_the_missing_yaw_acceleration_follows_the_hidden_effects_signal(hidden, 
         assert abs(strongest.correlation) > 0.6, signals.text()
 
 
+@pytest.mark.slow
 def test_a_stalling_rudder_points_to_the_rudder_and_is_drawn(tmp_path):
     import effect_plugin
 

@@ -121,6 +121,7 @@ def folder_with_a_run_outside(tmp_path_factory) -> Path:
     return folder
 
 
+@pytest.mark.slow
 def test_python_leaves_out_a_run_outside_the_envelope_and_gives_the_command_lines_held_out_errors(
     folder_with_a_run_outside, tmp_path, capsys
 ):

@@ -204,6 +204,7 @@ def test_a_folder_the_workbench_did_not_write_is_left_alone(log_folder, tmp_path
     assert sorted(p.name for p in folder.iterdir()) == ["thesis.tex"]
 
 
+@pytest.mark.slow
 def test_the_workbench_writes_again_into_its_own_folder(log_folder, tmp_path):
     folder = tmp_path / "plots"
     assert main(["compare", str(log_folder), "--ship", SHIP, "--plot", str(folder)]) == 0

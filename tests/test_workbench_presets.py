@@ -205,6 +205,7 @@ def test_fit_writes_a_preset_that_compare_sails_and_never_overwrites_without_for
     assert main([*fit, "--force"]) == 0
 
 
+@pytest.mark.slow
 def test_improve_writes_its_final_model_as_a_preset(sailed, tmp_path):
     _, folder, _ = sailed
     preset = tmp_path / "improved.yaml"

@@ -60,10 +60,12 @@ def check_single_is_found(effect: str, manoeuvres, refit: int | None) -> None:
     assert diagnosis.best.refitted.score(SCALES) <= 0.5 * baseline.score(SCALES), table
 
 
+@pytest.mark.slow
 def test_clean_logs_of_another_simulator_add_nothing():
     check_nothing_is_added(SHORT_RUNS, refit=3)
 
 
+@pytest.mark.slow
 def test_current_and_norrbin_hidden_in_another_simulator_are_found_first():
     """On the full-length runs: in 60-s runs Norrbin's two terms trade off against each other from one
     left-out run to the next (jackknife errors above their values), and the ladder's significance gate,

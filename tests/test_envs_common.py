@@ -141,7 +141,9 @@ def test_bad_vector_actions_raise_value_error(env_id, action):
 
 
 def test_make_from_a_fresh_interpreter_with_only_the_id_and_kwargs_passing_through(tmp_path):
-    """One fresh interpreter, which has not imported ship_env, makes each environment by its id alone."""
+    """One fresh interpreter, which has not imported ship_env, makes each environment by its id alone
+    and sails it without importing matplotlib or scipy.stats (an environment never drawn does not
+    wait for them)."""
     code = "import sys, gymnasium as gym\nassert 'ship_env' not in sys.modules\n"
     for env_id, keywords, printed, _ in FRESH:
         code += (
@@ -152,11 +154,13 @@ def test_make_from_a_fresh_interpreter_with_only_the_id_and_kwargs_passing_throu
             f"print('{env_id}', env.spec.max_episode_steps, {printed}, observation.shape,"
             " type(envs.unwrapped).__name__, envs.unwrapped.max_episode_steps)\n"
         )
+    code += "print('imported', 'matplotlib' in sys.modules, 'scipy.stats' in sys.modules)\n"
     result = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     printed_lines = {line.split()[0]: line.split()[1:] for line in result.stdout.splitlines()}
     for env_id, _, _, expected in FRESH:
         assert printed_lines[env_id] == expected, env_id
+    assert printed_lines["imported"] == ["False", "False"]
 
 
 @pytest.mark.parametrize(("env_id", "options"), RENDERED, ids=_ids(RENDERED))

@@ -18,7 +18,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.stats import chi2
 
 
 class FilterDivergenceError(RuntimeError):
@@ -49,6 +48,8 @@ class InnovationGate:
     def threshold(self, dimension: int) -> float:
         """The NIS above which an update of ``dimension`` measurements is an outlier."""
         if dimension not in self._thresholds:
+            from scipy.stats import chi2  # here, not at import: scipy.stats takes 1.3 s to import
+
             self._thresholds[dimension] = float(chi2.isf(self.false_alarm, dimension))
         return self._thresholds[dimension]
 

@@ -12,8 +12,6 @@ import math
 from typing import NamedTuple
 
 import numpy as np
-from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.figure import Figure
 
 from ship_env.model import Conditions
 from ship_env.model import state as S
@@ -68,6 +66,11 @@ class ShipRenderer:
             self._pyplot = matplotlib.pyplot
             self.figure = self._pyplot.figure(figsize=(FRAME_INCHES, FRAME_INCHES), dpi=FRAME_DPI)
         else:
+            # matplotlib is imported here, not with the module: an environment that is never drawn
+            # starts without it (0.8 s).
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
+            from matplotlib.figure import Figure
+
             self.figure = Figure(figsize=(FRAME_INCHES, FRAME_INCHES), dpi=FRAME_DPI)
             FigureCanvasAgg(self.figure)
         self.axes = self.figure.add_axes((0.1, 0.08, 0.86, 0.78))

@@ -12,8 +12,9 @@ frozen dataclass of figures (SI units, radians) with the recorded time series::
     check_criteria([circle, zigzag(model)])              # MSC.137(76) 5.3
 """
 
+from typing import Any
+
 from ship_env.manoeuvres.imo import CriterionCheck, check_criteria
-from ship_env.manoeuvres.plotting import plot_manoeuvre
 from ship_env.manoeuvres.pull_out import PullOut, pull_out
 from ship_env.manoeuvres.report import format_report, report_dict, ship_line
 from ship_env.manoeuvres.results import TIME_SERIES_COLUMNS, Figure, ManoeuvreResult
@@ -42,3 +43,17 @@ __all__ = [
     "turning_circle",
     "zigzag",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """``plot_manoeuvre``, imported on first use: it needs matplotlib, which sailing a manoeuvre (the
+    TrackFollow environment's arcs are turning circles) does not wait for."""
+    if name == "plot_manoeuvre":
+        from ship_env.manoeuvres.plotting import plot_manoeuvre
+
+        return plot_manoeuvre
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), "plot_manoeuvre"})

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+import inspect
 import math
+import sys
+import types
 
 import effect_plugin
 import numpy as np
@@ -149,6 +152,39 @@ def test_a_contribution_to_an_unknown_quantity_or_reading_nothing_is_refused():
 
     with pytest.raises(ValueError, match=r"argument 'water_depth' names nothing the model has"):
         register_effect(_effect(), [Contribution("yaw_acceleration", reads_depth)])
+
+
+def _module_with_adds(name: str) -> types.ModuleType:
+    """A module made from source as ``importlib`` makes one from a file, holding ``_adds``."""
+    module = types.ModuleType(name)
+    exec(inspect.getsource(_adds), module.__dict__)
+    return module
+
+
+def test_a_function_from_a_module_not_in_sys_modules_is_refused_naming_the_fix():
+    """A cached step imports its functions' module by name when it loads; one Python cannot find is refused."""
+    module = _module_with_adds("effect_outside_sys_modules")
+    with pytest.raises(
+        ValueError,
+        match=r"contribution to 'effective_rudder': function '_adds' is from module 'effect_outside_sys_modules', "
+        r"which is not in sys.modules: .*sys.modules\['effect_outside_sys_modules'\] = module",
+    ):
+        register_effect(_effect(), [Contribution("effective_rudder", module._adds)])
+    assert "bad_effect" not in EFFECTS
+
+
+def test_the_same_code_from_another_module_is_other_equations(monkeypatch):
+    """Its compiled step is cached apart: one cached from a script must not be loaded for the imported file."""
+    fingerprints = []
+    for name in ("effect_as_a_script", "effect_as_a_module"):
+        module = _module_with_adds(name)
+        monkeypatch.setitem(sys.modules, name, module)
+        register_effect(_effect(), [Contribution("effective_rudder", module._adds)])
+        try:
+            fingerprints.append(EFFECTS.fingerprint(["bad_effect"]))
+        finally:
+            EFFECTS.unregister("bad_effect")
+    assert fingerprints[0] != fingerprints[1]
 
 
 def _nan_rudder(effective_rudder, size):

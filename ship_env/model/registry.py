@@ -27,6 +27,7 @@ import hashlib
 import importlib.metadata
 import inspect
 import math
+import sys
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
@@ -107,24 +108,39 @@ def _python_function(function: Callable[..., Any]) -> Callable[..., Any]:
     return getattr(function, "py_func", function)
 
 
-def _compiled(function: Callable[..., Any]) -> Callable[..., Any]:
-    """A contribution's function compiled (a plain Python function is compiled here, not cached)."""
+def _compiled(function: Callable[..., Any], label: str) -> Callable[..., Any]:
+    """A function the compiled step calls, compiled (a plain Python function is compiled here, not cached).
+
+    The step that calls it is cached on disk, and numba imports the function's module by its name when
+    it loads the step again: a function from a module Python cannot find by name (one run from a file
+    with ``importlib`` without entering it in ``sys.modules``) is refused here, saying how to enter it.
+    """
+    module = getattr(_python_function(function), "__module__", None)
+    if module is not None and module not in sys.modules:
+        raise ValueError(
+            f"{label}: function {getattr(function, '__qualname__', function)!r} is from module {module!r}, "
+            "which is not in sys.modules: the compiled step that calls it is cached on disk and imports its "
+            f"module by name when it loads; import the module, or enter it before running it "
+            f"(sys.modules[{module!r}] = module, as importlib's recipe for a source file does)"
+        )
     if isinstance(function, numba.core.registry.CPUDispatcher):
         return function
     return numba.njit(fastmath=False, error_model="numpy")(function)
 
 
 def _source(function: Callable[..., Any]) -> str:
-    """The source a compiled kernel depends on: the function's module, or the function alone."""
+    """The source a compiled kernel depends on (the function's module, or the function alone), after the
+    module's name: a cached kernel imports the module by that name where it is loaded, so the same code
+    run as another module (a script, then the same file imported) is another kernel."""
     python = _python_function(function)
     module = inspect.getmodule(python)
     for target in (module, python):
         try:
-            return inspect.getsource(target)  # type: ignore[arg-type]
+            return f"{python.__module__}\n{inspect.getsource(target)}"  # type: ignore[arg-type]
         except (OSError, TypeError):
             continue
     code = python.__code__
-    return repr((code.co_code, code.co_consts, code.co_names))
+    return f"{python.__module__}\n{(code.co_code, code.co_consts, code.co_names)!r}"
 
 
 class EffectRegistry(Mapping[str, Effect]):
@@ -209,7 +225,11 @@ class EffectRegistry(Mapping[str, Effect]):
         for draw in draws:
             self._check_draw_arguments(effect, draw, f"{where}: draw {draw.name!r}")
         states = tuple(
-            state if state.white_noise is None else dataclasses.replace(state, white_noise=_compiled(state.white_noise))
+            state
+            if state.white_noise is None
+            else dataclasses.replace(
+                state, white_noise=_compiled(state.white_noise, f"{where}: state {state.name!r}: white_noise")
+            )
             for state in states
         )
         entry = RegisteredEffect(effect, checked, states, origin, draws)
@@ -297,7 +317,7 @@ class EffectRegistry(Mapping[str, Effect]):
         arguments = _arguments(contribution.function)
         label = f"{where}: contribution to {quantity!r}"
         self._check_arguments(effect, arguments, states, earlier | {draw.name for draw in draws}, label, origin_builtin)
-        return Contribution(quantity, _compiled(contribution.function), contribution.held)
+        return Contribution(quantity, _compiled(contribution.function, label), contribution.held)
 
     def _check_arguments(
         self,

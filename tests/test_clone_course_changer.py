@@ -70,7 +70,13 @@ def test_the_cloned_policy_steers_by_the_law_and_loads_as_a_policy_file(tmp_path
     (R^2 > 0.9; unfitted, below 0), saved as a policy file the leaderboard reads without running code."""
     clone = _load()
     config = load_agent_config("ppo", clone.ENV_ID, clone.CONFIG)
-    config = dataclasses.replace(config, n_envs=1, env_kwargs={**config.env_kwargs, "max_episode_steps": EPISODE_STEPS})
+    # One sub-environment: its rollout (n_steps) is one mini-batch, which PPO would otherwise truncate.
+    config = dataclasses.replace(
+        config,
+        n_envs=1,
+        env_kwargs={**config.env_kwargs, "max_episode_steps": EPISODE_STEPS},
+        hyperparameters={**config.hyperparameters, "batch_size": config.hyperparameters["n_steps"]},
+    )
     clone.clone(
         config,
         tmp_path,

@@ -1,9 +1,13 @@
-"""Shared fixtures: simulate a ship with a rudder program and return its time series."""
+"""Shared fixtures: simulate a ship with a rudder program and return its time series; run a script as a module."""
 
 from __future__ import annotations
 
+import importlib.util
 import math
+import sys
 from collections.abc import Callable
+from pathlib import Path
+from types import ModuleType
 
 import numpy as np
 import pytest
@@ -48,3 +52,20 @@ def container() -> ShipModel:
 
 def degrees(value: float) -> float:
     return math.radians(value)
+
+
+@pytest.fixture
+def load_script(monkeypatch: pytest.MonkeyPatch) -> Callable[[Path, str], ModuleType]:
+    """Run a script (a benchmark, an example) as the module ``name``, entered in ``sys.modules`` until
+    the test ends, as importlib's recipe for a source file does: its dataclasses and the compiled steps
+    of the effects it registers find their module by that name."""
+
+    def load(path: Path, name: str) -> ModuleType:
+        spec = importlib.util.spec_from_file_location(name, path)
+        assert spec is not None and spec.loader is not None, path
+        module = importlib.util.module_from_spec(spec)
+        monkeypatch.setitem(sys.modules, name, module)
+        spec.loader.exec_module(module)
+        return module
+
+    return load

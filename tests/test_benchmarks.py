@@ -2,24 +2,14 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import sys
 from pathlib import Path
 
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_simulator.py"
 
 
-def _load():
-    spec = importlib.util.spec_from_file_location("bench_simulator", BENCH)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules.setdefault("bench_simulator", module)
-    spec.loader.exec_module(module)
-    return module
-
-
-def test_benchmark_functions_run_with_tiny_counts(monkeypatch):
-    bench = _load()
+def test_benchmark_functions_run_with_tiny_counts(monkeypatch, load_script):
+    bench = load_script(BENCH, "bench_simulator")
     results = bench.run(
         sizes=(1, 8),
         single_steps=40,

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
-import sys
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -23,14 +21,6 @@ SCRIPT = Path(__file__).resolve().parents[1] / "benchmarks" / "clone_course_chan
 EPISODE_STEPS = 60
 
 
-def _load():
-    spec = importlib.util.spec_from_file_location("clone_course_changer", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules.setdefault("clone_course_changer", module)
-    spec.loader.exec_module(module)
-    return module
-
-
 def law(observation: np.ndarray) -> np.ndarray:
     """A fixed steering law of the observation: line of sight and cross-track error, as a fraction of delta_max."""
     rudder = 10.0 * observation[OBS_LINE_OF_SIGHT] - 0.5 * observation[OBS_CROSS_TRACK]
@@ -47,8 +37,8 @@ class LawController:
         return law(observation)
 
 
-def test_demonstrations_record_the_experts_orders_while_every_other_episode_sails_them_perturbed():
-    clone = _load()
+def test_demonstrations_record_the_experts_orders_while_every_other_episode_sails_them_perturbed(load_script):
+    clone = load_script(SCRIPT, "clone_course_changer")
     env = gym.make(
         "ship_env/TrackFollow-v0",
         track_preview=True,
@@ -65,10 +55,10 @@ def test_demonstrations_record_the_experts_orders_while_every_other_episode_sail
 
 
 @pytest.mark.slow
-def test_the_cloned_policy_steers_by_the_law_and_loads_as_a_policy_file(tmp_path):
+def test_the_cloned_policy_steers_by_the_law_and_loads_as_a_policy_file(tmp_path, load_script):
     """A network fitted to a smooth law of its own observation reproduces it over its demonstrations
     (R^2 > 0.9; unfitted, below 0), saved as a policy file the leaderboard reads without running code."""
-    clone = _load()
+    clone = load_script(SCRIPT, "clone_course_changer")
     config = load_agent_config("ppo", clone.ENV_ID, clone.CONFIG)
     # One sub-environment: its rollout (n_steps) is one mini-batch, which PPO would otherwise truncate.
     config = dataclasses.replace(

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-import importlib.util
 import re
-import sys
 from pathlib import Path
 
 import pytest
@@ -15,17 +13,13 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "rudder_stall.py"
 
 
 @pytest.mark.slow
-def test_the_rudder_stall_example_finds_the_missing_effect_and_the_error_falls(tmp_path, capsys):
+def test_the_rudder_stall_example_finds_the_missing_effect_and_the_error_falls(tmp_path, capsys, load_script):
     """About a minute on 2 cores: six runs, the library's candidates, improve and the command line."""
-    spec = importlib.util.spec_from_file_location("rudder_stall_example", EXAMPLE)
-    example = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = example  # a compiled step finds the effect's module by its name
     try:
-        spec.loader.exec_module(example)  # registers rudder_stall
+        example = load_script(EXAMPLE, "rudder_stall_example")  # registers rudder_stall
         assert example.main(["--out", str(tmp_path)]) == 0
     finally:
         EFFECTS.unregister("rudder_stall")
-        del sys.modules[spec.name]
     output = capsys.readouterr().out
     floor = float(re.search(r"held-out score ([\d.]+)\n", output).group(1))
     base = float(re.search(r"base model \(yaw, kinematics\): held-out score ([\d.]+)", output).group(1))

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
 from pathlib import Path
 
@@ -73,10 +72,8 @@ def test_the_whole_bench_with_the_adaptation_comparison(tmp_path, capsys):
     assert (tmp_path / "adaptation.png").is_file()
 
 
-def test_cost_benchmark_runs_with_tiny_logs():
-    spec = importlib.util.spec_from_file_location("bench_identification", BENCHMARK)
-    bench = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(bench)
+def test_cost_benchmark_runs_with_tiny_logs(load_script):
+    bench = load_script(BENCHMARK, "bench_identification")
     results = bench.run(repeats=1, scale=0.05)
     assert set(results["costs"]) == {"zigzag", "perera-violent"}
     assert all(cost["best"] > 0.0 for costs in results["costs"].values() for cost in costs.values())

@@ -19,6 +19,7 @@ from matplotlib.ticker import FormatStrFormatter
 from ship_env.workbench.compare import held_out_comparison, plot_run, run_drawings
 from ship_env.workbench.diagnose import Diagnosis
 from ship_env.workbench.errors import ErrorScales
+from ship_env.workbench.free_running import RunFigures, Series, free_running_table, held_out_free_running
 from ship_env.workbench.improve import Ladder
 from ship_env.workbench.logs import Log
 from ship_env.workbench.outputs import save_drawing
@@ -58,6 +59,81 @@ def plot_ladder(ladder: Ladder, path: Path) -> Path:
     score_axes.grid(True, which="both", alpha=0.3)
     errors_axes.set_title("Error ladder: held-out error (leave one run out) after each added effect")
     return save_drawing(drawing, path, dpi=90)
+
+
+def plot_free_running(
+    results: Sequence[RunFigures], logs: Sequence[Log], length: float, title: str, path: Path
+) -> Path:
+    """Each run's track from its first execute, measured against sailed free, in ship lengths, into a PNG."""
+    by_name = {log.name: log for log in logs}
+    columns = min(4, len(results))
+    rows = math.ceil(len(results) / columns)
+    drawing = Drawing(figsize=(3.4 * columns, 3.2 * rows + 0.6))
+    FigureCanvasAgg(drawing)
+    axes = np.atleast_1d(drawing.subplots(rows, columns, squeeze=False)).ravel()
+    for panel, result in zip(axes, results, strict=False):
+        log, predicted = by_name[result.run], result.predicted_series
+        start = result.manoeuvre.executes[0]
+        measured = Series.of_log(log)
+        assert measured is not None  # a run without a track has no figures
+        for series, colour, label in ((measured, "black", "measured"), (predicted, "tab:red", "sailed free")):
+            inside = (series.time >= start) & (series.time <= log.time[-1])  # over the measured run
+            north0, east0 = (float(np.interp(start, series.time, v)) for v in (series.north, series.east))
+            panel.plot(
+                (series.east[inside] - east0) / length,
+                (series.north[inside] - north0) / length,
+                color=colour,
+                label=label,
+            )
+        panel.set_aspect("equal", adjustable="datalim")
+        panel.set_title(f"{result.run} ({result.manoeuvre.kind})", fontsize=9)
+        panel.tick_params(labelsize=8)
+    for panel in axes[len(results) :]:
+        panel.set_visible(False)
+    axes[0].legend(fontsize=8)
+    drawing.supxlabel("east from the first execute [L]")
+    drawing.supylabel("north [L]")
+    drawing.suptitle(title)
+    return save_drawing(drawing, path, dpi=80)
+
+
+def _free_running_lines(ladder: Ladder, logs: Sequence[Log], folder: Path) -> list[str]:
+    """The section on the runs' manoeuvres sailed free by the starting and the final model (none: no lines)."""
+    first, last = ladder.rungs[0], ladder.rungs[-1]
+    shown = (("start", first), ("final", last)) if len(ladder.rungs) > 1 else (("final", last),)
+    sailed = [(label, rung, held_out_free_running(rung.validation, logs)) for label, rung in shown]
+    if not sailed[-1][2]:
+        return []
+    lines = [
+        "## Manoeuvres sailed free: measured against predicted",
+        "",
+        (
+            "Each turning and zig-zag run (validation runs included) read as its manoeuvre and sailed free by a "
+            "model that did not see it, from the measured state at its first execute: a turn holds its rudder, a "
+            "zig-zag reverses the rudder on the heading, as a helmsman does "
+            "(`ship_env.workbench.free_running`). Figures in ship lengths L, degrees and seconds."
+        ),
+        "",
+    ]
+    everything = [*logs, *last.validation.validation_logs]
+    length = last.validation.fit.setup.model.length
+    for label, rung, results in sailed:
+        path = plot_free_running(
+            results,
+            everything,
+            length,
+            f"{label} model: {', '.join(rung.effects)}",
+            folder / f"free_running_{label}.png",
+        )
+        lines += [
+            f"### {label} model",
+            "",
+            free_running_table(results).markdown(),
+            "",
+            *_figure_links([path], folder),
+            "",
+        ]
+    return lines
 
 
 def _coverage_lines(validation: CrossValidation, scales: ErrorScales) -> list[str]:
@@ -140,6 +216,7 @@ def write_report(
                 diagnosis_table(together).markdown(),
                 "",
             ]
+    lines += _free_running_lines(ladder, logs, folder)
     lines += ["## Runs, held out: measured against simulated", ""]
     shown = (("start", first), ("final", last)) if len(ladder.rungs) > 1 else (("final", last),)
     drawings = [

@@ -1,0 +1,385 @@
+"""Free-running validation: each measured manoeuvre sailed free by the model, figure against figure.
+
+A replay scores a model sample by sample; a naval architect judges it by the figures of its
+manoeuvres (MSC.137(76)): advance, tactical diameter, the steady rate of turn and speed, the zig-zag
+overshoots. Here each measured run is read as the manoeuvre it is, its figures are read off the log,
+and the model sails the same manoeuvre free:
+
+- a **turning run** -- the rudder held to one side (at least half its angle) while the heading turns
+  through at least half a circle -- sails the run's own rudder programme from the run's measured
+  initial state (the workbench's free replay, :func:`~.replay.simulate`);
+- a **zig-zag run** -- the rudder reversed at least twice between the same angles a, each time the
+  heading has passed b off the heading at the first execute -- sails closed loop on the heading: from
+  the measured state at the first execute (heading, rate of turn, rudder, speed, propeller rate, wind,
+  the fit's current), a helmsman puts the rudder over to a and reverses it whenever the heading passes
+  b, with a and b read from the run.
+
+Measured and predicted figures are read by the same code (:func:`manoeuvre_figures`), all towards the
+side of the turn, from the first execute:
+
+- turning: **advance** and **transfer** at 90 deg of heading change, **tactical diameter** at 180 deg
+  (along and across the heading at the execute; MSC.137(76) 4.2.3-4.2.4); over the steady part -- the
+  measured run's last full circle, or its last half circle where it turned less than one and a half,
+  and the same seconds of the prediction, which sails the same rudder -- the **steady rate of turn** r,
+  the **steady speed** u (where the log measures it) and the **steady radius** U/r with U the speed
+  over the ground; the **speed loss** 1 - u / u_e against the speed at the execute u_e, where the ship
+  approached at least as fast as it turns (a run that starts its turn from rest has no approach speed);
+- zig-zag: the **first** and **second overshoot** angles, the largest heading deviation beyond b
+  between the second and third and after the third execute (4.2.7-4.2.8); the **initial turning time**
+  from the first execute to the heading change b.
+
+A run of neither kind has no figures; a figure its run does not reach is NaN ("n/a").
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ship_env.manoeuvres.results import Figure, metre_digits
+from ship_env.manoeuvres.series import first_crossing, value_at, velocity_over_ground
+from ship_env.model import Conditions, Simulator
+from ship_env.text_table import Table
+from ship_env.workbench.logs import Log
+from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.validation import CrossValidation
+
+#: The rudder is "over" where it is at least this fraction of the manoeuvre's angle.
+OVER = 0.5
+#: The rudder is "at" the manoeuvre's angle from this fraction of it on (a steering machine's last degrees are slow).
+AT_ANGLE = 0.9
+#: Quantile of |rudder| over a run taken as the manoeuvre's rudder angle (robust to spikes).
+RUDDER_QUANTILE = 0.95
+#: The largest ratio of a zig-zag's heading deviations at its reversals (the same b, as a helmsman reads it).
+ZIGZAG_SPREAD = 2.0
+#: A zig-zag is sailed until this many executes, or twice the measured one's duration.
+ZIGZAG_EXECUTES = 4
+
+
+@dataclass(frozen=True)
+class Series:
+    """One run's motion, measured or predicted (SI units, rad): what its figures are read from.
+
+    ``speed`` is the forward speed through the water (None where not measured or predicted).
+    """
+
+    time: np.ndarray
+    north: np.ndarray
+    east: np.ndarray
+    heading: np.ndarray
+    rate_of_turn: np.ndarray
+    rudder: np.ndarray
+    speed: np.ndarray | None = None
+
+    @classmethod
+    def of_log(cls, log: Log) -> Series | None:
+        """The measured series, or None for a log without a track (north and east)."""
+        if log.north is None or log.east is None:
+            return None
+        rate = np.gradient(log.heading, log.time) if log.rate_of_turn is None else log.rate_of_turn
+        return cls(log.time, log.north, log.east, log.heading, rate, log.rudder, log.speed)
+
+
+@dataclass(frozen=True)
+class Manoeuvre:
+    """What a run is, read from its rudder and heading.
+
+    Attributes:
+        kind: ``"turning"``, ``"zig-zag"`` or ``"other"``.
+        side: +1 where the first (or only) rudder is to starboard, -1 to port.
+        rudder_angle: a, the manoeuvre's rudder angle, rad, positive.
+        heading_change: b, the zig-zag's switching heading deviation, rad (NaN for a turn).
+        executes: the times the rudder was put over (the first execute, then each reversal), s.
+        end: the time the turn's rudder was taken off (the run's end for a zig-zag), s.
+        steady: the turn's steady part, (start, end) s; NaNs where it turned less than a full circle.
+    """
+
+    kind: str
+    side: float
+    rudder_angle: float
+    heading_change: float
+    executes: tuple[float, ...]
+    end: float
+    steady: tuple[float, float] = (math.nan, math.nan)
+
+
+def _stretches(sides: np.ndarray) -> list[tuple[int, int, float]]:
+    """(first, last + 1, side) of each run of consecutive samples on one side (+1 or -1; 0 is neither)."""
+    changes = np.flatnonzero(np.diff(sides)) + 1
+    bounds = np.concatenate(([0], changes, [len(sides)]))
+    return [(int(a), int(b), float(sides[a])) for a, b in zip(bounds[:-1], bounds[1:], strict=True) if sides[a] != 0.0]
+
+
+def _order_given(rudder: np.ndarray, over: int, side: float) -> int:
+    """The sample at which the rudder, over to ``side`` at sample ``over``, started to move there: the
+    order's time, as a log of the actual rudder shows it (the steering machine moves it at its rate)."""
+    while over > 0 and side * rudder[over - 1] < side * rudder[over]:
+        over -= 1
+    return over
+
+
+def read_manoeuvre(series: Series) -> Manoeuvre:
+    """Read what manoeuvre a series sails (see the module docstring)."""
+    rudder, heading, time = series.rudder, series.heading, series.time
+    angle = float(np.quantile(np.abs(rudder), RUDDER_QUANTILE))
+    other = Manoeuvre("other", 1.0, angle, math.nan, (), float(time[-1]))
+    if angle <= 0.0:
+        return other
+    sides = np.sign(rudder) * (np.abs(rudder) >= OVER * angle)
+    # Neighbouring stretches on the same side (the rudder dipping under half its angle) are one.
+    merged: list[tuple[int, int, float]] = []
+    for first, last, side in _stretches(sides):
+        if merged and merged[-1][2] == side:
+            merged[-1] = (merged[-1][0], last, side)
+        else:
+            merged.append((first, last, side))
+    if not merged:
+        return other
+    turned = [abs(heading[last - 1] - heading[first]) for first, last, _ in merged]
+    longest = int(np.argmax(turned))
+    if turned[longest] >= math.pi:
+        over, last, side = merged[longest]
+        first = _order_given(rudder, over, side)
+        change = side * (heading[first:last] - heading[first])
+        circles = change[-1] / (2.0 * math.pi)
+        span = 2.0 * math.pi if circles >= 1.5 else math.pi if circles >= 1.0 else math.nan
+        steady = (math.nan, math.nan)
+        if math.isfinite(span):
+            start = first + int(np.searchsorted(change, change[-1] - span))
+            steady = (float(time[start]), float(time[last - 1]))
+        rudder_angle = float(np.median(np.abs(rudder[first:last])))
+        return Manoeuvre("turning", side, rudder_angle, math.nan, (float(time[first]),), float(time[last - 1]), steady)
+    # A zig-zag: from the first execute on, every reversal at a heading deviation +-b of one size (within
+    # a factor ZIGZAG_SPREAD), alternating, at least twice; the rudder's corrections before it are no execute.
+    for j in range(len(merged) - 2):
+        start, stop, side = merged[j]
+        magnitude = np.abs(rudder[start:])
+        zigzag_angle = float(np.median(magnitude[magnitude >= OVER * angle]))
+        # The first execute: the order that put the rudder at its angle (the corrections before it are none).
+        at_angle = start + int(np.argmax(np.abs(rudder[start:stop]) >= AT_ANGLE * zigzag_angle))
+        first = _order_given(rudder, at_angle, side)
+        reversals = [_order_given(rudder, over, reversed_to) for over, _, reversed_to in merged[j + 1 :]]
+        switched = [(-1.0) ** k * side * (heading[at] - heading[first]) for k, at in enumerate(reversals)]
+        if min(switched) > 0.0 and max(switched) <= ZIGZAG_SPREAD * min(switched):
+            return Manoeuvre(
+                "zig-zag",
+                side,
+                zigzag_angle,
+                switched[0],  # b: where the helmsman first reversed the rudder (MSC.137(76) 4.2.5)
+                (float(time[first]), *(float(time[at]) for at in reversals)),
+                float(time[-1]),
+            )
+    return other
+
+
+def manoeuvre_figures(series: Series, manoeuvre: Manoeuvre, length: float) -> tuple[Figure, ...]:
+    """The figures of ``manoeuvre`` read off ``series`` (measured or predicted; module docstring)."""
+    time = series.time
+    if manoeuvre.kind == "turning":
+        return _turning_figures(series, manoeuvre, length)
+    if manoeuvre.kind == "zig-zag":
+        executes = manoeuvre.executes
+        start = executes[0]
+        deviation = manoeuvre.side * (series.heading - np.interp(start, time, series.heading))
+        b = manoeuvre.heading_change
+
+        def overshoot(k: int) -> float:
+            """The largest deviation beyond b, to the side of swing k, between execute k and k + 1."""
+            if len(executes) <= k:
+                return math.nan
+            until = executes[k + 1] if len(executes) > k + 1 else time[-1]
+            inside = (time >= executes[k]) & (time <= until)
+            return float(np.max((-1.0) ** (k - 1) * deviation[inside])) - b
+
+        return (
+            Figure("rudder_angle", "rudder angle a", math.degrees(manoeuvre.rudder_angle), "deg", 1),
+            Figure("heading_change", "heading change b", math.degrees(b), "deg", 1),
+            Figure("first_overshoot", "first overshoot", math.degrees(overshoot(1)), "deg", 1),
+            Figure("second_overshoot", "second overshoot", math.degrees(overshoot(2)), "deg", 1),
+            Figure(
+                "initial_turning_time",
+                "initial turning time",
+                first_crossing(time, deviation, b, start) - start,
+                "s",
+                1,
+            ),
+        )
+    return ()
+
+
+def _turning_figures(series: Series, manoeuvre: Manoeuvre, length: float) -> tuple[Figure, ...]:
+    time, side, start = series.time, manoeuvre.side, manoeuvre.executes[0]
+    turn = (time >= start) & (time <= manoeuvre.end)
+    heading0 = float(np.interp(start, time, series.heading))
+    north = series.north - np.interp(start, time, series.north)
+    east = series.east - np.interp(start, time, series.east)
+    along = north * math.cos(heading0) + east * math.sin(heading0)
+    across = side * (-north * math.sin(heading0) + east * math.cos(heading0))
+    change = np.where(turn, side * (series.heading - heading0), -math.inf)
+    at_90 = first_crossing(time, change, 0.5 * math.pi, start)
+    at_180 = first_crossing(time, change, math.pi, start)
+    steady = (time >= manoeuvre.steady[0]) & (time <= manoeuvre.steady[1])
+    rate = speed = ground_speed = math.nan
+    if np.any(steady):
+        north_rate, east_rate = velocity_over_ground(time, series.north, series.east)
+        rate = float(np.mean(side * series.rate_of_turn[steady]))
+        ground_speed = float(np.mean(np.hypot(north_rate, east_rate)[steady]))
+        if series.speed is not None:
+            speed = float(np.mean(series.speed[steady]))
+    approach = math.nan if series.speed is None else float(np.interp(start, time, series.speed))
+    speed_loss = 1.0 - speed / approach if approach >= speed else math.nan  # NaN compares False
+    digits = metre_digits(length)
+    return (
+        Figure("rudder_angle", "rudder angle", math.degrees(manoeuvre.rudder_angle), "deg", 1),
+        Figure("advance_lengths", "advance", value_at(time, along, at_90) / length, "L", 2),
+        Figure("transfer_lengths", "transfer", value_at(time, across, at_90) / length, "L", 2),
+        Figure("tactical_diameter_lengths", "tactical diameter", value_at(time, across, at_180) / length, "L", 2),
+        Figure("steady_rate_of_turn", "steady rate of turn", math.degrees(rate), "deg/s", 3),
+        Figure("steady_speed", "steady speed", speed, "m/s", max(2, digits)),
+        Figure("steady_radius", "steady radius U/r", ground_speed / rate, "m", digits),
+        Figure("speed_loss", "speed loss in steady turn", 100.0 * speed_loss, "%", 1),
+    )
+
+
+class _ZigZagHelmsman:
+    """Reverses the rudder a whenever the heading passes b off the heading at the first execute."""
+
+    def __init__(self, manoeuvre: Manoeuvre, heading0: float) -> None:
+        self.angle, self.switch, self.heading0 = manoeuvre.rudder_angle, manoeuvre.heading_change, heading0
+        self.side = manoeuvre.side
+        self.executes = 1
+
+    def __call__(self, heading: float) -> float:
+        if self.side * (heading - self.heading0) >= self.switch:
+            self.side = -self.side
+            self.executes += 1
+        return self.side * self.angle
+
+    @property
+    def done(self) -> bool:
+        return self.executes > ZIGZAG_EXECUTES
+
+
+class _TurningHelmsman:
+    """Orders the turn's rudder at the execute and holds it until the measured turn's end."""
+
+    def __init__(self, manoeuvre: Manoeuvre) -> None:
+        self.order = manoeuvre.side * manoeuvre.rudder_angle
+
+    def __call__(self, heading: float) -> float:
+        return self.order
+
+    @property
+    def done(self) -> bool:
+        return False
+
+
+def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
+    """The model's manoeuvre, sailed free from the measured state at the first execute: the heading, rate of
+    turn, rudder and speed there (the speed as the service speed: a steady approach), the propeller rate and
+    wind there, the fit's current; a turn holds its rudder to the measured turn's end, a zig-zag reverses it
+    closed loop on the heading until its fifth execute or twice the measured run's time."""
+    start = manoeuvre.executes[0]
+    dt = float(np.median(np.diff(log.time)))
+
+    def at(values: np.ndarray | None, default: float = 0.0) -> float:
+        return default if values is None else float(np.interp(start, log.time, values))
+
+    rate = np.gradient(log.heading, log.time) if log.rate_of_turn is None else log.rate_of_turn
+    current_north, current_east = setup.current
+    conditions = Conditions(
+        service_speed=at(log.speed, setup.model.service_speed if log.service_speed is None else log.service_speed),
+        propeller_rate=at(log.propeller_rate),
+        wind_speed=max(at(log.wind_speed), 0.0),
+        wind_direction=at(log.wind_direction),
+        current_speed=math.hypot(current_north, current_east),
+        current_direction=math.atan2(current_east, current_north),
+    )
+    simulator = Simulator(setup.model, dt=dt)
+    heading0 = at(log.heading)
+    simulator.reset(seed=0, conditions=conditions, heading=heading0, rudder=at(log.rudder), rate_of_turn=at(rate))
+    helmsman = _ZigZagHelmsman(manoeuvre, heading0) if manoeuvre.kind == "zig-zag" else _TurningHelmsman(manoeuvre)
+    until = 2.0 * (log.time[-1] - start) if manoeuvre.kind == "zig-zag" else manoeuvre.end - start
+    rows = []
+    for _ in range(math.ceil(until / dt - 1e-9) + 1):
+        order = helmsman(float(simulator.heading[0]))
+        north, east = simulator.position[0]
+        rows.append(
+            (simulator.time[0], north, east, simulator.heading[0], simulator.rate_of_turn[0], simulator.rudder[0])
+            + (simulator.speed[0],)
+        )
+        if helmsman.done:
+            break
+        simulator.step(order)
+    time, north, east, heading, rate_of_turn, rudder, speed = np.array(rows).T
+    return Series(time + start, north, east, heading, rate_of_turn, rudder, speed)
+
+
+@dataclass(frozen=True)
+class RunFigures:
+    """One run's manoeuvre, its measured figures and the model's (same names, same order)."""
+
+    run: str
+    manoeuvre: Manoeuvre
+    measured: tuple[Figure, ...]
+    predicted: tuple[Figure, ...]
+    predicted_series: Series
+
+
+def compare_free_running(setup: ReplayModel, logs: Sequence[Log]) -> tuple[RunFigures, ...]:
+    """Each run's manoeuvre figures, measured and sailed free by ``setup`` (runs of neither kind left out)."""
+    results = []
+    for log in logs:
+        measured_series = Series.of_log(log)
+        if measured_series is None:
+            continue
+        manoeuvre = read_manoeuvre(measured_series)
+        if manoeuvre.kind == "other":
+            continue
+        predicted_series = sail_free(setup, log, manoeuvre)
+        predicted_manoeuvre = manoeuvre  # a turn: the same rudder over the same seconds
+        if manoeuvre.kind == "zig-zag":  # its own executes, where its heading passed b
+            predicted_manoeuvre = read_manoeuvre(predicted_series)
+            if predicted_manoeuvre.kind != "zig-zag":  # the model never reached b: no reversal
+                predicted_manoeuvre = replace(manoeuvre, executes=manoeuvre.executes[:1])
+        results.append(
+            RunFigures(
+                log.name,
+                manoeuvre,
+                manoeuvre_figures(measured_series, manoeuvre, setup.model.length),
+                manoeuvre_figures(predicted_series, predicted_manoeuvre, setup.model.length),
+                predicted_series,
+            )
+        )
+    return tuple(results)
+
+
+def free_running_table(results: Sequence[RunFigures]) -> Table:
+    """Run, manoeuvre, figure, measured, predicted and their difference, one row per figure."""
+    rows = []
+    for result in results:
+        for measured, predicted in zip(result.measured, result.predicted, strict=True):
+            difference = float(predicted.value) - float(measured.value)
+            rows.append(
+                (
+                    result.run,
+                    result.manoeuvre.kind,
+                    f"{measured.label}, {measured.unit}",
+                    measured.text,
+                    predicted.text,
+                    Figure(measured.key, "", difference, measured.unit, measured.digits).text,
+                )
+            )
+    return Table(("run", "manoeuvre", "figure", "measured", "predicted", "predicted - measured"), tuple(rows), words=3)
+
+
+def held_out_free_running(validation: CrossValidation, logs: Sequence[Log]) -> tuple[RunFigures, ...]:
+    """Every run sailed free by a fit that did not see it: a fitted run by the fold that left it out, a
+    validation run (``validate_on``) by the fit to all runs."""
+    fold_of = {name: fold.setup for fold in validation.folds for name in fold.left_out}
+    fitted = [compare_free_running(fold_of.get(log.name, validation.fit.setup), [log]) for log in logs]
+    validated = compare_free_running(validation.fit.setup, validation.validation_logs)
+    return (*(figures for run in fitted for figures in run), *validated)

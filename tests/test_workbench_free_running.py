@@ -1,0 +1,162 @@
+"""Free-running validation: the figures read off a series equal the manoeuvre runner's, and the true model
+sailing a log's manoeuvre free predicts the measured figures."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ship_env.cli import main
+from ship_env.manoeuvres import turning_circle, zigzag
+from ship_env.model import ShipModel
+from ship_env.workbench.free_running import (
+    Series,
+    compare_free_running,
+    free_running_table,
+    manoeuvre_figures,
+    read_manoeuvre,
+)
+from ship_env.workbench.logs import load_logs, write_log
+from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.synthetic import LogSettings, Manoeuvre, SensorNoise, sail_all
+
+SHIP = "container_226m"
+#: The container ship's preset without its wind effects and current: yaw, Norrbin, speed loss, sway, steering machine.
+CALM_EFFECTS = ("yaw", "norrbin", "speed_loss", "sway", "steering_machine", "kinematics")
+ESSO = Path(__file__).parents[2] / "shared" / "data" / "esso_osaka"
+
+
+def _series(result) -> Series:
+    frame = result.time_series
+    columns = ("time", "north", "east", "heading", "rate_of_turn", "rudder")
+    return Series(*(frame[c].to_numpy() for c in columns), speed=frame["speed"].to_numpy())
+
+
+def _figures(series: Series, length: float) -> dict[str, float]:
+    return {f.key: f.value for f in manoeuvre_figures(series, read_manoeuvre(series), length)}
+
+
+def test_a_sailed_turning_circle_reads_as_the_manoeuvre_runner_reads_it():
+    """A second reading of the same figures: advance and tactical diameter by the same interpolation, the
+    steady rate and speed over the last full circle (the runner's steady part)."""
+    model = ShipModel(SHIP)
+    circle = turning_circle(model, math.radians(-35.0))
+    series = _series(circle)
+    manoeuvre = read_manoeuvre(series)
+    assert (manoeuvre.kind, manoeuvre.side) == ("turning", -1.0)
+    figures = _figures(series, model.length)
+    assert figures["advance_lengths"] == pytest.approx(circle.advance / model.length, rel=1e-12)
+    assert figures["tactical_diameter_lengths"] == pytest.approx(circle.tactical_diameter / model.length, rel=1e-12)
+    # One sample of the last circle apart: the runner takes samples past 2 circles, this reading the last 360 deg.
+    assert figures["steady_rate_of_turn"] == pytest.approx(math.degrees(circle.steady_rate_of_turn), rel=1e-3)
+    assert figures["speed_loss"] == pytest.approx(100.0 * circle.speed_loss, rel=1e-3)
+    assert figures["steady_radius"] == pytest.approx(circle.steady_radius, rel=1e-3)
+
+
+def test_a_sailed_zigzag_reads_as_the_manoeuvre_runner_reads_it():
+    model = ShipModel(SHIP)
+    test = zigzag(model, math.radians(20.0), math.radians(20.0))
+    series = _series(test)
+    manoeuvre = read_manoeuvre(series)
+    assert manoeuvre.kind == "zig-zag"
+    assert math.degrees(manoeuvre.rudder_angle) == pytest.approx(20.0)
+    # The helmsman reverses at the first step past b: the heading then is b and up to one step's turn more.
+    step_turn = float(np.max(np.abs(series.rate_of_turn))) * 0.5
+    assert 0.0 <= manoeuvre.heading_change - math.radians(20.0) <= step_turn
+    figures = _figures(series, model.length)
+    # The largest sampled deviation against the runner's interpolated peak (r = 0): within the heading's
+    # change over one step at the peak, second order in the step (r ~ 0 there).
+    peak_error = math.degrees(step_turn) ** 2
+    b_excess = math.degrees(manoeuvre.heading_change - math.radians(20.0))
+    assert figures["first_overshoot"] == pytest.approx(math.degrees(test.first_overshoot) - b_excess, abs=peak_error)
+    assert figures["second_overshoot"] == pytest.approx(math.degrees(test.second_overshoot) - b_excess, abs=peak_error)
+
+
+def _noise_free_logs(model: ShipModel, lengths: float = 60.0) -> list:
+    """A zig-zag 15/15 and a 30 deg turn to port of ``lengths`` ship lengths each, noise-free and calm."""
+    speed = model.service_speed
+    unit = model.length / speed  # s per ship length
+    runs = [
+        Manoeuvre("zigzag_15", "zigzag", math.radians(15.0), lengths * unit, approach=2 * unit,
+                  zigzag_angle=math.radians(15.0), start_speed=speed, final_speed=speed, wind_speed=0.0),
+        Manoeuvre("turn_m30", "turn", math.radians(-30.0), lengths * unit, approach=2 * unit,
+                  start_speed=speed, final_speed=speed, wind_speed=0.0),
+    ]  # fmt: skip
+    exact = LogSettings(noise=SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), dt=0.5)
+    return sail_all(ReplayModel(model), runs, seed=3, settings=exact)
+
+
+def test_the_true_model_sailed_free_predicts_the_measured_figures():
+    """Noise-free logs of the container ship in calm water: its own model, sailing the zig-zag closed loop and
+    the turn on the held rudder from the measured state at the execute, gives the measured figures."""
+    model = ShipModel(SHIP, CALM_EFFECTS)
+    truth = ReplayModel(model)
+    logs = _noise_free_logs(model)
+    results = compare_free_running(truth, logs)
+    assert [r.manoeuvre.kind for r in results] == ["zig-zag", "turning"]
+    for result in results:
+        for measured, predicted in zip(result.measured, result.predicted, strict=True):
+            assert predicted.key == measured.key
+            # The same steps from the same state: the same numbers (NaN where the run does not reach a figure).
+            assert predicted.value == pytest.approx(measured.value, rel=1e-9, abs=1e-9, nan_ok=True), measured.key
+    table = free_running_table(results).text()
+    assert "first overshoot" in table and "tactical diameter" in table
+
+
+def test_a_model_with_half_the_gain_predicts_larger_turns_and_overshoots_than_measured():
+    """The comparison says which way a wrong model errs: a ship half as quick to turn."""
+    model = ShipModel(SHIP, CALM_EFFECTS)
+    logs = _noise_free_logs(model)
+    slow = ReplayModel(model.with_parameters({"yaw.gain": 0.5 * model.parameter("yaw.gain")}))
+    zig, turn = compare_free_running(slow, logs)
+    measured = {f.key: f.value for f in turn.measured}
+    predicted = {f.key: f.value for f in turn.predicted}
+    assert predicted["tactical_diameter_lengths"] > measured["tactical_diameter_lengths"]
+    assert predicted["steady_rate_of_turn"] < measured["steady_rate_of_turn"]
+    measured = {f.key: f.value for f in zig.measured}
+    predicted = {f.key: f.value for f in zig.predicted}
+    assert predicted["initial_turning_time"] > measured["initial_turning_time"]
+
+
+def test_a_run_that_is_neither_has_no_figures():
+    model = ShipModel.minimal(SHIP)
+    (log, _) = _noise_free_logs(model)
+    straight = replace(log, rudder=np.zeros_like(log.rudder), name="straight")
+    assert read_manoeuvre(Series.of_log(straight)).kind == "other"
+    assert compare_free_running(ReplayModel(model), [straight]) == ()
+
+
+@pytest.mark.skipif(not ESSO.is_dir(), reason=f"the Esso Osaka logs are not at {ESSO}")
+@pytest.mark.filterwarnings("ignore::ship_env.workbench.LogWarning")  # a run's NaN tail, dropped and said
+def test_the_esso_osaka_runs_read_as_their_manoeuvres():
+    """Every zig-zag run a zig-zag with its a = b (15, 20 or 30 deg), every turning run a turn."""
+    for log in load_logs(sorted((ESSO / "zigzag").glob("*.csv"))):
+        manoeuvre = read_manoeuvre(Series.of_log(log))
+        assert manoeuvre.kind == "zig-zag", log.name
+        a = math.degrees(manoeuvre.rudder_angle)
+        assert min(abs(a - 15.0), abs(a - 20.0), abs(a - 30.0)) < 1.0, (log.name, a)
+        assert math.degrees(manoeuvre.heading_change) == pytest.approx(a, abs=0.35 * a), log.name
+    for log in load_logs(sorted((ESSO / "turning").glob("*.csv"))):
+        assert read_manoeuvre(Series.of_log(log)).kind == "turning", log.name
+
+
+def test_the_improve_report_shows_each_run_s_figures_and_tracks(tmp_path):
+    """The report's free-running section: a table row per figure of every run and model, and the drawings."""
+    model = ShipModel(SHIP, CALM_EFFECTS)
+    folder = tmp_path / "logs"
+    folder.mkdir()
+    for log in _noise_free_logs(model, lengths=16.0):  # three reversals, a turn past 180 deg
+        write_log(log, folder / f"{log.name}.csv")
+    report = tmp_path / "report"
+    arguments = [str(folder), "--ship", SHIP, "--candidates", "norrbin", "--max-steps", "1", "--report", str(report)]
+    assert main(["improve", *arguments]) == 0
+    text = (report / "report.md").read_text()
+    section = text.split("## Manoeuvres sailed free: measured against predicted")[1].split("\n## ")[0]
+    for run, figure in (("zigzag_15", "first overshoot, deg"), ("turn_m30", "tactical diameter, L")):
+        assert section.count(f"| {run} | ") >= 5 and figure in section, (run, figure)
+    for label in ("start", "final") if "### final model" in section else ("final",):
+        assert (report / f"free_running_{label}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -1,0 +1,132 @@
+"""A fit on zig-zags predicts the turning circle it never saw: a full-scale ship with sea-trial sensors.
+
+The truth is the ``kvlcc2`` preset's calm-water model (yaw, Norrbin, asymmetry, speed loss, sway, steering
+machine) with its values moved (``TRUTH_FACTORS``), so that the workbench, which starts from the preset,
+starts away from the truth. The truth sails four zig-zags (10/10 and 20/20 to both sides) at its service
+speed, logged by sea-trial sensors (``SEA_TRIAL_NOISE``: 0.5 deg compass, 3 m GPS, 1 Hz); then, as a user
+would and with the defaults:
+
+    ship-env improve LOGS/zigzag --ship kvlcc2 --preset fitted.yaml
+
+and the fitted preset sails the IMO manoeuvres (``ship_env.manoeuvres``) against the truth: the 35 deg
+turning circle to both sides (advance and tactical diameter within 5 %, steady rate of turn and speed loss
+within 10 %) and the 10/10 zig-zag (first overshoot within 2 deg). Prints one table with PASS or FAIL per
+figure and the time the fit took.
+
+Run:  python benchmarks/bench_free_running.py [--keep DIR]
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import tempfile
+import time
+from pathlib import Path
+
+from ship_env.cli import main
+from ship_env.manoeuvres import turning_circle, zigzag
+from ship_env.model import ShipModel
+from ship_env.text_table import Table
+from ship_env.workbench.logs import write_log
+from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.synthetic import SEA_TRIAL_NOISE, LogSettings, Manoeuvre, sail_all
+
+SHIP = "kvlcc2"
+#: The truth's effects: the preset's calm-water model.
+TRUTH_EFFECTS = ("yaw", "asymmetry", "norrbin", "speed_loss", "sway", "steering_machine", "kinematics")
+#: The truth's values: the preset's times these factors.
+TRUTH_FACTORS = {
+    "yaw.gain": 1.15,
+    "yaw.time_constant": 0.85,
+    "norrbin.cubic": 0.7,
+    "speed_loss.gain": 0.8,
+    "sway.linear": 1.2,
+}
+#: The zig-zags logged: (name, rudder a in deg, heading change b in deg), a negative a to port.
+ZIGZAGS = (
+    ("zigzag_10_stbd", 10, 10),
+    ("zigzag_10_port", -10, 10),
+    ("zigzag_20_stbd", 20, 20),
+    ("zigzag_20_port", -20, 20),
+)
+#: Each zig-zag's length in ship lengths sailed (five executes of a 10/10 take about 20).
+ZIGZAG_LENGTHS = 30.0
+#: (figure, criterion, relative): the issue's bounds, relative (a fraction) or absolute (deg).
+CRITERIA = (
+    ("advance", 0.05, True),
+    ("tactical diameter", 0.05, True),
+    ("steady rate of turn", 0.10, True),
+    ("speed loss", 0.10, True),
+    ("first overshoot 10/10", 2.0, False),
+)
+
+
+def truth_model() -> ShipModel:
+    preset = ShipModel(SHIP, TRUTH_EFFECTS)
+    return preset.with_parameters({key: factor * preset.parameter(key) for key, factor in TRUTH_FACTORS.items()})
+
+
+def write_zigzag_logs(truth: ShipModel, folder: Path) -> None:
+    speed = truth.service_speed
+    unit = truth.length / speed
+    runs = [
+        Manoeuvre(name, "zigzag", math.radians(a), ZIGZAG_LENGTHS * unit, approach=2.0 * unit,
+                  zigzag_angle=math.radians(b), start_speed=speed, final_speed=speed, wind_speed=0.0)
+        for name, a, b in ZIGZAGS
+    ]  # fmt: skip
+    settings = LogSettings(dt=1.0, noise=SEA_TRIAL_NOISE)
+    folder.mkdir(parents=True)
+    for log in sail_all(ReplayModel(truth), runs, seed=11, settings=settings):
+        write_log(log, folder / f"{log.name}.csv")
+
+
+def figures(model: ShipModel) -> dict[str, float]:
+    """The judged figures: both turning circles' means (the truth is not symmetric), the 10/10's overshoot."""
+    circles = [turning_circle(model, math.radians(angle)) for angle in (35.0, -35.0)]
+
+    def mean(name: str) -> float:
+        return sum(getattr(c, name) for c in circles) / len(circles)
+
+    return {
+        "advance": mean("advance") / model.length,
+        "tactical diameter": mean("tactical_diameter") / model.length,
+        "steady rate of turn": math.degrees(mean("steady_rate_of_turn")),
+        "speed loss": 100.0 * mean("speed_loss"),
+        "first overshoot 10/10": math.degrees(zigzag(model, math.radians(10.0), math.radians(10.0)).first_overshoot),
+    }
+
+
+def main_benchmark(keep: Path | None) -> int:
+    folder = Path(tempfile.mkdtemp(prefix="free_running_")) if keep is None else keep
+    truth = truth_model()
+    write_zigzag_logs(truth, folder / "zigzag")
+    preset = folder / "fitted.yaml"
+    start = time.perf_counter()
+    status = main(
+        ["improve", str(folder / "zigzag"), "--ship", SHIP, "--preset", str(preset), "--report", str(folder / "report")]
+    )
+    seconds = time.perf_counter() - start
+    if status != 0:
+        return status
+    expected, predicted = figures(truth), figures(ShipModel(preset))
+    rows = []
+    failed = 0
+    for name, bound, relative in CRITERIA:
+        error = predicted[name] - expected[name]
+        judged = abs(error) / abs(expected[name]) if relative else abs(error)
+        verdict = "PASS" if judged <= bound else "FAIL"
+        failed += verdict == "FAIL"
+        limit = f"{100 * bound:g} %" if relative else f"{bound:g} deg"
+        shown = f"{100 * error / expected[name]:+.1f} %" if relative else f"{error:+.2f} deg"
+        rows.append((name, f"{expected[name]:.3f}", f"{predicted[name]:.3f}", shown, limit, verdict))
+    print(f"\nthe fit on {len(ZIGZAGS)} zig-zags ({SHIP}, sea-trial sensors) took {seconds:.0f} s; logs in {folder}")
+    header = ("figure (mean of 35 deg stbd and port)", "truth", "fitted preset", "error", "within", "")
+    print(Table(header, tuple(rows)).text())
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--keep", type=Path, default=None, help="write the logs, report and preset here")
+    raise SystemExit(main_benchmark(parser.parse_args().keep))

@@ -1,124 +1,234 @@
-"""Throughput of the environments.
+"""Throughput of the environments, as ratios against Gymnasium's own environments measured in the same run.
 
-    python benchmarks/bench_envs.py [--quick]
+    python benchmarks/bench_envs.py [--rounds 3] [--quick] [--no-cold] [--ppo]
 
-Measures, best of a few repeats:
+A shared machine cannot judge an absolute figure (other work takes the cores), so each figure is
+a ratio against a peer measured beside it, in the same process and the same round, with
+``gymnasium.utils.performance`` as the harness. Each round (the load average printed before it):
 
-1. single-env ``step`` steps/s of each environment (CourseChange-v0 with the default model (calm)
-   and the full model (every effect on, wind, current and waves); TrackFollow-v0 in the thesis's
-   wind and current; CourseKeeping-v0 in wind, current and waves), on the raw env and through
-   ``gymnasium.make``'s wrappers (target >= 50k/s with the full model);
-2. the native vector envs' env-steps/s at N = 1024 (target >= 2M/s), with a breakdown of one
-   vector step: the simulator's step, the task's compiled update, the info dicts. Batches of
-   ``PARALLEL_SHIPS`` (1024) ships step and update on all cores where that is faster
-   (``ship_env.model.simulator.Cores``): on a 2-core machine to itself, about twice as fast as one
-   thread; on one busy with other work (see the load average printed), in one thread.
-   ``NUMBA_NUM_THREADS=1`` measures the one-thread step;
-3. stable-baselines3 PPO training steps/s (rollouts and updates, ``torch.set_num_threads(1)``) on
-   the CourseChange vector env through ``SB3VecEnvAdapter``, beside the same PPO on a
-   ``DummyVecEnv`` of single envs.
+1. one environment through ``gym.make``: CourseChange-v0 against CartPole-v1, steps/s with the
+   actions drawn beforehand, and with ``action_space.sample()`` in the loop (``benchmark_step``;
+   a ``Box.sample()`` costs several times a ``Discrete`` one, and more than our step); target 1.0x;
+2. the native vector environment at N = 1024, the preset's default effects (and every effect on, with
+   wind, current and waves), against CartPole's native vector env (``gym.make_vec("CartPole-v1",
+   num_envs=1024, vectorization_mode="vector_entry_point")``): env-steps/s with actions drawn
+   beforehand, and ``benchmark_vector_step`` (sampling in the loop); target 1.0x;
+3. rendering (``render_mode="rgb_array"``, 600 x 600): frames/s of ``render()`` alone
+   (``benchmark_render``) and of ``step()`` + ``render()`` (what RecordVideo does), over the
+   environment's 30 frames/s (its ``render_fps``); target 1.0x;
+4. the first ``gym.make`` + ``reset`` + ``step`` of CourseChange-v0 in a fresh interpreter with an
+   empty numba cache (``NUMBA_CACHE_DIR`` an empty folder), over the 15-s target, beside CartPole's
+   in a fresh interpreter; and where the time goes: each phase, and the compilations numba ran
+   (``numba.core.event``), the longest first.
+
+Then the min and median over the rounds of every ratio (absolute figures as information), and one
+vector step's parts (N = 1024, microseconds, median and mean per call: a loaded machine pre-empts
+some calls, which the mean shows), and with ``--ppo`` stable-baselines3 PPO's training steps/s.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
+import statistics
+import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable
+from typing import Any
 
 import gymnasium as gym
-import numba
 import numpy as np
+from gymnasium.utils.performance import benchmark_render, benchmark_step, benchmark_vector_step
 
 import ship_env  # noqa: F401  (registers the environments)
-from ship_env.envs.course_change import CourseChangeEnv
-from ship_env.envs.course_change_vector import CourseChangeVectorEnv
-from ship_env.envs.course_keeping import CourseKeepingEnv
-from ship_env.envs.course_keeping_vector import CourseKeepingVectorEnv
-from ship_env.envs.single_env import ShipEnv
-from ship_env.envs.track_follow import TrackFollowEnv
-from ship_env.envs.track_follow_vector import TrackFollowVectorEnv
-from ship_env.envs.vector_env import ShipVectorEnv
 from ship_env.model import EFFECTS
 
 ENV_ID = "ship_env/CourseChange-v0"
+PEER_ID = "CartPole-v1"
+NUM_ENVS = 1024
 VECTOR_MODE = "vector_entry_point"
-#: name: (single env, vector env, keyword arguments).
-CONFIGURATIONS: dict[str, tuple[type[ShipEnv], type[ShipVectorEnv], dict]] = {
-    "CourseChange, default model, calm": (CourseChangeEnv, CourseChangeVectorEnv, {}),
-    "CourseChange, full model, wind+current+waves": (
-        CourseChangeEnv,
-        CourseChangeVectorEnv,
-        {"disturbance": "wind_current_waves", "effects": tuple(EFFECTS)},
-    ),
-    "TrackFollow, thesis wind+current": (TrackFollowEnv, TrackFollowVectorEnv, {}),
-    "CourseKeeping, wind+current+waves": (CourseKeepingEnv, CourseKeepingVectorEnv, {}),
+#: The vector configurations: name -> keyword arguments.
+VECTOR_OPTIONS = {
+    "default effects, calm": {},
+    "every effect, wind+current+waves": {"disturbance": "wind_current_waves", "effects": tuple(EFFECTS)},
 }
-SINGLE_TARGET = 50_000.0
-VECTOR_TARGET = 2_000_000.0
+TARGET_FRAMES_PER_SECOND = 30.0
+TARGET_COLD_SECONDS = 15.0
+DRAWN_ACTIONS = 4096  # actions drawn beforehand, cycled
+COLD = "4. first make+reset+step, empty cache: 15 s over ours"
 
 
-def best_seconds(run: Callable[[], None], repeats: int) -> float:
-    """The shortest wall time of ``repeats`` runs (the machine may be shared)."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        run()
-        times.append(time.perf_counter() - start)
-    return min(times)
+def benchmark_step_drawn(env: gym.Env, target_duration: float, seed: int = 0) -> float:
+    """``benchmark_step`` with the actions drawn beforehand: steps/s of ``env.step`` alone."""
+    env.action_space.seed(seed)
+    actions = [env.action_space.sample() for _ in range(DRAWN_ACTIONS)]
+    env.reset(seed=seed)
+    steps = 0
+    start = time.perf_counter()
+    while True:
+        _, _, terminated, truncated, _ = env.step(actions[steps % DRAWN_ACTIONS])
+        steps += 1
+        if terminated or truncated:
+            env.reset()
+        elapsed = time.perf_counter() - start
+        if elapsed > target_duration:
+            return steps / elapsed
 
 
-def single_env_rate(env: gym.Env, steps: int, repeats: int) -> float:
+def benchmark_vector_step_drawn(env: gym.vector.VectorEnv, target_duration: float, seed: int = 0) -> float:
+    """``benchmark_vector_step`` with the actions drawn beforehand: env-steps/s (NEXT_STEP autoreset: a
+    sub-environment's restarting step is not counted, as there)."""
+    env.action_space.seed(seed)
+    actions = [env.action_space.sample() for _ in range(64)]
+    env.reset(seed=seed)
+    env.step(actions[0])  # warm up (compilation, threads)
+    env.reset(seed=seed)
+    steps = calls = 0
+    previous_done = np.zeros(env.num_envs, dtype=np.bool_)
+    start = time.perf_counter()
+    while True:
+        _, _, terminated, truncated, _ = env.step(actions[calls % len(actions)])
+        calls += 1
+        steps += env.num_envs - int(np.count_nonzero(previous_done))
+        previous_done = terminated | truncated
+        elapsed = time.perf_counter() - start
+        if elapsed > target_duration:
+            return steps / elapsed
+
+
+def step_and_render(env: gym.Env, target_duration: float) -> float:
+    """Frames/s of ``step`` + ``render`` (RecordVideo's loop), the action amidships-to-starboard."""
+    action = np.full(env.action_space.shape, 0.5, dtype=env.action_space.dtype)
+    frames = 0
+    start = time.perf_counter()
+    while True:
+        _, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            env.reset()
+        env.render()
+        frames += 1
+        elapsed = time.perf_counter() - start
+        if elapsed > target_duration:
+            return frames / elapsed
+
+
+# -- the first make, reset and step with an empty cache -----------------------------------------
+_COLD_CHILD = """
+import json, sys, time
+start = time.perf_counter()
+from numba.core import event
+with event.install_recorder("numba:compile") as recorder:
+    phases = {}
+    import gymnasium as gym
+    if sys.argv[1] != "CartPole-v1":
+        import ship_env
+    phases["import"] = time.perf_counter() - start
+    env = gym.make(sys.argv[1])
+    phases["make"] = time.perf_counter() - start - sum(phases.values())
     env.reset(seed=0)
-    action = np.array([0.3], dtype=np.float32)
+    phases["reset"] = time.perf_counter() - start - sum(phases.values())
+    env.step(env.action_space.sample())
+    phases["step"] = time.perf_counter() - start - sum(phases.values())
+started, compiles, depth = {}, [], 0
+for moment, happening in recorder.buffer:
+    if happening.is_start:
+        started[id(happening.data)] = (moment, depth)
+        depth += 1
+    else:
+        depth -= 1
+        began, level = started.pop(id(happening.data))
+        if level == 0:  # compiled for a call from Python, its callees included
+            dispatcher = happening.data["dispatcher"]
+            compiles.append((dispatcher.py_func.__module__ + "." + dispatcher.py_func.__qualname__, moment - began))
+seconds = time.perf_counter() - start
+print(json.dumps({"seconds": seconds, "cpu": time.process_time(), "phases": phases, "compiles": compiles}))
+"""
 
-    def run() -> None:
-        for _ in range(steps):
-            env.step(action)
 
-    run()  # compile and warm up
-    return steps / best_seconds(run, repeats)
+def cold_start(env_id: str) -> dict[str, Any]:
+    """The first make + reset + step of ``env_id`` in a fresh interpreter with an empty numba cache."""
+    with tempfile.TemporaryDirectory() as cache:
+        result = subprocess.run(
+            [sys.executable, "-c", _COLD_CHILD, env_id],
+            env={**os.environ, "NUMBA_CACHE_DIR": cache},
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+    if result.returncode:
+        raise RuntimeError(result.stderr)
+    return json.loads(result.stdout.strip().splitlines()[-1])
 
 
-def vector_env_rates(
-    vector_class: type[ShipVectorEnv], options: dict, num_envs: int, steps: int, repeats: int
-) -> dict[str, float]:
-    """Env-steps/s of the vector env, and the microseconds of each part of one step."""
-    env = vector_class(num_envs=num_envs, **options)
+# -- one round ----------------------------------------------------------------------------------
+def one_round(duration: float, cold: bool, cold_details: list[dict[str, Any]]) -> dict[str, dict[str, float]]:
+    """Every comparison once, ours beside its peer: name -> {"ours", "peer", "ratio"}; with ``cold``, the
+    first make's phases and compilations appended to ``cold_details``."""
+    figures: dict[str, dict[str, float]] = {}
+
+    def compare(name: str, ours: float, peer: float) -> None:
+        figures[name] = {"ours": ours, "peer": peer, "ratio": ours / peer}
+
+    ours_env, peer_env = gym.make(ENV_ID), gym.make(PEER_ID)
+    benchmark_step_drawn(ours_env, 0.2)  # warm up (compilation)
+    for name, harness in (("actions drawn beforehand", benchmark_step_drawn), ("sample() in the loop", benchmark_step)):
+        peer = harness(peer_env, duration, seed=0)
+        compare(f"1. gym.make step, {name}", harness(ours_env, duration, seed=0), peer)
+
+    peer_vector = gym.make_vec(PEER_ID, num_envs=NUM_ENVS, vectorization_mode=VECTOR_MODE)
+    for options_name, options in VECTOR_OPTIONS.items():
+        ours_vector = gym.make_vec(ENV_ID, num_envs=NUM_ENVS, vectorization_mode=VECTOR_MODE, **options)
+        for name, harness in (
+            ("actions drawn beforehand", benchmark_vector_step_drawn),
+            ("benchmark_vector_step", benchmark_vector_step),
+        ):
+            peer = harness(peer_vector, duration, seed=0)
+            compare(f"2. vector N={NUM_ENVS}, {options_name}, {name}", harness(ours_vector, duration, seed=0), peer)
+        ours_vector.close()
+
+    rendered = gym.make(ENV_ID, render_mode="rgb_array", disturbance="wind_current_waves")
+    rendered.reset(seed=0)
+    step_and_render(rendered, 0.2)  # warm up (matplotlib, the still picture)
+    compare("3. render() alone, frames/s over 30", benchmark_render(rendered, duration), TARGET_FRAMES_PER_SECOND)
+    compare("3. step() + render(), frames/s over 30", step_and_render(rendered, duration), TARGET_FRAMES_PER_SECOND)
+    rendered.close()
+
+    if cold:
+        ours = cold_start(ENV_ID)
+        peer = cold_start(PEER_ID)
+        # A time: the target over ours, so that 1.0x or more meets it, as for the rates.
+        compare(COLD, TARGET_COLD_SECONDS, ours["seconds"])
+        figures[COLD].update(cold_cpu=ours["cpu"], peer_seconds=peer["seconds"])
+        cold_details.append(ours)
+    return figures
+
+
+def vector_step_parts(steps: int) -> dict[str, tuple[float, float]]:
+    """One vector step's parts at N = 1024 (default effects), microseconds per call: (median, mean)."""
+    env = gym.make_vec(ENV_ID, num_envs=NUM_ENVS, vectorization_mode=VECTOR_MODE).unwrapped
     env.reset(seed=0)
-    actions = np.random.default_rng(0).uniform(-1.0, 1.0, size=(num_envs, 1)).astype(np.float32)
+    actions = np.random.default_rng(0).uniform(-1.0, 1.0, size=(NUM_ENVS, 1)).astype(np.float32)
     orders = actions[:, 0].astype(np.float64) * env.task.rudder_limit
     batch = env.batch
-
-    def run_steps() -> None:
-        for _ in range(steps):
-            env.step(actions)
-
-    def part(work: Callable[[], object]) -> float:
-        def run() -> None:
-            for _ in range(steps):
-                work()
-
-        return best_seconds(run, repeats) / steps * 1e6
-
-    run_steps()
-    rate = steps * num_envs / best_seconds(run_steps, repeats)
-    return {
-        "env-steps/s": rate,
-        "step us": 1e6 * num_envs / rate,
-        "simulator us": part(lambda: batch.simulator.step(orders)),
-        "task update us": part(batch.update),
-        "info us": part(lambda: env._info(np.zeros(0, dtype=np.intp), [], env._all_envs)),
+    no_ships = np.zeros(0, dtype=np.intp)
+    parts: dict[str, Callable[[], object]] = {
+        "whole step": lambda: env.step(actions),
+        "actions to rudder orders": lambda: env.task.rudder_orders(actions, NUM_ENVS, env._orders),
+        "simulator step": lambda: batch.simulator.step(orders),
+        "task update (compiled)": batch.update,
+        "observations, rewards, terminations": batch.outcomes,
+        "info dicts": lambda: env._info(no_ships, [], env._all_envs),
     }
-
-
-def threading_layer() -> str:
-    """numba's threading layer, once a parallel kernel has run (batches of ``PARALLEL_SHIPS`` or more)."""
-    try:
-        return numba.threading_layer()
-    except ValueError:
-        return "not started (every batch here updated in one thread)"
+    times: dict[str, list[float]] = {name: [] for name in parts}
+    for _ in range(steps):  # round-robin, so that load shifts every part alike
+        for name, work in parts.items():
+            start = time.perf_counter()
+            work()
+            times[name].append(1e6 * (time.perf_counter() - start))
+    return {name: (statistics.median(values), statistics.fmean(values)) for name, values in times.items()}
 
 
 def ppo_rate(make_env: Callable[[], object], total_steps: int, num_envs: int) -> float:
@@ -135,50 +245,78 @@ def ppo_rate(make_env: Callable[[], object], total_steps: int, num_envs: int) ->
     return total_steps / (time.perf_counter() - start)
 
 
+def _figure(value: float) -> str:
+    if value >= 1e6:
+        return f"{value / 1e6:.2f}M"
+    if value >= 1e3:
+        return f"{value / 1e3:.1f}k"
+    return f"{value:.1f}"
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="fewer steps and repeats (a smoke run)")
+    parser.add_argument("--rounds", type=int, default=3, help="rounds of every comparison (default 3)")
+    parser.add_argument("--quick", action="store_true", help="0.3 s per measurement instead of 2 s (a smoke run)")
+    parser.add_argument("--no-cold", action="store_true", help="skip the first make from an empty cache")
+    parser.add_argument("--ppo", action="store_true", help="also time stable-baselines3 PPO training")
     arguments = parser.parse_args()
-    repeats = 2 if arguments.quick else 5
-    single_steps = 5_000 if arguments.quick else 50_000
-    vector_steps = 50 if arguments.quick else 300
-    ppo_steps = 4096 if arguments.quick else 16_384
+    duration = 0.3 if arguments.quick else 2.0
     print("command:", " ".join([sys.executable.rsplit("/", 1)[-1], *sys.argv]))
-    print(
-        f"machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f} at the start; "
-        f"OMP_WAIT_POLICY={os.environ.get('OMP_WAIT_POLICY', '(unset)')}"
-    )
+    print(f"machine: {os.cpu_count()} cores; numba threads {os.environ.get('NUMBA_NUM_THREADS', '(all)')}")
 
-    print("\n1. single env, step (target >= 50k steps/s with the full model)")
-    for name, (single_class, _, options) in CONFIGURATIONS.items():
-        raw = single_env_rate(single_class(**options), single_steps, repeats)
-        made = single_env_rate(gym.make(single_class.env_id, max_episode_steps=10**9, **options), single_steps, repeats)
-        print(f"   {name:45s} raw {raw / 1e3:7.1f}k/s   gym.make (wrappers) {made / 1e3:7.1f}k/s")
+    rounds = []
+    cold_details: list[dict[str, Any]] = []
+    for number in range(arguments.rounds):
+        print(f"round {number + 1}: load average {os.getloadavg()[0]:.1f} at its start", flush=True)
+        rounds.append(one_round(duration, not arguments.no_cold, cold_details))
+    print(f"load average {os.getloadavg()[0]:.1f} at the end")
 
-    print("\n2. vector env, N = 1024 (target >= 2M env-steps/s); one step's parts in microseconds")
-    for name, (_, vector_class, options) in CONFIGURATIONS.items():
-        rates = vector_env_rates(vector_class, options, 1024, vector_steps, repeats)
+    print(f"\nratios ours / peer in the same round, min and median of {len(rounds)} rounds (target 1.0x):")
+    for name in rounds[0]:
+        ratios = [figures[name]["ratio"] for figures in rounds]
+        ours = [figures[name]["ours"] for figures in rounds]
+        peer = [figures[name]["peer"] for figures in rounds]
         print(
-            f"   {name:45s} {rates['env-steps/s'] / 1e6:5.2f}M env-steps/s = {rates['step us']:6.0f} us/step: "
-            f"simulator {rates['simulator us']:5.0f}, task update {rates['task update us']:4.0f}, "
-            f"info {rates['info us']:4.0f}"
+            f"  {name:76s} {min(ratios):5.2f}x / {statistics.median(ratios):5.2f}x   "
+            f"(ours {_figure(statistics.median(ours))}, peer {_figure(statistics.median(peer))}: medians)"
         )
-    print(f"   numba threading layer: {threading_layer()}")
-
-    print("\n3. PPO training (MlpPolicy, 2048-step rollouts, batch 256, 4 epochs, torch 1 thread)")
-    from stable_baselines3.common.vec_env import DummyVecEnv
-
-    from ship_env.envs.sb3_adapter import SB3VecEnvAdapter
-
-    for num_envs in (16, 64):
-        rate = ppo_rate(
-            lambda n=num_envs: SB3VecEnvAdapter(gym.make_vec(ENV_ID, num_envs=n, vectorization_mode=VECTOR_MODE)),
-            ppo_steps,
-            num_envs,
+    if cold_details:
+        seconds = [detail["seconds"] for detail in cold_details]
+        cpu = [detail["cpu"] for detail in cold_details]
+        peer_seconds = [figures[COLD]["peer_seconds"] for figures in rounds]
+        print(
+            f"\n4. first make+reset+step of {ENV_ID}, empty numba cache: {min(seconds):.1f} / "
+            f"{statistics.median(seconds):.1f} s wall (min / median), {min(cpu):.1f} / {statistics.median(cpu):.1f} "
+            f"CPU-s of the process (its import included); CartPole-v1 {statistics.median(peer_seconds):.1f} s"
         )
-        print(f"   vector env + SB3VecEnvAdapter, {num_envs:3d} envs   {rate:7.0f} steps/s")
-    rate = ppo_rate(lambda: DummyVecEnv([lambda: gym.make(ENV_ID)] * 16), ppo_steps, 16)
-    print(f"   DummyVecEnv of 16 gym.make envs          {rate:7.0f} steps/s")
+        last = cold_details[-1]
+        print("   phases (last round), s: " + ", ".join(f"{k} {v:.1f}" for k, v in last["phases"].items()))
+        compiles = sorted(last["compiles"], key=lambda item: -item[1])
+        total = sum(spent for _, spent in compiles)
+        print(f"   compilations for calls from Python (last round, their callees included), {total:.1f} s:")
+        for function, spent in compiles[:8]:
+            print(f"     {spent:6.1f} s  {function}")
+
+    print(f"\none vector step's parts, N = {NUM_ENVS}, default effects, us per call (median / mean):")
+    for name, (median, mean) in vector_step_parts(50 if arguments.quick else 300).items():
+        print(f"  {name:40s} {median:8.0f} / {mean:8.0f}")
+
+    if arguments.ppo:
+        from stable_baselines3.common.vec_env import DummyVecEnv
+
+        from ship_env.envs.sb3_adapter import SB3VecEnvAdapter
+
+        steps = 4096 if arguments.quick else 16_384
+        print("\nPPO training (MlpPolicy, 2048-step rollouts, batch 256, 4 epochs, torch 1 thread), steps/s:")
+        for num_envs in (16, 64):
+            rate = ppo_rate(
+                lambda n=num_envs: SB3VecEnvAdapter(gym.make_vec(ENV_ID, num_envs=n, vectorization_mode=VECTOR_MODE)),
+                steps,
+                num_envs,
+            )
+            print(f"  vector env + SB3VecEnvAdapter, {num_envs:3d} envs   {rate:7.0f}")
+        rate = ppo_rate(lambda: DummyVecEnv([lambda: gym.make(ENV_ID)] * 16), steps, 16)
+        print(f"  DummyVecEnv of 16 gym.make envs          {rate:7.0f}")
 
 
 if __name__ == "__main__":

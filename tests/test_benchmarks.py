@@ -23,12 +23,14 @@ def test_benchmark_functions_run_with_tiny_counts(monkeypatch, load_script):
         assert set(results["batch"][name]) == {"1", "8"}
         assert all(r["median"] > 0.0 for r in results["batch"][name].values())
     assert [row["variant"] for row in results["profile"]["rows"]] == [v[0] for v in bench.PROFILE_VARIANTS]
-    assert [v["what"] for v in results["targets"]] == ["single ship, full model", "single ship, minimal model"]
+    assert "targets" not in results  # no absolute verdict: a shared machine cannot judge one
     if results["shipmmg"] is not None:
         assert results["shipmmg"]["median"] > 0.0
         assert results["ratio_ours_to_shipmmg"]["full"] > 0.0
     report = bench.format_report(results, "python benchmarks/bench_simulator.py --tiny")
-    assert "single ship, Simulator.step(float)" in report and "targets" in report
+    assert "single ship, Simulator.step(float)" in report and "FAIL" not in report and "PASS" not in report
+    if results["shipmmg"] is not None:
+        assert "ours / shipmmg" in report
     json.dumps(results)  # the --json output is plain JSON
 
     # Without shipmmg the comparison is skipped, saying how to install it.

@@ -173,3 +173,34 @@ def test_rgb_array_render_returns_an_rgb_frame(env_id, options):
     assert frame.dtype == np.uint8 and frame.ndim == 3 and frame.shape[2] == 3 and frame.shape[0] > 100
     assert len(np.unique(frame.reshape(-1, 3), axis=0)) > 10
     env.close()
+
+
+def test_rgb_array_frames_drawn_over_the_kept_picture_equal_what_matplotlib_draws_of_the_whole_figure():
+    """The renderer keeps the still picture (axes, ticks, legend, the sea's arrows) and draws the moving
+    artists over a copy of it. The view holds while the track stays a ship length inside it and is
+    framed afresh once it does not (160 steps on a straight course); a new episode in another sea keeps
+    the view and redraws the arrows; and then a frame equals matplotlib's drawing of the whole figure
+    with nothing left out (outside the legend, which the renderer puts over the lines opaque)."""
+    env = gym.make("ship_env/CourseChange-v0", render_mode="rgb_array", disturbance="random")
+    axes_limits = []
+    for seed, steps in ((3, 160), (4, 3)):
+        env.reset(seed=seed)
+        for step in range(steps):
+            env.step(np.zeros(1, dtype=np.float32))
+            if step in (0, steps - 2, steps - 1):
+                kept = env.render()
+                figure = env.unwrapped._renderer.figure
+                axes_limits.append((figure.axes[0].get_xlim(), figure.axes[0].get_ylim()))
+    assert axes_limits[0] != axes_limits[1] == axes_limits[2] == axes_limits[3] == axes_limits[-1]
+    for artist in figure.axes[0].get_children():
+        artist.set_animated(False)
+    figure.canvas.draw()
+    whole = np.asarray(figure.canvas.buffer_rgba())[:, :, :3]
+    legend = figure.axes[0].get_legend().get_window_extent()
+    outside = np.ones(kept.shape[:2], dtype=bool)
+    height = kept.shape[0]
+    outside[
+        height - math.ceil(legend.y1) : height - math.floor(legend.y0), math.floor(legend.x0) : math.ceil(legend.x1)
+    ] = False
+    assert np.array_equal(kept[outside], whole[outside])
+    env.close()

@@ -66,12 +66,12 @@ class ShipEnv(Env[np.ndarray, Any]):
             self._track.append(batch.simulator.position[0].copy())
         if self.render_mode == "human":
             self.render()
-        episode = batch.episodes[0]
-        terminated = bool(episode["terminated"])
+        episodes = batch.episodes  # each field read at the index (faster than reading the record's fields)
+        terminated = bool(episodes["terminated"][0])
         info = batch.info(0)
         if terminated:
             info.update(batch.end_info(0))
-        return episode["observation"].copy(), float(episode["reward"]), terminated, False, info
+        return episodes["observation"][0].copy(), float(episodes["reward"][0]), terminated, False, info
 
     def render_guides(self) -> list[Guide]:
         """The task's lines drawn beside the ship (a new heading, a reference track)."""

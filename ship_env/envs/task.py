@@ -235,7 +235,7 @@ class ShipTask:
     def rudder_order(self, action: object) -> float:
         """One environment's action as the ordered rudder angle, rad; ``ValueError`` if it is malformed."""
         if self.action_type == "continuous":
-            fraction = float(self._continuous(action, (1,))[0])
+            fraction = self._continuous(action, (1,)).item()
             return min(max(fraction, -1.0), 1.0) * self.rudder_limit
         return float(self._levels[self._discrete(action, ())])
 
@@ -257,7 +257,7 @@ class ShipTask:
             raise ValueError(f"action: expected an array of shape {shape} in [-1, 1], got {action!r}") from None
         if array.shape != shape:
             raise ValueError(f"action: expected shape {shape}, got {action!r} of shape {array.shape}")
-        if not np.isfinite(array).all():
+        if not (math.isfinite(array.item()) if array.size == 1 else np.isfinite(array).all()):
             index = tuple(int(i) for i in np.argwhere(~np.isfinite(array))[0])
             raise ValueError(f"action{list(index)}: must be finite, got {float(array[index])} in action {action!r}")
         return array

@@ -15,9 +15,10 @@ import pytest
 from conftest import CONTAINER, run
 from scipy.integrate import quad
 
-from ship_env.model import REQUIRED_EFFECTS, ShipModel
+from ship_env.model import REQUIRED_EFFECTS, ShipModel, load_ship
 from ship_env.model import state as S
 from ship_env.model.effects.hull_crossflow import crossflow_integral
+from ship_env.model.ship import ship_from_document
 from ship_env.workbench import FitOptions, ReplayModel
 from ship_env.workbench.fit import fit
 from ship_env.workbench.synthetic import HIDDEN_VALUES, SensorNoise, hidden_effect_logs, noise_scales
@@ -128,9 +129,13 @@ def test_hidden_crossflow_is_recovered_by_a_fit_that_adds_it():
 
 
 def test_the_ladder_can_propose_it_for_any_preset():
-    """A candidate like the other effects: any preset can turn it on (its null is the declared default), one
-    term fitted from 0 within [0, 100], material from 0.05; ``diagnose`` and ``improve`` list it."""
-    for ship in ("kvlcc2", "container_226m", "esso_osaka_model"):
+    """A candidate like the other effects: any preset can turn it on, one written before it existed too (its
+    null is the declared default), one term fitted from 0 within [0, 100], material from 0.05."""
+    document = load_ship("kvlcc2").document
+    unaware = ship_from_document(  # a preset written before the effect existed
+        {**document, "effects": {k: v for k, v in document["effects"].items() if k != "hull_crossflow"}}, "old"
+    )
+    for ship in ("kvlcc2", "container_226m", "esso_osaka_model", unaware):
         model = ShipModel(ship, REQUIRED_EFFECTS)
         assert why_not_fitted("hull_crossflow", model, []) is None
         assert model.with_effects("hull_crossflow").parameter("hull_crossflow.coefficient") == 0.0

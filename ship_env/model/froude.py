@@ -192,8 +192,10 @@ class _Rewriter:
 
     def record(self, node: object, where: str, units: Mapping[str, str] | None = None) -> object:
         """A record's numbers scaled by what they are (``fitted:``, or a section this module does not know):
-        an entry by its unit (or by the condition its key names), a coverage range by its quantity, a held-out
-        error by its channel's unit; any other number is refused, naming where it stands."""
+        an entry (``{value, unit, source}``) by its unit, or by the condition its key names (``propeller_rate``),
+        else as dimensionless (presets write a dimensionless number without a unit); a plain number keyed by a
+        condition by the condition's unit; a coverage range by its quantity; a held-out error by its channel's
+        unit (``error_units``); any other number is refused, naming where it stands."""
         key = where.rpartition(".")[2]
         if isinstance(node, Mapping) and "value" in node:
             unit = node.get("unit") or (units or {}).get(key) or CONDITION_UNITS.get(key, "-")

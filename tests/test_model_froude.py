@@ -268,3 +268,15 @@ def test_scale_command_writes_a_preset_that_records_its_origin(tmp_path, capsys)
     assert yaml.safe_load(output.read_text())["scaled"][0]["factor"] == SCALE
     with pytest.raises(SystemExit):
         main(["scale", "kvlcc2", "--length", "7", "--factor", "2", "-o", str(tmp_path / "other.yaml")])
+
+
+def test_scale_command_refuses_a_number_of_unknown_scaling(tmp_path, capsys):
+    """A preset whose record holds a number without a unit: exit status 2, the message naming it, no OUT."""
+    preset = tmp_path / "odd.yaml"
+    preset.write_text(yaml.safe_dump({**load_ship("kvlcc2").document, "fitted": {"mystery": 3.0}}))
+    output = tmp_path / "scaled.yaml"
+    with pytest.raises(SystemExit) as stopped:
+        main(["scale", str(preset), "--factor", "2", "-o", str(output)])
+    assert stopped.value.code == 2
+    assert "argument IN: fitted.mystery: the Froude scaling of 3.0 is not known" in capsys.readouterr().err
+    assert not output.exists()

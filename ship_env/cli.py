@@ -54,6 +54,7 @@ from ship_env.manoeuvres import (
 )
 from ship_env.manoeuvres.results import KNOT
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
+from ship_env.model.froude import COMMAND as SCALE_COMMAND
 from ship_env.ray_cluster import RayUnavailable
 from ship_env.rl.cli_train import COMMAND as TRAIN_COMMAND
 from ship_env.workbench import (
@@ -892,7 +893,7 @@ def build_parser() -> argparse.ArgumentParser:
     subcommands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     MANOEUVRE_COMMAND.register(subcommands)
     add_workbench_commands(subcommands)
-    for command in (DEMO_LOGS_COMMAND, TRAIN_COMMAND, LEADERBOARD_COMMAND, IDENTIFY_BENCH_COMMAND):
+    for command in (DEMO_LOGS_COMMAND, SCALE_COMMAND, TRAIN_COMMAND, LEADERBOARD_COMMAND, IDENTIFY_BENCH_COMMAND):
         command.register(subcommands)
     return parser
 

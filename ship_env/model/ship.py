@@ -97,6 +97,9 @@ class Ship:
         envelope: the conditions the base model (no optional effect) is valid for.
         std_errors: the standard errors of fitted numbers (SI units; None: not determined), keyed as ``sources``.
         fitted: what a fitted preset was fitted to (its ``fitted:`` block as written), or None.
+        scaled: the Froude scalings that made it from another preset, oldest first (its ``scaled:``
+            block as written; see :mod:`ship_env.model.froude`).
+        document: the YAML document it was read from (what :mod:`~ship_env.model.froude` rewrites).
     """
 
     name: str
@@ -110,6 +113,8 @@ class Ship:
     envelope: Envelope = field(default_factory=Envelope)
     std_errors: Mapping[str, float | None] = field(default_factory=dict)
     fitted: Mapping[str, Any] | None = None
+    scaled: tuple[Mapping[str, Any], ...] = ()
+    document: Mapping[str, Any] | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass
@@ -192,17 +197,23 @@ def load_ship(name_or_path: str | Path) -> Ship:
         path = config_dir() / "ships" / f"{name_or_path}.yaml"
         if not path.is_file():
             raise ValueError(f"ship: unknown preset {str(name_or_path)!r}; known: {', '.join(list_ships())}")
-    document = copy.deepcopy(_parsed(path.read_text()))
+    return ship_from_document(copy.deepcopy(_parsed(path.read_text())), path.name, path)
+
+
+def ship_from_document(document: object, label: str, path: Path | None = None) -> Ship:
+    """A ship preset from its YAML document (``label`` names it in errors; ``path``: the file it was read from)."""
     if not isinstance(document, Mapping):
-        raise TypeError(f"{path}: expected a mapping at the top level")
-    unknown = set(document) - {"name", "description", "principal", "envelope", "effects", "fitted"}
+        raise TypeError(f"{path or label}: expected a mapping at the top level")
+    unknown = set(document) - {"name", "description", "principal", "envelope", "effects", "fitted", "scaled"}
     if unknown:
-        raise ValueError(f"{path}: unknown top-level keys {sorted(unknown)}")
-    label = f"{path.name}"
+        raise ValueError(f"{path or label}: unknown top-level keys {sorted(unknown)}")
     provenance = _Provenance()
     fitted = document.get("fitted")
     if fitted is not None and not isinstance(fitted, Mapping):
         raise TypeError(f"{label}: fitted: expected a mapping (what the preset was fitted to), got {fitted!r}")
+    scaled = document.get("scaled") or []
+    if not isinstance(scaled, list) or not all(isinstance(step, Mapping) for step in scaled):
+        raise TypeError(f"{label}: scaled: expected a list of mappings (the scalings that made it), got {scaled!r}")
 
     principal_entries = document.get("principal") or {}
     if not isinstance(principal_entries, Mapping):
@@ -244,7 +255,7 @@ def load_ship(name_or_path: str | Path) -> Ship:
             values[effect_name][key] = _read_value(by_name[key], entry, f"{label}:{effect_name}.{key}", provenance)
     envelope = _read_envelope(document.get("envelope") or {}, label, provenance)
     return Ship(
-        name=str(document.get("name", path.stem)),
+        name=str(document.get("name", path.stem if path is not None else label)),
         description=str(document.get("description", "")).strip(),
         principal=principal,
         values=values,
@@ -255,6 +266,8 @@ def load_ship(name_or_path: str | Path) -> Ship:
         envelope=envelope,
         std_errors=provenance.std_errors,
         fitted=fitted,
+        scaled=tuple(scaled),
+        document=document,
     )
 
 
@@ -371,6 +384,13 @@ class ShipModel:
     def with_parameters(self, parameters: Mapping[str, float]) -> ShipModel:
         """This model with some parameter values replaced (keys as in the constructor)."""
         return ShipModel(self.ship, self.effects, {**self.overrides, **parameters})
+
+    def scaled(self, factor: float | None = None, *, length: float | None = None) -> ShipModel:
+        """This ship Froude-scaled by ``factor`` (lambda, new length / old) or to ``length`` (m), its preset
+        rewritten with each number's source saying so (:func:`ship_env.model.froude.scaled_model`)."""
+        from ship_env.model.froude import scaled_model  # froude builds on this module
+
+        return scaled_model(self, factor, length)
 
     @classmethod
     def minimal(cls, ship: str | Path | Ship = "container_226m") -> ShipModel:

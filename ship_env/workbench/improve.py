@@ -22,8 +22,10 @@ An effect *pays* (:func:`verdict`) when none of its held-out replays leaves the 
    mirrored): an effect fitted on one kind of run that makes the other kind materially worse
    extrapolates badly -- typically a term such as Norrbin's cubic fitted on zig-zags whose rates of
    turn never reach the turning runs' (the stop reason names the quantities in which the
-   validation runs go beyond the fitted runs' coverage, :mod:`.coverage`). ``allow_worse_validation``
-   turns this rule off; ``require_validation`` (4) is the stricter one.
+   validation runs go beyond the fitted runs' coverage, :mod:`.coverage`). The hull's cross-flow drag
+   (``hull_crossflow``: damping that grows as r*|r*|, not r*^3) is a candidate on the same rung and
+   extrapolates more gently. ``allow_worse_validation`` turns this rule off; ``require_validation``
+   (4) is the stricter one.
 
 Near the noise floor the gains fail 2 or 3: the ladder says so and stops.
 """

@@ -36,6 +36,7 @@ CURRENT_TERMS = ("current.north", "current.east")
 DEFAULT_TERMS: dict[str, tuple[str, ...]] = {
     "yaw": ("yaw.gain", "yaw.time_constant"),
     "norrbin": ("norrbin.cubic", "norrbin.odd_quadratic"),
+    "hull_crossflow": ("hull_crossflow.coefficient",),
     "propeller_astern": ("propeller_astern.rudder_inflow", "propeller_astern.walk"),
     "asymmetry": ("asymmetry.side_force", "asymmetry.quadratic"),
     "speed_loss": ("speed_loss.gain", "speed_loss.time_constant"),
@@ -96,6 +97,7 @@ _RULES: dict[str, TermRule] = {
     "asymmetry.quadratic": TermRule(-5.0, 5.0, 0.0, 0.1),
     "norrbin.cubic": TermRule(0.0, 100.0, 0.0, 0.5),
     "norrbin.odd_quadratic": TermRule(-100.0, 100.0, 0.0, 0.5),
+    "hull_crossflow.coefficient": TermRule(0.0, 100.0, 0.0, 0.5),
     "speed_loss.gain": TermRule(0.0, 20.0, 0.0, 0.3),
     "speed_loss.time_constant": TermRule(0.05, 100.0),
     "speed_loss.cubic": TermRule(0.0, 100.0, 0.0, 1.0),

@@ -9,7 +9,7 @@ effect's name to its declaration: these built-ins, then the effects registered f
 :class:`ship_env.model.ShipModel`.
 
 The contributions to one quantity are applied in this order (the asymmetry's part of H(r*) before
-Norrbin's).
+Norrbin's, then the hull's cross-flow drag).
 """
 
 from __future__ import annotations
@@ -18,6 +18,7 @@ from ship_env.model.effects import (
     asymmetry,
     current,
     gusts,
+    hull_crossflow,
     kinematics,
     norrbin,
     propeller_astern,
@@ -40,6 +41,7 @@ LIBRARY = (
     yaw,
     asymmetry,
     norrbin,
+    hull_crossflow,
     speed_loss,
     sway,
     steering_machine,

@@ -21,6 +21,7 @@ import gymnasium as gym
 import numpy as np
 
 from ship_env.envs.track_follow_task import TrackFollowTask
+from ship_env.envs.tracks import TrackError
 from ship_env.leaderboard.entrants import Entrant, classic_entrants, policy_entrants
 from ship_env.leaderboard.evaluation import evaluate, jobs_for
 from ship_env.leaderboard.plots import plot_aggregate, plot_course_changes, plot_scores, plot_tracks
@@ -62,6 +63,7 @@ class Leaderboard:
         results: every episode, job by job.
         tables: the ranked table of each suite.
         wall_time_s: the evaluation's wall-clock time, s.
+        left_out: one line per task the ship cannot sail, saying why (its suites are not sailed).
     """
 
     entrants: tuple[Entrant, ...]
@@ -69,6 +71,7 @@ class Leaderboard:
     results: tuple[EpisodeResult, ...]
     tables: tuple[Table, ...]
     wall_time_s: float
+    left_out: tuple[str, ...] = ()
 
     @property
     def ship_name(self) -> str:
@@ -168,7 +171,12 @@ class Leaderboard:
 
     def markdown(self) -> str:
         """The headline, the learned entrants' verdicts and every table in markdown."""
-        sections = [self.headline_markdown(), verdicts_markdown(self.tables), *(markdown(t) for t in self.tables)]
+        sections = [
+            "\n".join(f"Left out: {line}" for line in self.left_out),
+            self.headline_markdown(),
+            verdicts_markdown(self.tables),
+            *(markdown(t) for t in self.tables),
+        ]
         return "\n\n".join(filter(None, sections))
 
 
@@ -186,21 +194,34 @@ def run_leaderboard(
     learned entrant with each of its training seeds, on the ship ``spec`` sails (its ``ship``);
     ``PolicyFileError`` before anything sails if one does not fit or cannot be read without running
     its code. ``trust_policy_code`` reads the files at ``policies`` by unpickling them, which runs any
-    code they carry. ``backend`` ``"ray"`` runs the jobs on Ray (at ``ray_address``)."""
+    code they carry. ``backend`` ``"ray"`` runs the jobs on Ray (at ``ray_address``).
+
+    A task whose environment cannot be made for the ship is left out with one line saying why
+    (``left_out``): TrackFollow where the ship turns too wide at the tracks' rudder for their legs
+    (:class:`~ship_env.envs.tracks.TrackError`); that error where no task is left."""
     suites = spec.suites()
     env_kwargs = {suite.env_id: suite.env_kwargs for suite in suites}
     env_spaces = {}
+    left_out = []
     for env_id, kwargs in env_kwargs.items():
-        env = gym.make(env_id, **kwargs)
+        try:
+            env = gym.make(env_id, **kwargs)
+        except TrackError as error:
+            left_out.append(f"{env_id.split('/')[-1]}: {error}")
+            continue
         env_spaces[env_id] = (env.observation_space, env.action_space)
         env.close()
+    suites = [suite for suite in suites if suite.env_id in env_spaces]
+    if not suites:
+        raise TrackError("; ".join(left_out))
+    env_kwargs = {env_id: kwargs for env_id, kwargs in env_kwargs.items() if env_id in env_spaces}
     learned = policy_entrants(policies, env_spaces, shipped, trust_policy_code, suites[0].ship)
     entrants = classic_entrants(list(env_kwargs)) + learned
     start = time.perf_counter()
     results = evaluate(jobs_for(suites, entrants), backend, progress, ray_address)
     wall_time = time.perf_counter() - start
     tables = tuple(rank(suite, results) for suite in suites)
-    return Leaderboard(tuple(entrants), tuple(suites), tuple(results), tables, wall_time)
+    return Leaderboard(tuple(entrants), tuple(suites), tuple(results), tables, wall_time, tuple(left_out))
 
 
 def _nominal_suite(board: Leaderboard, task: str) -> Suite | None:

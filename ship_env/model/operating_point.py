@@ -84,9 +84,11 @@ _WARNED: set[tuple[str, str]] = set()
 
 
 @kernel
-def largest_motion(states, conditions, p, out):
+def largest_motion(states, conditions, record, limits, out):
     """The largest r* = L |r| / max(u, u_min), drift angle |atan2(-v, u)| and rudder angle |delta| over the
-    ships (``MOTION_QUANTITIES``), written to ``out``; ``p`` the model's record."""
+    ships (``MOTION_QUANTITIES``), written to ``out``; ``record`` the model's parameter record. Whether any
+    exceeds its entry of ``limits``."""
+    p = record[0]
     out[0] = 0.0
     out[1] = 0.0
     out[2] = 0.0
@@ -94,9 +96,10 @@ def largest_motion(states, conditions, p, out):
         state = states[i]
         speed = conditions[i, S.SERVICE_SPEED] * (1.0 - state[S.SPEED_LOSS])
         out[0] = max(out[0], p["length"] * abs(state[S.RATE_OF_TURN]) / max(speed, p["minimum_speed"]))
-        if speed >= p["minimum_speed"]:
+        if limits[1] < math.inf and speed >= p["minimum_speed"]:
             out[1] = max(out[1], abs(math.atan2(-sway_velocity(state, conditions[i], p), speed)))
         out[2] = max(out[2], abs(state[S.RUDDER]))
+    return out[0] > limits[0] or out[1] > limits[1] or out[2] > limits[2]
 
 
 @dataclass
@@ -115,6 +118,13 @@ class FittedRanges:
 
     def __post_init__(self) -> None:
         self._motion = np.zeros(len(MOTION_QUANTITIES))
+        self._motion_limits = np.full(len(MOTION_QUANTITIES), math.inf)
+        self._update_limits()
+
+    def _update_limits(self) -> None:
+        """The motion's upper limits still to be warned of (inf: none, or warned of already)."""
+        for k, quantity in enumerate(MOTION_QUANTITIES):
+            self._motion_limits[k] = self.ranges[quantity][1] if self._open(quantity) else math.inf
 
     def _open(self, quantity: str) -> bool:
         return quantity in self.ranges and (self.preset, quantity) not in _WARNED
@@ -154,10 +164,12 @@ class FittedRanges:
 
     def check_motion(self, states: np.ndarray, conditions: np.ndarray, record: np.ndarray) -> bool:
         """Check the ships' r*, drift and rudder; whether any of them is still to be warned of."""
-        largest_motion(states, conditions, record[0], self._motion)
-        for quantity, value in zip(MOTION_QUANTITIES, self._motion, strict=True):
-            self.check(quantity, float(value), float(value), stacklevel=4)  # the step's caller
-        return self.checking_motion
+        if largest_motion(states, conditions, record, self._motion_limits, self._motion):
+            for quantity, value in zip(MOTION_QUANTITIES, self._motion, strict=True):
+                self.check(quantity, float(value), float(value), stacklevel=4)  # the step's caller
+            self._update_limits()
+            return self.checking_motion
+        return True
 
 
 def fitted_ranges(preset: str, fitted: Mapping[str, Any] | None, propeller: bool) -> FittedRanges | None:

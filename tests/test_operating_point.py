@@ -102,6 +102,12 @@ def test_a_preset_fitted_at_n_rps_sails_at_n_rps_by_default(slipstream, tmp_path
     env = gym.make("ship_env/CourseChange-v0", ship=str(model.ship.path))
     env.reset(seed=0)
     assert env.unwrapped.batch.simulator.conditions[0, S.PROPELLER_RATE] == RATE
+    # At another speed the propeller turns in proportion (the same advance ratio), as at the leaderboard's half speed.
+    simulator = Simulator(model)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoverageWarning)  # 6 rps: below the runs' 12 rps
+        simulator.reset(conditions=Conditions(service_speed=0.5 * model.service_speed))
+    assert simulator.conditions[0, S.PROPELLER_RATE] == pytest.approx(0.5 * RATE, rel=1e-15)
 
 
 def test_a_builtin_preset_sails_at_propeller_rate_zero_and_warns_not_at_its_service_condition():

@@ -104,7 +104,9 @@ class Conditions:
     Attributes:
         service_speed: U0, speed through the water on a straight course; ``None`` takes the ship's.
         propeller_rate: n in rps (used by the propeller-slipstream effect); ``None`` takes the ship's
-            service conditions' (``ShipModel.service_propeller_rate``: 0 where its preset states none).
+            service conditions' (``ShipModel.service_propeller_rate``: 0 where its preset states none),
+            at another speed than the ship's service speed in proportion to it (the same advance ratio
+            J = U / (n D), as a fixed-pitch propeller's rate follows the speed it holds).
         current_speed, current_direction: the current and the direction it sets *towards*.
         wind_speed, wind_direction: the true wind and the direction it comes *from*.
         wave_height, wave_period, wave_direction: significant height (m), peak period (s) and the
@@ -144,8 +146,14 @@ class Conditions:
     def row(self, default_speed: float, default_propeller_rate: float = 0.0) -> np.ndarray:
         """The conditions as one row of the simulator's condition array (the defaults where ``None``)."""
         row = np.zeros(S.CONDITION_SIZE)
-        row[S.SERVICE_SPEED] = default_speed if self.service_speed is None else self.service_speed
-        row[S.PROPELLER_RATE] = default_propeller_rate if self.propeller_rate is None else self.propeller_rate
+        speed = default_speed if self.service_speed is None else self.service_speed
+        row[S.SERVICE_SPEED] = speed
+        if self.propeller_rate is not None:
+            row[S.PROPELLER_RATE] = self.propeller_rate
+        elif default_propeller_rate != 0.0 and speed != default_speed and default_speed > 0.0:
+            row[S.PROPELLER_RATE] = default_propeller_rate * speed / default_speed  # the same advance ratio
+        else:
+            row[S.PROPELLER_RATE] = default_propeller_rate
         row[S.CURRENT_SPEED] = self.current_speed
         row[S.CURRENT_DIRECTION] = self.current_direction
         row[S.WIND_SPEED] = self.wind_speed

@@ -19,10 +19,13 @@ import numpy as np
 import pytest
 import yaml
 
+from ship_env.baselines.filter_health import FilterDivergenceError
+from ship_env.baselines.presys import indirect_adaptive_controller
 from ship_env.cli import main
 from ship_env.envs.tracks import TrackError, steady_turn_radius
 from ship_env.leaderboard.board import run_leaderboard
-from ship_env.leaderboard.suites import NOMINAL, SuiteSpec
+from ship_env.leaderboard.entrants import CLASSIC_BUILDERS
+from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, SuiteSpec
 from ship_env.manoeuvres.turning_circle import turning_circle
 from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
@@ -202,3 +205,30 @@ def test_the_leaderboard_leaves_out_in_one_line_a_track_the_ship_cannot_turn_on(
     )
     with pytest.raises(TrackError, match=r"^TrackFollow-v0: esso_osaka_model: T1: the turns at the ends of leg 0"):
         run_leaderboard(only_tracks, shipped=False, progress=False)
+
+
+def test_the_leaderboard_leaves_out_in_one_line_an_autopilot_whose_filter_diverges(monkeypatch):
+    """A classic autopilot whose filter declares itself diverged (here: the indirect adaptive PD's, told so
+    in its second course change) is left out of that suite's table with one line naming why and where; the
+    others are ranked on every episode. The Esso Osaka zig-zag preset at its 12 rps ended in this traceback
+    on the K*, tau* x0.5 suites."""
+    adaptive = "indirect adaptive PD"
+    built = []
+
+    def diverging(task):
+        controller = indirect_adaptive_controller(task)
+        built.append(controller)
+        if len(built) == 2:
+            gate = controller.autopilot.yaw_filter.gate
+            monkeypatch.setattr(gate, "accepts", lambda *_: (_ for _ in ()).throw(FilterDivergenceError("diverged")))
+        return controller
+
+    monkeypatch.setitem(CLASSIC_BUILDERS[COURSE_CHANGE], adaptive, diverging)
+    spec = SuiteSpec(course_changes_deg=(15.0,), tracks=(), conditions=(NOMINAL,), course_change_disturbances=("calm",))
+    board = run_leaderboard(spec, shipped=False, progress=False)
+    assert board.left_out == (
+        f"{adaptive} on CourseChange calm | nominal: FilterDivergenceError: diverged (episode -15 deg, seed 1); "
+        "not ranked on that suite",
+    )
+    rows = [line for line in board.markdown().splitlines() if "| classic |" in line]
+    assert len(rows) == 3 and not any(adaptive in row for row in rows) and all("| 2/2 |" in row for row in rows)

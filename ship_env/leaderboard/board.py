@@ -63,7 +63,8 @@ class Leaderboard:
         results: every episode, job by job.
         tables: the ranked table of each suite.
         wall_time_s: the evaluation's wall-clock time, s.
-        left_out: one line per task the ship cannot sail, saying why (its suites are not sailed).
+        left_out: one line per task the ship cannot sail (its suites are not sailed) and per entrant whose
+            controller failed on a suite (not ranked there), saying why.
     """
 
     entrants: tuple[Entrant, ...]
@@ -198,7 +199,9 @@ def run_leaderboard(
 
     A task whose environment cannot be made for the ship is left out with one line saying why
     (``left_out``): TrackFollow where the ship turns too wide at the tracks' rudder for their legs
-    (:class:`~ship_env.envs.tracks.TrackError`); that error where no task is left."""
+    (:class:`~ship_env.envs.tracks.TrackError`); that error where no task is left. So is an entrant
+    whose controller fails on a suite (:func:`~ship_env.leaderboard.sailing.sail_suite`): its
+    episodes there are not ranked."""
     suites = spec.suites()
     env_kwargs = {suite.env_id: suite.env_kwargs for suite in suites}
     env_spaces = {}
@@ -220,12 +223,25 @@ def run_leaderboard(
     start = time.perf_counter()
     results = evaluate(jobs_for(suites, entrants), backend, progress, ray_address)
     wall_time = time.perf_counter() - start
+    left_out += [
+        f"{r.entrant} on {r.suite}: {r.failure} (episode {r.episode}, seed {r.seed}); not ranked on that suite"
+        for r in results
+        if r.failure
+    ]
+    failed = {(r.entrant, r.suite) for r in results if r.failure}
+    results = [result for result in results if (result.entrant, result.suite) not in failed]
     tables = tuple(rank(suite, results) for suite in suites)
     return Leaderboard(tuple(entrants), tuple(suites), tuple(results), tables, wall_time, tuple(left_out))
 
 
 def _nominal_suite(board: Leaderboard, task: str) -> Suite | None:
     return next((s for s in board.suites if s.task == task and s.condition == NOMINAL and s.episodes), None)
+
+
+def _ranked(board: Leaderboard, suite: Suite, env_id: str) -> list[Entrant]:
+    """The entrants of ``env_id`` ranked on ``suite`` (not those whose controller failed there)."""
+    ranked = {result.entrant for result in board.results if result.suite == suite.name}
+    return [entrant for entrant in board.entrants if entrant.env_id == env_id and entrant.name in ranked]
 
 
 def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list[Path]:
@@ -249,14 +265,14 @@ def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list
     suite = _nominal_suite(board, task) or _nominal_suite(board, "CourseChange calm")
     if suite is not None:
         episode = next((e for e in suite.episodes if e.label == label), suite.episodes[0])
-        runs = {e.name: sail_recorded(e, suite, episode)[0] for e in board.entrants if e.env_id == COURSE_CHANGE}
+        runs = {e.name: sail_recorded(e, suite, episode)[0] for e in _ranked(board, suite, COURSE_CHANGE)}
         change = float(episode.options["course_change_deg"])
         title = f"{suite.name} on {suite.ship_name}: {episode.label} (seed {episode.seed})"
         written.append(plot_course_changes(runs, title, change, out / COURSE_CHANGE_PLOT))
     suite = _nominal_suite(board, "TrackFollow")
     if suite is not None:
         episode = suite.episodes[0]
-        recorded = {e.name: sail_recorded(e, suite, episode) for e in board.entrants if e.env_id == TRACK_FOLLOW}
+        recorded = {e.name: sail_recorded(e, suite, episode) for e in _ranked(board, suite, TRACK_FOLLOW)}
         task_sailed = next(iter(recorded.values()))[1]
         assert isinstance(task_sailed, TrackFollowTask)  # the TrackFollow suite's
         runs = {name: states for name, (states, _) in recorded.items()}

@@ -9,6 +9,7 @@ found in the runs stays a finding about them: nothing sails it unless asked (``s
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import shutil
 import warnings
@@ -30,7 +31,7 @@ from ship_env.manoeuvres.turning_circle import turning_circle
 from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
 from ship_env.model.operating_point import CoverageWarning
-from ship_env.workbench import FitOptions, ReplayModel, cross_validate
+from ship_env.workbench import FitOptions, ReplayModel, cross_validate, simulate
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.presets import fitted_current, preset_document, site_conditions, write_preset
 from ship_env.workbench.synthetic import Manoeuvre, hidden_effect_logs
@@ -111,6 +112,16 @@ def test_a_preset_fitted_at_n_rps_sails_at_n_rps_by_default(slipstream, tmp_path
         warnings.simplefilter("ignore", CoverageWarning)  # 6 rps: below the runs' 12 rps
         simulator.reset(conditions=Conditions(service_speed=0.5 * model.service_speed))
     assert simulator.conditions[0, S.PROPELLER_RATE] == pytest.approx(0.5 * RATE, rel=1e-15)
+
+
+def test_a_log_without_a_propeller_channel_is_replayed_at_the_presets_service_rate(slipstream, tmp_path):
+    """The workbench's replay of a log that records no propeller rate sails the preset's operating point."""
+    _, path = slipstream
+    manoeuvre = Manoeuvre("zigzag", "zigzag", math.radians(20.0), 40.0, approach=5.0, propeller_rate=RATE)
+    _, (log,) = hidden_effect_logs(("propeller_slipstream",), SHIP, seed=4, manoeuvres=[manoeuvre])
+    setup = ReplayModel(ShipModel(_copy(path, tmp_path)))
+    measured, unmeasured = simulate(setup, [log, dataclasses.replace(log, propeller_rate=None)])
+    np.testing.assert_array_equal(unmeasured.heading, measured.heading)
 
 
 def test_a_builtin_preset_sails_at_propeller_rate_zero_and_warns_not_at_its_service_condition():

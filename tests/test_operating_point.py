@@ -183,6 +183,9 @@ def test_a_fitted_current_is_sailed_only_where_asked(in_current, tmp_path):
     env.reset(seed=0)
     conditions = env.unwrapped.batch.simulator.conditions[0]
     assert conditions[S.CURRENT_SPEED] == 0.0 and conditions[S.CURRENT_NORTH] == conditions[S.CURRENT_EAST] == 0.0
+    env.reset(seed=0, options={"conditions": site_conditions(model)})  # asked for
+    conditions = env.unwrapped.batch.simulator.conditions[0]
+    np.testing.assert_allclose(conditions[[S.CURRENT_NORTH, S.CURRENT_EAST]], [north, east], rtol=1e-12, atol=1e-15)
     positions = []
     for asked in (None, site_conditions(model)):
         simulator = Simulator(model, dt=0.5)

@@ -246,3 +246,24 @@ def test_the_leaderboard_leaves_out_in_one_line_an_autopilot_whose_filter_diverg
     )
     rows = [line for line in board.markdown().splitlines() if "| classic |" in line]
     assert len(rows) == 3 and not any(adaptive in row for row in rows) and all("| 2/2 |" in row for row in rows)
+
+
+ESSO = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "esso_osaka"
+
+
+@pytest.mark.skipif(
+    not ESSO.is_dir(), reason=f"the Esso Osaka data is not at {ESSO} (../shared/data beside the repository)"
+)
+def test_the_esso_zigzag_preset_sails_at_its_runs_propeller_rate_and_the_leaderboard_sails_it(tmp_path, capsys):
+    """The measured zig-zags (10 to 16.7 rps) fitted with the propeller slipstream: the preset states their median
+    rate, 12 rps, and the leaderboard sails it or says in one line per thing left out why, never a traceback."""
+    preset = tmp_path / "esso_zigzag.yaml"
+    fit = ["fit", str(ESSO / "zigzag"), "--ship", "esso_osaka_model", "--model", "base", "--every", "2"]
+    assert main([*fit, "--add", "propeller_slipstream", "--workers", "1", "--preset", str(preset)]) == 0
+    assert ShipModel(preset).service_propeller_rate == 12.0
+    capsys.readouterr()
+    board = ["leaderboard", "--ship", str(preset), "--no-shipped", "--no-plots", "--no-progress", "--tracks", "T1"]
+    board += ["--course-changes", "15", "--disturbances", "calm", "--conditions", "nominal"]
+    assert main([*board, "--out", str(tmp_path / "board")]) == 0
+    errors = capsys.readouterr().err.strip().splitlines()
+    assert all(line.startswith("ship-env leaderboard: left out ") for line in errors), errors

@@ -267,3 +267,35 @@ def test_the_esso_zigzag_preset_sails_at_its_runs_propeller_rate_and_the_leaderb
     assert main([*board, "--out", str(tmp_path / "board")]) == 0
     errors = capsys.readouterr().err.strip().splitlines()
     assert all(line.startswith("ship-env leaderboard: left out ") for line in errors), errors
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (
+            lambda d: d["service_conditions"].update(wind_speed={"value": 3.0, "source": "x"}),
+            "service_conditions: unknown condition 'wind_speed'; known: propeller_rate",
+        ),
+        (
+            lambda d: d["service_conditions"]["propeller_rate"].update(unit="deg"),
+            "service_conditions.propeller_rate: unit 'deg' cannot be converted to 'rps'",
+        ),
+        (
+            lambda d: d["fitted"]["coverage"]["ranges"]["rudder"].update(high="wide"),
+            "fitted.coverage.ranges.rudder: expected finite 'low' (or null) and 'high', got",
+        ),
+        (
+            lambda d: d["fitted"]["coverage"]["ranges"].update(heel={"low": None, "high": 1.0}),
+            "fitted.coverage.ranges.heel: unknown quantity; known: speed, rate, drift, rudder, propeller",
+        ),
+    ],
+)
+def test_a_bad_operating_point_names_the_file_and_the_field(slipstream, tmp_path, edit, message):
+    _, path = slipstream
+    document = yaml.safe_load(path.read_text())
+    edit(document)
+    edited = tmp_path / "edited.yaml"
+    edited.write_text(yaml.safe_dump(document, sort_keys=False))
+    with pytest.raises((ValueError, TypeError)) as error:
+        ShipModel(edited)
+    assert "edited.yaml" in str(error.value) and message in str(error.value)

@@ -92,6 +92,10 @@ LEG_DIRECTION_EAST = 15  # sin(course)
 LEG_FIELDS = 16
 
 
+class TrackError(ValueError):
+    """A reference track that cannot be drawn for a ship: its turns do not fit in the legs."""
+
+
 @dataclass(frozen=True)
 class ReferenceTrack:
     """A reference track: waypoints joined by legs, each corner rounded by a turning arc.
@@ -170,7 +174,8 @@ def build_track(
 
     Each corner is rounded by an arc of ``starboard_radius`` or ``port_radius`` (m) tangent to both
     legs; its tangent points lie R tan(|change| / 2) before and after the waypoint. ``ValueError``
-    if a change is not within (-180, 180) deg or the tangent points of a leg's two turns overlap.
+    if a change is not within (-180, 180) deg, :class:`TrackError` if the tangent points of a leg's
+    two turns overlap.
     """
     changes = np.asarray(course_changes, dtype=np.float64)
     lengths = np.asarray(leg_lengths, dtype=np.float64)
@@ -194,7 +199,7 @@ def build_track(
     after = np.concatenate(([0.0], tangents))  # at the start of each leg
     if np.any(before + after > lengths * (1.0 + 1e-12)):
         bad = int(np.flatnonzero(before + after > lengths)[0])
-        raise ValueError(
+        raise TrackError(
             f"{name}: the turns at the ends of leg {bad} ({lengths[bad]:.0f} m) need {before[bad] + after[bad]:.0f} m"
         )
 
@@ -216,8 +221,8 @@ def build_track(
     return ReferenceTrack(name, waypoints, changes, radii, legs)
 
 
-#: Steady turning radii already computed: (model record, rudder angle, speed) -> m.
-_RADII: dict[tuple[bytes, float, float | None], float] = {}
+#: Steady turning radii already computed: (model record, service propeller rate, rudder angle, speed) -> m.
+_RADII: dict[tuple[bytes, float, float, float | None], float] = {}
 
 
 def steady_turn_radius(model: ShipModel, rudder: float, speed: float | None = None) -> float:
@@ -227,17 +232,19 @@ def steady_turn_radius(model: ShipModel, rudder: float, speed: float | None = No
     (:func:`ship_env.manoeuvres.turning_circle.turning_circle`): the model's own turn, with its
     Norrbin term, speed loss and drift, not the linear estimate L / (K* delta) (about 810 m for
     the container ship at 10 deg; the model turns on about 860 m). ``speed``: the approach speed,
-    m/s (``None``: the service speed).
+    m/s (``None``: the service speed). :class:`TrackError` where the model settles in no steady turn.
     """
     # Imported here: the manoeuvres bring pandas, which the environments need only to build tracks.
     from ship_env.manoeuvres.trial import TrialSettings
     from ship_env.manoeuvres.turning_circle import turning_circle
 
-    key = (model.record.tobytes(), float(rudder), speed)
+    key = (model.record.tobytes(), model.service_propeller_rate, float(rudder), speed)
     if key not in _RADII:
         circle = turning_circle(model, float(rudder), TrialSettings(speed=speed))
         if not math.isfinite(circle.fitted_radius):
-            raise ValueError(f"rudder: the model does not settle in a steady turn at {math.degrees(rudder):g} deg")
+            raise TrackError(
+                f"{model.ship.name}: the model does not settle in a steady turn at {math.degrees(rudder):g} deg rudder"
+            )
         _RADII[key] = circle.fitted_radius
     return _RADII[key]
 
@@ -251,6 +258,9 @@ def reference_track(
     scale: float = 1.0,
 ) -> ReferenceTrack:
     """Thesis track ``"T1"`` .. ``"T6"`` with the corners rounded by the ship's steady turns.
+
+    :class:`TrackError` where a leg is too short for the ship's turns at its ends (a ship turning on
+    a wider circle, in ship lengths, than the tracks' legs leave room for), naming the ship and its radii.
 
     Args:
         track_id: which track of Table 6.1.b.
@@ -268,14 +278,21 @@ def reference_track(
     model = ShipModel(ship) if isinstance(ship, str) else ship
     rudder = math.radians(check_number("rudder_limit_deg", rudder_limit_deg, 1e-3, 90.0))
     magnitudes = np.radians(TRACK_COURSE_CHANGES_DEG[track_id])
-    return build_track(
-        track_id,
-        magnitudes * np.asarray(TURN_DIRECTIONS),
-        np.asarray(THESIS_LEG_LENGTHS_NM[track_id]) * NAUTICAL_MILE * check_number("scale", scale, 1e-3),
-        steady_turn_radius(model, rudder, speed),
-        steady_turn_radius(model, -rudder, speed),
-        math.radians(check_number("first_course_deg", first_course_deg)),
-    )
+    radii = steady_turn_radius(model, rudder, speed), steady_turn_radius(model, -rudder, speed)
+    try:
+        return build_track(
+            track_id,
+            magnitudes * np.asarray(TURN_DIRECTIONS),
+            np.asarray(THESIS_LEG_LENGTHS_NM[track_id]) * NAUTICAL_MILE * check_number("scale", scale, 1e-3),
+            *radii,
+            math.radians(check_number("first_course_deg", first_course_deg)),
+        )
+    except TrackError as error:
+        in_lengths = " and ".join(f"{radius / model.length:.3g} L" for radius in radii)
+        raise TrackError(
+            f"{model.ship.name}: {error}: its steady turns at {rudder_limit_deg:g} deg rudder have radii "
+            f"{radii[0]:.3g} m and {radii[1]:.3g} m ({in_lengths}), too wide for the legs scaled to its length"
+        ) from None
 
 
 @kernel

@@ -21,6 +21,7 @@ import gymnasium as gym
 import numpy as np
 
 from ship_env.envs.track_follow_task import TrackFollowTask
+from ship_env.envs.tracks import TrackError
 from ship_env.leaderboard.entrants import Entrant, classic_entrants, policy_entrants
 from ship_env.leaderboard.evaluation import evaluate, jobs_for
 from ship_env.leaderboard.plots import plot_aggregate, plot_course_changes, plot_scores, plot_tracks
@@ -62,6 +63,8 @@ class Leaderboard:
         results: every episode, job by job.
         tables: the ranked table of each suite.
         wall_time_s: the evaluation's wall-clock time, s.
+        left_out: one line per task the ship cannot sail (its suites are not sailed) and per entrant whose
+            controller failed on a suite (not ranked there), saying why.
     """
 
     entrants: tuple[Entrant, ...]
@@ -69,6 +72,7 @@ class Leaderboard:
     results: tuple[EpisodeResult, ...]
     tables: tuple[Table, ...]
     wall_time_s: float
+    left_out: tuple[str, ...] = ()
 
     @property
     def ship_name(self) -> str:
@@ -168,7 +172,12 @@ class Leaderboard:
 
     def markdown(self) -> str:
         """The headline, the learned entrants' verdicts and every table in markdown."""
-        sections = [self.headline_markdown(), verdicts_markdown(self.tables), *(markdown(t) for t in self.tables)]
+        sections = [
+            "\n".join(f"Left out: {line}" for line in self.left_out),
+            self.headline_markdown(),
+            verdicts_markdown(self.tables),
+            *(markdown(t) for t in self.tables),
+        ]
         return "\n\n".join(filter(None, sections))
 
 
@@ -186,25 +195,53 @@ def run_leaderboard(
     learned entrant with each of its training seeds, on the ship ``spec`` sails (its ``ship``);
     ``PolicyFileError`` before anything sails if one does not fit or cannot be read without running
     its code. ``trust_policy_code`` reads the files at ``policies`` by unpickling them, which runs any
-    code they carry. ``backend`` ``"ray"`` runs the jobs on Ray (at ``ray_address``)."""
+    code they carry. ``backend`` ``"ray"`` runs the jobs on Ray (at ``ray_address``).
+
+    A task whose environment cannot be made for the ship is left out with one line saying why
+    (``left_out``): TrackFollow where the ship turns too wide at the tracks' rudder for their legs
+    (:class:`~ship_env.envs.tracks.TrackError`); that error where no task is left. So is an entrant
+    whose controller fails on a suite (:func:`~ship_env.leaderboard.sailing.sail_suite`): its
+    episodes there are not ranked."""
     suites = spec.suites()
     env_kwargs = {suite.env_id: suite.env_kwargs for suite in suites}
     env_spaces = {}
+    left_out = []
     for env_id, kwargs in env_kwargs.items():
-        env = gym.make(env_id, **kwargs)
+        try:
+            env = gym.make(env_id, **kwargs)
+        except TrackError as error:
+            left_out.append(f"{env_id.split('/')[-1]}: {error}")
+            continue
         env_spaces[env_id] = (env.observation_space, env.action_space)
         env.close()
+    suites = [suite for suite in suites if suite.env_id in env_spaces]
+    if not suites:
+        raise TrackError("; ".join(left_out))
+    env_kwargs = {env_id: kwargs for env_id, kwargs in env_kwargs.items() if env_id in env_spaces}
     learned = policy_entrants(policies, env_spaces, shipped, trust_policy_code, suites[0].ship)
     entrants = classic_entrants(list(env_kwargs)) + learned
     start = time.perf_counter()
     results = evaluate(jobs_for(suites, entrants), backend, progress, ray_address)
     wall_time = time.perf_counter() - start
+    left_out += [
+        f"{r.entrant} on {r.suite}: {r.failure} (episode {r.episode}, seed {r.seed}); not ranked on that suite"
+        for r in results
+        if r.failure
+    ]
+    failed = {(r.entrant, r.suite) for r in results if r.failure}
+    results = [result for result in results if (result.entrant, result.suite) not in failed]
     tables = tuple(rank(suite, results) for suite in suites)
-    return Leaderboard(tuple(entrants), tuple(suites), tuple(results), tables, wall_time)
+    return Leaderboard(tuple(entrants), tuple(suites), tuple(results), tables, wall_time, tuple(left_out))
 
 
 def _nominal_suite(board: Leaderboard, task: str) -> Suite | None:
     return next((s for s in board.suites if s.task == task and s.condition == NOMINAL and s.episodes), None)
+
+
+def _ranked(board: Leaderboard, suite: Suite, env_id: str) -> list[Entrant]:
+    """The entrants of ``env_id`` ranked on ``suite`` (not those whose controller failed there)."""
+    ranked = {result.entrant for result in board.results if result.suite == suite.name}
+    return [entrant for entrant in board.entrants if entrant.env_id == env_id and entrant.name in ranked]
 
 
 def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list[Path]:
@@ -228,14 +265,14 @@ def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list
     suite = _nominal_suite(board, task) or _nominal_suite(board, "CourseChange calm")
     if suite is not None:
         episode = next((e for e in suite.episodes if e.label == label), suite.episodes[0])
-        runs = {e.name: sail_recorded(e, suite, episode)[0] for e in board.entrants if e.env_id == COURSE_CHANGE}
+        runs = {e.name: sail_recorded(e, suite, episode)[0] for e in _ranked(board, suite, COURSE_CHANGE)}
         change = float(episode.options["course_change_deg"])
         title = f"{suite.name} on {suite.ship_name}: {episode.label} (seed {episode.seed})"
         written.append(plot_course_changes(runs, title, change, out / COURSE_CHANGE_PLOT))
     suite = _nominal_suite(board, "TrackFollow")
     if suite is not None:
         episode = suite.episodes[0]
-        recorded = {e.name: sail_recorded(e, suite, episode) for e in board.entrants if e.env_id == TRACK_FOLLOW}
+        recorded = {e.name: sail_recorded(e, suite, episode) for e in _ranked(board, suite, TRACK_FOLLOW)}
         task_sailed = next(iter(recorded.values()))[1]
         assert isinstance(task_sailed, TrackFollowTask)  # the TrackFollow suite's
         runs = {name: states for name, (states, _) in recorded.items()}

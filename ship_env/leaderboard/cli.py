@@ -8,11 +8,12 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import sys
 from pathlib import Path
 from typing import Any
 
 from ship_env.command_line import Command, add_progress_argument, number, ship_preset, whole_number
-from ship_env.envs.tracks import TRACK_IDS
+from ship_env.envs.tracks import TRACK_IDS, TrackError
 from ship_env.extras import require
 from ship_env.leaderboard.evaluation import BACKENDS
 from ship_env.leaderboard.suites import CONDITIONS, COURSE_CHANGE_DISTURBANCES, SUITE_SPECS, SuiteSpec
@@ -66,6 +67,11 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
         )
     except PolicyFileError as error:
         args.command_parser.error(f"argument --policies: {error}")
+    except TrackError as error:  # the only task asked for cannot be sailed on this ship
+        print(f"ship-env leaderboard: nothing to sail: {error}", file=sys.stderr)
+        return 1
+    for line in board.left_out:
+        print(f"ship-env leaderboard: left out {line}", file=sys.stderr)
     print(board.markdown())
     episodes = len(board.results)
     print(

@@ -3,11 +3,15 @@
 :func:`sail_suite` sails every episode of a suite with one entrant: it makes the sailed
 environment (the suite's, sailing the condition's ship), designs each episode's fresh
 controller for the nominal ship, resets with the episode's seed and options, and steps until the
-episode ends. The result is a pure function of the entrant, the suite and the episode.
+episode ends. The result is a pure function of the entrant, the suite and the episode. A controller
+that declares itself failed (a classic autopilot's filter diverging, ``FilterDivergenceError``) ends
+its entrant's job on that suite: the episode's result names the failure and the remaining episodes
+are not sailed (the leaderboard leaves the entrant out of that suite's table, saying why).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -17,6 +21,7 @@ import numpy as np
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.baselines.controller import Controller
+from ship_env.baselines.filter_health import FilterDivergenceError
 from ship_env.envs.single_env import ShipEnv
 from ship_env.envs.task import ShipTask
 from ship_env.leaderboard.entrants import DesignedTask, Entrant
@@ -39,6 +44,7 @@ class EpisodeResult:
         metrics: the environment's final metrics (floats).
         finished: whether the episode ended by termination (TrackFollow: the last waypoint passed)
             rather than by the time limit.
+        failure: why the controller failed in this episode ("" where it did not; its metrics are then empty).
     """
 
     suite: str
@@ -49,6 +55,7 @@ class EpisodeResult:
     seed: int
     metrics: dict[str, float]
     finished: bool
+    failure: str = ""
 
 
 def sail(
@@ -109,19 +116,15 @@ def sail_suite(
     try:
         for episode in suite.episodes:
             controller = entrant.build(DesignedTask(ship_task(env), design_model), run)
-            metrics, finished = sail(env, controller, episode)
-            results.append(
-                EpisodeResult(
-                    suite.name,
-                    entrant.name,
-                    entrant.kind,
-                    training_seed,
-                    episode.label,
-                    episode.seed,
-                    metrics,
-                    finished,
-                )
+            result = EpisodeResult(
+                suite.name, entrant.name, entrant.kind, training_seed, episode.label, episode.seed, {}, False
             )
+            try:
+                metrics, finished = sail(env, controller, episode)
+            except FilterDivergenceError as error:
+                results.append(dataclasses.replace(result, failure=f"{type(error).__name__}: {error}"))
+                break
+            results.append(dataclasses.replace(result, metrics=metrics, finished=finished))
             if on_episode is not None:
                 on_episode()
     finally:

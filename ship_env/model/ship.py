@@ -15,7 +15,11 @@ Values may be given in deg, deg/s, kn or rpm (``unit``); the model holds SI unit
 A preset written from a fit (``ship-env fit --preset``, :mod:`ship_env.workbench.presets`) gives each
 fitted value its standard error in the value's unit (``std_error``; null where the data do not
 determine it), and a top-level ``fitted:`` block saying what it was fitted to (the logs and their
-hashes, the command, the held-out errors, the version). Both are optional in every preset.
+hashes, the command, the held-out errors, the coverage, the version). Both are optional in every preset.
+
+A preset may state its service conditions (``service_conditions:``, :mod:`ship_env.model.operating_point`):
+the propeller rate it sails at where the conditions given to a simulator state none; a fitted preset
+states the rate its runs had. Without it the propeller rate is 0.
 """
 
 from __future__ import annotations
@@ -36,6 +40,7 @@ from ship_env.model import state as S
 from ship_env.model.declarations import ENVELOPE_LIMITS, Envelope, Parameter
 from ship_env.model.dynamics import FINGERPRINT_PREFIX, check_contributions, fingerprint
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
+from ship_env.model.operating_point import SERVICE_CONDITIONS, FittedRanges, fitted_ranges
 from ship_env.paths import config_dir
 
 #: The YAML loader for ship presets: libyaml's safe loader where PyYAML was built with it (the same
@@ -56,6 +61,8 @@ PRINCIPAL: tuple[Parameter, ...] = (
     ),
 )
 _PRINCIPAL_BY_NAME = {parameter.name: parameter for parameter in PRINCIPAL}
+#: The sections a preset's YAML may hold.
+TOP_LEVEL_KEYS = ("name", "description", "principal", "service_conditions", "envelope", "effects", "fitted", "scaled")
 
 
 def record_dtype() -> np.dtype:
@@ -100,6 +107,8 @@ class Ship:
         scaled: the Froude scalings that made it from another preset, oldest first (its ``scaled:``
             block as written; see :mod:`ship_env.model.froude`).
         document: the YAML document it was read from (what :mod:`~ship_env.model.froude` rewrites).
+        service_conditions: the conditions it sails in where a simulator's conditions state none
+            (``propeller_rate`` in rps; :mod:`~ship_env.model.operating_point`); empty: none stated.
     """
 
     name: str
@@ -115,6 +124,7 @@ class Ship:
     fitted: Mapping[str, Any] | None = None
     scaled: tuple[Mapping[str, Any], ...] = ()
     document: Mapping[str, Any] | None = field(default=None, repr=False, compare=False)
+    service_conditions: Mapping[str, float] = field(default_factory=dict)
 
 
 @dataclass
@@ -204,7 +214,7 @@ def ship_from_document(document: object, label: str, path: Path | None = None) -
     """A ship preset from its YAML document (``label`` names it in errors; ``path``: the file it was read from)."""
     if not isinstance(document, Mapping):
         raise TypeError(f"{path or label}: expected a mapping at the top level")
-    unknown = set(document) - {"name", "description", "principal", "envelope", "effects", "fitted", "scaled"}
+    unknown = set(document) - set(TOP_LEVEL_KEYS)
     if unknown:
         raise ValueError(f"{path or label}: unknown top-level keys {sorted(unknown)}")
     provenance = _Provenance()
@@ -254,6 +264,15 @@ def ship_from_document(document: object, label: str, path: Path | None = None) -
                 )
             values[effect_name][key] = _read_value(by_name[key], entry, f"{label}:{effect_name}.{key}", provenance)
     envelope = _read_envelope(document.get("envelope") or {}, label, provenance)
+    service_entries = document.get("service_conditions") or {}
+    if not isinstance(service_entries, Mapping):
+        raise TypeError(f"{label}: service_conditions: expected a mapping, got {service_entries!r}")
+    by_name = {parameter.name: parameter for parameter in SERVICE_CONDITIONS}
+    service_conditions: dict[str, float] = {}
+    for key, entry in service_entries.items():
+        if key not in by_name:
+            raise ValueError(f"{label}: service_conditions: unknown condition {key!r}; known: {', '.join(by_name)}")
+        service_conditions[key] = _read_value(by_name[key], entry, f"{label}:service_conditions.{key}", provenance)
     return Ship(
         name=str(document.get("name", path.stem if path is not None else label)),
         description=str(document.get("description", "")).strip(),
@@ -268,6 +287,7 @@ def ship_from_document(document: object, label: str, path: Path | None = None) -
         fitted=fitted,
         scaled=tuple(scaled),
         document=document,
+        service_conditions=service_conditions,
     )
 
 
@@ -333,6 +353,16 @@ class ShipModel:
             for state in EFFECTS.entry(name).new_states
         )
         check_contributions(self)
+        #: The ranges a fitted preset's runs covered, checked while it sails; None for a preset that states none.
+        self.fitted_ranges: FittedRanges | None = fitted_ranges(
+            str(self.ship.path) if self.ship.path is not None else self.ship.name,
+            self.ship.fitted,
+            any(
+                "propeller_rate" in entry.arguments(contribution)
+                for entry in (EFFECTS.entry(name) for name in self.effects)
+                for contribution in entry.contributions
+            ),
+        )
 
     def _set(self, key: str, value: float) -> None:
         if key in _PRINCIPAL_BY_NAME:
@@ -420,6 +450,11 @@ class ShipModel:
     @property
     def service_speed(self) -> float:
         return float(self._principal["service_speed"])
+
+    @property
+    def service_propeller_rate(self) -> float:
+        """n, rps: the propeller rate of the preset's service conditions (0 where it states none)."""
+        return float(self.ship.service_conditions.get("propeller_rate", 0.0))
 
     @property
     def rudder_limit(self) -> float:

@@ -103,7 +103,10 @@ class Conditions:
 
     Attributes:
         service_speed: U0, speed through the water on a straight course; ``None`` takes the ship's.
-        propeller_rate: n in rps (used by the propeller-slipstream effect).
+        propeller_rate: n in rps (used by the propeller-slipstream effect); ``None`` takes the ship's
+            service conditions' (``ShipModel.service_propeller_rate``: 0 where its preset states none),
+            at another speed than the ship's service speed in proportion to it (the same advance ratio
+            J = U / (n D), as a fixed-pitch propeller's rate follows the speed it holds).
         current_speed, current_direction: the current and the direction it sets *towards*.
         wind_speed, wind_direction: the true wind and the direction it comes *from*.
         wave_height, wave_period, wave_direction: significant height (m), peak period (s) and the
@@ -113,7 +116,7 @@ class Conditions:
     """
 
     service_speed: float | None = None
-    propeller_rate: float = 0.0
+    propeller_rate: float | None = None
     current_speed: float = 0.0
     current_direction: float = 0.0
     wind_speed: float = 0.0
@@ -126,7 +129,7 @@ class Conditions:
 
     def __post_init__(self) -> None:
         for name, value in vars(self).items():
-            if value is None and name == "service_speed":
+            if value is None and name in ("service_speed", "propeller_rate"):
                 continue
             if type(value) is not float and (
                 isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer))
@@ -140,11 +143,17 @@ class Conditions:
             if getattr(self, name) <= 0.0:
                 raise ValueError(f"conditions.{name}: must be positive, got {getattr(self, name)!r}")
 
-    def row(self, default_speed: float) -> np.ndarray:
-        """The conditions as one row of the simulator's condition array."""
+    def row(self, default_speed: float, default_propeller_rate: float = 0.0) -> np.ndarray:
+        """The conditions as one row of the simulator's condition array (the defaults where ``None``)."""
         row = np.zeros(S.CONDITION_SIZE)
-        row[S.SERVICE_SPEED] = default_speed if self.service_speed is None else self.service_speed
-        row[S.PROPELLER_RATE] = self.propeller_rate
+        speed = default_speed if self.service_speed is None else self.service_speed
+        row[S.SERVICE_SPEED] = speed
+        if self.propeller_rate is not None:
+            row[S.PROPELLER_RATE] = self.propeller_rate
+        elif default_propeller_rate != 0.0 and speed != default_speed and default_speed > 0.0:
+            row[S.PROPELLER_RATE] = default_propeller_rate * speed / default_speed  # the same advance ratio
+        else:
+            row[S.PROPELLER_RATE] = default_propeller_rate
         row[S.CURRENT_SPEED] = self.current_speed
         row[S.CURRENT_DIRECTION] = self.current_direction
         row[S.WIND_SPEED] = self.wind_speed
@@ -201,6 +210,8 @@ class Simulator:
         self._state0 = self.state[0]
         self._conditions0 = self.conditions[0]
         self._draws0 = self.draws[0]
+        #: A fitted preset's covered ranges, checked while any is still to be warned of (``operating_point``).
+        self._coverage = model.fitted_ranges
         self.reset()
 
     # -- starting ------------------------------------------------------------------------------
@@ -231,7 +242,11 @@ class Simulator:
         self.noise_keys[rows] = noise.keys_from_seeds(seeds)
         self.step_index[rows] = 0
         per_ship = self._per_ship_conditions(conditions, count)
-        self.conditions[rows] = np.stack([c.row(self.model.service_speed) for c in per_ship])
+        self.conditions[rows] = np.stack(
+            [c.row(self.model.service_speed, self.model.service_propeller_rate) for c in per_ship]
+        )
+        if self._coverage is not None:
+            self._coverage.check_conditions(self.conditions[rows])
         self.state[rows] = 0.0
         self.state[rows, S.HEADING] = self._per_ship_value("heading", heading, count)
         self.state[rows, S.RUDDER] = np.clip(
@@ -339,6 +354,8 @@ class Simulator:
             self.step_index[0] += 1
             if not valid:
                 self._raise_invalid(0)
+            if self._coverage is not None:
+                self._check_coverage()
             return
         orders = np.asarray(ordered_rudder, dtype=float)
         if orders.ndim == 0:
@@ -363,6 +380,14 @@ class Simulator:
         )
         if not self._valid.all():
             self._raise_invalid(int(np.flatnonzero(~self._valid)[0]))
+        if self._coverage is not None:
+            self._check_coverage()
+
+    def _check_coverage(self) -> None:
+        """Warn where a ship left its fitted preset's covered ranges; stop checking once all are warned of."""
+        coverage = self._coverage
+        if coverage is not None and not coverage.check_motion(self.state, self.conditions, self.model.record):
+            self._coverage = None
 
     def invalid_ships(self) -> np.ndarray:
         """(N,) bool: the ships whose state is outside the model's validity (not finite, or u* > 1)."""

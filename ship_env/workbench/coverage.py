@@ -25,7 +25,6 @@ the ratio taken at the run's own 99th (or 1st) percentile. A limit counts for a 
 from __future__ import annotations
 
 import json
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -33,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ship_env.model import ShipModel
+from ship_env.model.operating_point import COVERAGE_QUANTITIES
 from ship_env.workbench.envelope import _percent, drift_angle
 from ship_env.workbench.errors import RunErrors, split_errors
 from ship_env.workbench.fit import FitError
@@ -46,25 +46,8 @@ COVERAGE_PERCENTILE = 99.0
 MIN_SHARE_BEYOND = 0.05
 
 
-@dataclass(frozen=True)
-class Quantity:
-    """A quantity the coverage holds: its name in words, display unit and factor from SI, and whether it
-    has a lower limit (a magnitude has none: it reaches down to 0)."""
-
-    words: str
-    unit: str
-    factor: float
-    two_sided: bool
-
-
-#: The quantities of a coverage, by key (see the module docstring).
-QUANTITIES: dict[str, Quantity] = {
-    "speed": Quantity("speed", "m/s", 1.0, True),
-    "rate": Quantity("r*", "", 1.0, False),
-    "drift": Quantity("drift angle", "deg", math.degrees(1.0), False),
-    "rudder": Quantity("rudder", "deg", math.degrees(1.0), False),
-    "propeller": Quantity("propeller rate", "rps", 1.0, True),
-}
+#: The quantities of a coverage, by key (see the module docstring), shared with the simulators that check them.
+QUANTITIES = COVERAGE_QUANTITIES
 
 
 def coverage_samples(log: Log, model: ShipModel) -> dict[str, np.ndarray]:
@@ -108,15 +91,7 @@ class Coverage:
 
     def describe(self) -> str:
         """The ranges in words: 'speed 0.12-0.45 m/s, r* <= 0.38, ...'."""
-        parts = []
-        for key, limits in self.ranges.items():
-            quantity = QUANTITIES[key]
-            unit = f" {quantity.unit}" if quantity.unit else ""
-            high = f"{limits.high * quantity.factor:.3g}"
-            if limits.low is None:
-                parts.append(f"|{quantity.words}| <= {high}{unit}")
-            else:
-                parts.append(f"{quantity.words} {limits.low * quantity.factor:.3g} to {high}{unit}")
+        parts = [QUANTITIES[key].range_words(limits.low, limits.high) for key, limits in self.ranges.items()]
         return ", ".join(parts) or "nothing measured"
 
     def as_dict(self) -> dict:

@@ -5,6 +5,9 @@ presets' own format (``configs/ships/*.yaml``, :func:`ship_env.model.load_ship`)
 ``ShipModel(FILE)``, ``gym.make(..., ship=FILE)`` and ``compare --ship FILE`` take it like a built-in:
 
 - ``principal``: the starting preset's particulars, copied with their sources;
+- ``service_conditions``: the operating point the fitted runs had (:mod:`ship_env.model.operating_point`):
+  the median of their propeller rate, where the logs measure it, so that the preset sails by default
+  at the rate its propeller terms (slipstream, asymmetry) were fitted at, not at 0 rps;
 - ``effects``: the fitted model's effects on, all others off. A fitted number is written in its SI
   unit at full (``repr``) precision, so that it reads back bit for bit, with its standard error in the
   same unit (``std_error``; null where the data do not determine it) and a ``source`` naming the logs
@@ -20,8 +23,10 @@ presets' own format (``configs/ships/*.yaml``, :func:`ship_env.model.load_ship`)
   r* at the highest speed, |r| = r* U / L) and a propeller turning ahead only where no log reverses
   it. Where the starting preset states a narrower limit, its limit is kept and its source says so;
 - ``fitted``: what it was fitted to: the starting preset, the logs (and the validation logs) with
-  their hashes, the command, the effects and terms, the fitted steady current (a condition of the
-  runs, not a property of the ship), the pooled held-out (and validation) RMS errors in deg, deg/s
+  their hashes, the command, the effects and terms, the fitted steady current (``conditions``: a
+  finding about the runs, an effect of the test site such as a towing tank's circulation, not a
+  property of the ship: the simulators, environments and leaderboard never sail it unless asked,
+  :func:`site_conditions`), the pooled held-out (and validation) RMS errors in deg, deg/s
   and m, the coverage, and the ship_env version.
 
 A replay of a fitted preset's runs (:func:`preset_replay_model`: ``compare --ship FILE`` and the other
@@ -30,6 +35,7 @@ workbench commands) sails in the steady current the fit found, as the fit's own 
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 from collections.abc import Mapping, Sequence
@@ -37,12 +43,13 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import yaml
 
 import ship_env
-from ship_env.model import EFFECTS, PRINCIPAL, ShipModel
+from ship_env.model import EFFECTS, PRINCIPAL, Conditions, ShipModel
 from ship_env.model.declarations import ENVELOPE_LIMITS, Parameter
-from ship_env.workbench.coverage import Coverage
+from ship_env.workbench.coverage import COVERAGE_PERCENTILE, Coverage
 from ship_env.workbench.errors import CHANNEL_UNITS, RunErrors
 from ship_env.workbench.fit import Estimate
 from ship_env.workbench.logs import Log
@@ -241,6 +248,20 @@ def envelope_section(raw: Mapping[str, Any], limits: Mapping[str, DataLimit]) ->
     return section
 
 
+def service_conditions_section(logs: Sequence[Log]) -> dict[str, Any]:
+    """The fitted runs' operating point: the median of their propeller rate ({} where no log measures it)."""
+    measured = [log for log in logs if log.propeller_rate is not None]
+    if not measured:
+        return {}
+    rates = np.concatenate([log.propeller_rate for log in measured if log.propeller_rate is not None])
+    low, median, high = np.percentile(rates, [100.0 - COVERAGE_PERCENTILE, 50.0, COVERAGE_PERCENTILE])
+    source = (
+        f"{_DATA_RANGE}: the median propeller rate of {len(measured)} fitted logs "
+        f"({100.0 - COVERAGE_PERCENTILE:g} to {COVERAGE_PERCENTILE:g} % of their samples {low:.4g} to {high:.4g} rps)"
+    )
+    return {"propeller_rate": _number(float(median), "rps", source)}
+
+
 def _errors(errors: RunErrors) -> dict[str, float]:
     return {name: float(value) for name, value in errors.in_display_units().items()}
 
@@ -293,6 +314,7 @@ def preset_document(
         record["conditions"] = conditions
     if validation.coverage is not None:
         record["coverage"] = validation.coverage.as_dict()
+    service = service_conditions_section(logs)
     return {
         "name": name,
         "description": (
@@ -301,6 +323,7 @@ def preset_document(
             "Valid inside the envelope below: the ranges the fitted runs covered."
         ),
         "principal": _principal_section(model, raw, {k: v for k, v in fitted.items() if k in principal_keys}),
+        **({"service_conditions": service} if service else {}),
         "envelope": envelope_section(raw, limits),
         "effects": _effects_section(model, raw, fitted),
         "fitted": record,
@@ -333,8 +356,25 @@ def fitted_current(model: ShipModel) -> tuple[float, float]:
 
 
 def preset_replay_model(model: ShipModel) -> ReplayModel:
-    """``model`` with the steady current its preset was fitted in (used where ``model`` has the ``current`` effect)."""
+    """``model`` with the steady current its preset was fitted in (used where ``model`` has the ``current`` effect):
+    a replay of the preset's own runs (``compare --ship``) keeps the current those runs had."""
     return ReplayModel(model, *fitted_current(model))
+
+
+def site_conditions(model: ShipModel, conditions: Conditions | None = None) -> Conditions:
+    """``conditions`` (default: calm, at the preset's service conditions) with the steady current the preset's
+    runs were found in (``fitted.conditions``): how one asks to sail a fitted preset at its test site, e.g.
+    ``Simulator(model).reset(conditions=site_conditions(model))``. Nothing else sails that current.
+
+    Raises:
+        ValueError: a recorded current that is not a number (:func:`fitted_current`).
+    """
+    north, east = fitted_current(model)
+    return dataclasses.replace(
+        conditions or Conditions(),
+        current_speed=math.hypot(north, east),
+        current_direction=math.atan2(east, north) % (2.0 * math.pi),
+    )
 
 
 def write_preset(document: Mapping[str, Any], path: Path) -> Path:
@@ -353,6 +393,8 @@ __all__ = [
     "log_file",
     "preset_document",
     "preset_replay_model",
+    "service_conditions_section",
+    "site_conditions",
     "standard_errors",
     "write_preset",
 ]

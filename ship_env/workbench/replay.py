@@ -14,6 +14,8 @@ kinds of replay:
 
 A speed channel is fed as the service speed U0 at every sample (with the speed-loss effect off the
 model's speed is then the measured one); without one the log's or the ship's service speed is used.
+A log without a propeller channel is replayed at the ship's service propeller rate (its preset's
+``service_conditions``; 0 where it states none).
 
 Many replays run in one compiled call over all cores: a *task* is one run replayed with one
 parameter record, so a fit evaluates every finite-difference perturbation of every run at once.
@@ -202,6 +204,8 @@ def _conditions(log: Log, model: ShipModel) -> np.ndarray:
         rows[:, S.SERVICE_SPEED] = model.service_speed if log.service_speed is None else log.service_speed
     if log.propeller_rate is not None:
         rows[:, S.PROPELLER_RATE] = log.propeller_rate  # signed: astern is negative (``propeller_astern``)
+    else:  # the ship's operating point (0 where its preset states none)
+        rows[:, S.PROPELLER_RATE] = model.service_propeller_rate
     if log.wind_speed is not None and log.wind_direction is not None:
         rows[:, S.WIND_SPEED] = np.maximum(log.wind_speed, 0.0)
         rows[:, S.WIND_DIRECTION] = log.wind_direction

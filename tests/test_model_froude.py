@@ -280,3 +280,14 @@ def test_scale_command_refuses_a_number_of_unknown_scaling(tmp_path, capsys):
     assert stopped.value.code == 2
     assert "argument IN: fitted.mystery: the Froude scaling of 3.0 is not known" in capsys.readouterr().err
     assert not output.exists()
+
+
+def test_a_preset_s_operating_point_scales_with_it(tmp_path):
+    """The fitted preset's service propeller rate (``service_conditions``) turns lambda^-1/2 as fast."""
+    document = {**load_ship("kvlcc2").document}
+    document["service_conditions"] = {"propeller_rate": {"value": 12.0, "unit": "rps", "source": "fitted runs"}}
+    path = tmp_path / "fitted.yaml"
+    path.write_text(yaml.safe_dump(document))
+    model = ShipModel(str(path))
+    assert model.service_propeller_rate == 12.0
+    assert model.scaled(factor=4.0).service_propeller_rate == pytest.approx(6.0, rel=1e-15)

@@ -96,6 +96,12 @@ class ShipVectorEnv(VectorEnv):
         self._all_envs = np.ones(self.num_envs, dtype=np.bool_)
         self._all_envs.setflags(write=False)  # shared by the ``_key`` masks of every info
 
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """A copy or a pickle restored: the masks every info shares are read-only again (numpy
+        restores arrays writable)."""
+        self.__dict__.update(state)
+        self._all_envs.setflags(write=False)
+
     def reset(
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:

@@ -197,11 +197,28 @@ class Simulator:
         self._orders = np.zeros(self.num_ships)
         self._valid = np.ones(self.num_ships, dtype=np.bool_)
         self._work = new_workspace(model.state_size)
+        self._link()
+        self.reset()
+
+    def _link(self) -> None:
+        """Make the compiled loop and ship 0's rows (views of the arrays) that ``step`` passes: at
+        construction, and again where a copy or a pickle (which make views independent arrays) is
+        restored."""
         self._step_ships = batch_loop(self.num_ships, step_ships, step_ships_parallel)
         self._state0 = self.state[0]
         self._conditions0 = self.conditions[0]
         self._draws0 = self.draws[0]
-        self.reset()
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The attributes a copy or a pickle carries: all but those :meth:`_link` makes."""
+        state = self.__dict__.copy()
+        for name in ("_step_ships", "_state0", "_conditions0", "_draws0"):
+            del state[name]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._link()
 
     # -- starting ------------------------------------------------------------------------------
     def reset(

@@ -86,7 +86,12 @@ class CourseChangeEnv(ShipEnv):
     +-30 deg) are drawn from the environment's ``np_random``; so is the simulator's seed for the
     gusts, the sea, the wave yaw and the sensor noise. ``reset(options=...)`` may pin
     ``disturbance``, ``course_change_deg`` (signed), ``initial_heading_deg`` or ``conditions``
-    (a :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``).
+    (a :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``; not with
+    ``disturbance``). The model's effects are chosen at construction: an option that brings weather
+    none of them sails is refused with ``ValueError`` naming the constructor argument that does
+    (waves, ``"wind_current_waves"`` or ``"random"`` or ``conditions`` with a wave height, on an
+    environment made ``"calm"`` or ``"wind_current"``: make it with ``disturbance="wind_current_waves"``
+    or ``"random"``, which add the wave effects, or with ``effects`` including them).
 
     ## Episode End
 

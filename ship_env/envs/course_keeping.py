@@ -62,7 +62,11 @@ class CourseKeepingEnv(ShipEnv):
     direction +-30 deg) are drawn from the environment's ``np_random``; so is the simulator's seed
     for the gusts, the sea, the wave yaw and the sensor noise. ``reset(options=...)`` may pin
     ``disturbance``, ``course_deg`` or ``conditions`` (a :class:`~ship_env.model.Conditions`,
-    reported as disturbance ``"custom"``).
+    reported as disturbance ``"custom"``; not with ``disturbance``). The model's effects are chosen at
+    construction: an option that brings weather none of them sails is refused with ``ValueError``
+    naming the constructor argument that does (waves on an environment made ``"calm"`` or
+    ``"wind_current"``: make it with ``disturbance="wind_current_waves"`` or ``"random"``, which add
+    the wave effects, or with ``effects`` including them).
 
     ## Episode End
 

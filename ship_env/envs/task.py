@@ -183,6 +183,12 @@ class ShipTask:
             return Simulator(self.model, num_ships=num_ships, dt=self.dt)
         return ExternalSimulator(self.model, self.make_dynamics, num_ships=num_ships, dt=self.dt)
 
+    @property
+    def sailing_model(self) -> ShipModel | None:
+        """The model whose effects sail the episodes' conditions: the task's, or ``None`` for a ship
+        simulated outside ship_env (its adapter sails them)."""
+        return self.model if self.make_dynamics is None else None
+
     def parameter_record(self, **values: float | bool) -> np.ndarray:
         """The task's constants as its compiled update reads them: one record with ``rudder_limit``
         (rad), ``full_rudder_rate_per_speed`` (K* delta_max / L) and ``observed_speed_scale`` (m/s:

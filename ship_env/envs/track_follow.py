@@ -100,7 +100,9 @@ class TrackFollowEnv(ShipEnv):
     turn within minutes). The track (if ``"random"``) and the simulator's seed (gusts, sensor
     noise) are drawn from the environment's ``np_random``. ``reset(options=...)`` may pin the
     ``track`` or give the ``conditions`` (a :class:`~ship_env.model.Conditions`, reported as
-    disturbance ``"custom"``).
+    disturbance ``"custom"``). The model's effects are chosen at construction: conditions none of
+    them sails are refused with ``ValueError`` (waves: make the environment with ``effects``
+    including ``wave_filter`` and ``wave_spectrum``).
 
     ## Episode End
 

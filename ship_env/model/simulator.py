@@ -36,10 +36,26 @@ RETIME_CALLS = 1024
 #: turn the choice, a few in a row do.
 TIME_WEIGHT = 0.1
 
-#: The conditions that must not be negative.
-_NOT_NEGATIVE = frozenset(
-    {"service_speed", "propeller_rate", "current_speed", "wind_speed", "wave_height", "yaw_gain_factor"}
-)
+#: The conditions that must not be negative (a negative propeller rate turns astern: :func:`check_propeller_rates`).
+_NOT_NEGATIVE = frozenset({"service_speed", "current_speed", "wind_speed", "wave_height", "yaw_gain_factor"})
+
+
+def _sails_astern(effect: str) -> bool:
+    """Whether an effect sails a propeller astern: its envelope allows it (``propeller_ahead_only=False``)."""
+    return EFFECTS[effect].envelope.propeller_ahead_only is False
+
+
+def check_propeller_rates(name: str, rates: np.ndarray, model: ShipModel) -> None:
+    """``ValueError`` for a propeller turning astern (a negative rate, rps) where none of ``model``'s
+    effects sails it (:func:`_sails_astern`: ``propeller_astern``); without one the model's equations hold
+    for a propeller ahead only (its envelope's ``propeller_ahead_only``)."""
+    if not np.any(rates < 0.0) or any(_sails_astern(effect) for effect in model.effects):
+        return
+    astern = [effect for effect in EFFECTS if _sails_astern(effect)]
+    raise ValueError(
+        f"{name}: {float(np.min(rates))!r} rps turns the propeller astern, which the model sails only with "
+        f"{' or '.join(astern)} (not among its effects); add it to the model's effects or give a rate >= 0"
+    )
 
 
 class Cores:
@@ -103,7 +119,8 @@ class Conditions:
 
     Attributes:
         service_speed: U0, speed through the water on a straight course; ``None`` takes the ship's.
-        propeller_rate: n in rps (used by the propeller-slipstream effect).
+        propeller_rate: n in rps (used by the propeller-slipstream effect), negative astern: a model
+            sails it only with an astern effect (``propeller_astern``), the simulator refuses it otherwise.
         current_speed, current_direction: the current and the direction it sets *towards*.
         wind_speed, wind_direction: the true wind and the direction it comes *from*.
         wave_height, wave_period, wave_direction: significant height (m), peak period (s) and the
@@ -248,6 +265,7 @@ class Simulator:
         self.noise_keys[rows] = noise.keys_from_seeds(seeds)
         self.step_index[rows] = 0
         per_ship = self._per_ship_conditions(conditions, count)
+        self._check_propeller_rates("conditions.propeller_rate", np.array([c.propeller_rate for c in per_ship]))
         self.conditions[rows] = np.stack([c.row(self.model.service_speed) for c in per_ship])
         self.state[rows] = 0.0
         self.state[rows, S.HEADING] = self._per_ship_value("heading", heading, count)
@@ -265,6 +283,10 @@ class Simulator:
                 name: np.array([getattr(c, name) for c in per_ship], dtype=float) for name in S.START_CONDITION_NAMES
             }
             self.draws[rows] = self.model.draw(self.noise_keys[rows], self.conditions[rows], start)
+
+    def _check_propeller_rates(self, name: str, rates: np.ndarray) -> None:
+        """Refuse a propeller astern the model does not sail (:func:`check_propeller_rates`)."""
+        check_propeller_rates(name, rates, self.model)
 
     def _rows(self, ships: Sequence[int] | np.ndarray) -> np.ndarray:
         rows = np.asarray(ships)
@@ -321,8 +343,10 @@ class Simulator:
                 raise ValueError(f"conditions: {name!r} is derived from the current and the wind; set those ({known})")
             raise ValueError(f"conditions: unknown condition {name!r}; {known}")
         array = self._per_ship_value(name, value)
-        if name in ("service_speed", "propeller_rate", "current_speed", "wind_speed") and np.any(array < 0.0):
+        if name in ("service_speed", "current_speed", "wind_speed") and np.any(array < 0.0):
             raise ValueError(f"conditions.{name}: must not be negative, got {value!r}")
+        if name == "propeller_rate":
+            self._check_propeller_rates(f"conditions.{name}", array)
         self.conditions[:, S.CONDITION_NAMES.index(name)] = array
         S.derive_conditions(self.conditions)
 

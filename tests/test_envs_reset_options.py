@@ -53,12 +53,45 @@ def test_the_disturbance_option_sails_its_level(env_class, level):
         assert wave_heading > 1e-3
 
 
+def _sail(env, seed: int | None, options: dict, steps: int = 80) -> list:
+    """An episode's reset and ``steps`` steps at a rudder sine (every returned item)."""
+    shape, dtype = env.action_space.shape, env.action_space.dtype
+    items = [env.reset(seed=seed, options=options)]
+    items.extend(env.step(np.full(shape, 0.5 * math.sin(k / 9.0), dtype=dtype)) for k in range(steps))
+    return items
+
+
+def _assert_same_episodes(one: list, other: list) -> None:
+    for a, b in zip(one, other, strict=True):
+        np.testing.assert_array_equal(a[0], b[0])
+        np.testing.assert_array_equal(a[-1]["state"], b[-1]["state"])
+        assert a[-1]["measurement"] == b[-1]["measurement"] and a[1:-1] == b[1:-1]
+
+
 @pytest.mark.parametrize("env_class", WEATHER_ENVS)
-@pytest.mark.parametrize("level", ["wind_current_waves", "random"])
-def test_a_disturbance_option_bringing_waves_to_an_env_made_without_them_is_refused(env_class, level):
-    env = env_class(disturbance="wind_current")
-    with pytest.raises(ValueError, match=rf"options\['disturbance'\] = '{level}'.*wave_height.*disturbance="):
-        env.reset(seed=0, options={"disturbance": level})
+@pytest.mark.parametrize(
+    "options",
+    [{"disturbance": "wind_current_waves"}, {"disturbance": "random"}, {"conditions": WAVES}],
+    ids=["wind_current_waves", "random", "conditions"],
+)
+def test_waves_an_option_brings_sail_as_in_an_env_made_with_waves(env_class, options):
+    """Made with ``"wind_current"`` (no wave effects), the option's episode, and a later one without
+    it, sail bit for bit as in an environment made with ``"random"`` (the wave effects on)."""
+    made_without, made_with = env_class(disturbance="wind_current"), env_class(disturbance="random")
+    for seed in (5, 6, 7):
+        _assert_same_episodes(_sail(made_without, seed, options), _sail(made_with, seed, options))
+    assert any(made_without.task.model.has(effect) for effect in WAVE_EFFECTS)
+    _assert_same_episodes(_sail(made_without, 8, {"disturbance": "calm"}), _sail(made_with, 8, {"disturbance": "calm"}))
+    if "random" not in options.values():
+        assert _max_wave_heading(made_without, options) > 1e-3  # the sea moves the compass's wave yaw
+
+
+@pytest.mark.parametrize("env_class", WEATHER_ENVS)
+def test_a_waves_option_on_an_env_given_effects_without_wave_effects_is_refused(env_class):
+    env = env_class(disturbance="wind_current", effects=DEFAULT_EFFECTS)
+    for options in ({"disturbance": "wind_current_waves"}, {"disturbance": "random"}, {"conditions": WAVES}):
+        with pytest.raises(ValueError, match=r"options\['(disturbance|conditions)'\].*wave_height.*effects including"):
+            env.reset(seed=0, options=options)
     env.reset(seed=0, options={"disturbance": "calm"})  # the levels it sails stay open
 
 
@@ -77,16 +110,13 @@ def test_the_conditions_option_sails_its_waves_where_the_model_has_wave_effects(
     assert _max_wave_heading(env, {"conditions": WAVES}) > 1e-3
 
 
-@pytest.mark.parametrize(
-    ("env_class", "constructor"),
-    [(CourseChangeEnv, "disturbance="), (CourseKeepingEnv, "disturbance="), (TrackFollowEnv, "effects including")],
-)
-def test_a_conditions_option_with_waves_the_model_cannot_sail_is_refused(env_class, constructor):
-    env = env_class(**({} if env_class is TrackFollowEnv else {"disturbance": "calm"}))
-    with pytest.raises(ValueError, match=rf"options\['conditions'\].*wave_height.*{constructor}"):
-        env.reset(seed=0, options={"conditions": WAVES})
+def test_the_conditions_option_brings_its_waves_to_the_track_as_to_an_env_made_with_wave_effects():
+    made_without, made_with = TrackFollowEnv(), TrackFollowEnv(effects=[*DEFAULT_EFFECTS, *WAVE_EFFECTS])
+    _assert_same_episodes(_sail(made_without, 3, {"conditions": WAVES}), _sail(made_with, 3, {"conditions": WAVES}))
+    with pytest.raises(ValueError, match=r"options\['conditions'\]\.wave_height = 3\.2: .*effects including"):
+        TrackFollowEnv(effects=DEFAULT_EFFECTS).reset(seed=0, options={"conditions": WAVES})
     calm_sea = Conditions(wind_speed=8.0, current_speed=1.0)
-    _, info = env.reset(seed=0, options={"conditions": calm_sea})
+    _, info = TrackFollowEnv(effects=DEFAULT_EFFECTS).reset(seed=0, options={"conditions": calm_sea})
     assert info["scenario"].conditions == calm_sea
 
 
@@ -137,7 +167,7 @@ def test_the_track_option_sails_that_track_from_its_first_waypoint(track):
 
 
 # -- the vector env's --------------------------------------------------------------------------------------
-def test_the_reset_mask_option_restarts_only_the_masked_ships_and_refuses_like_the_single_env():
+def test_the_reset_mask_option_restarts_only_the_masked_ships():
     envs = CourseChangeVectorEnv(num_envs=3, disturbance="wind_current")
     envs.reset(seed=0)
     for _ in range(5):
@@ -148,5 +178,31 @@ def test_the_reset_mask_option_restarts_only_the_masked_ships_and_refuses_like_t
     after = envs.batch.simulator.state
     np.testing.assert_array_equal(after[~mask], before[~mask])
     assert after[1, S.TIME] == 0.0 and info["_scenario"].tolist() == mask.tolist()
-    with pytest.raises(ValueError, match=r"options\['disturbance'\] = 'wind_current_waves'"):
-        envs.reset(options={"reset_mask": mask, "disturbance": "wind_current_waves"})
+
+
+def test_waves_one_sub_env_is_restarted_into_sail_there_as_in_a_single_env_and_leave_the_others_be():
+    """Ship 1 restarted with waves sails as a single env made with them (its generator's second
+    episode); ships 0 and 2 observe and earn as in a batch whose ship 1 restarted without waves."""
+    switched, twin = (CourseChangeVectorEnv(num_envs=3, disturbance="wind_current") for _ in range(2))
+    single = CourseChangeEnv(disturbance="random")
+    actions = [np.full((3, 1), 0.5 * math.sin(k / 9.0), dtype=np.float32) for k in range(60)]
+    for envs in (switched, twin):
+        envs.reset(seed=0)
+        for action in actions[:5]:
+            envs.step(action)
+    mask = np.array([False, True, False])
+    observations, _ = switched.reset(options={"reset_mask": mask, "disturbance": "wind_current_waves"})
+    twin.reset(options={"reset_mask": mask, "disturbance": "wind_current"})
+    single.reset(seed=1)
+    observation, _ = single.reset(options={"disturbance": "wind_current_waves"})
+    np.testing.assert_array_equal(observations[1], observation)
+    for action in actions[5:]:
+        observations, rewards, _, _, info = switched.step(action)
+        twin_observations, twin_rewards, *_ = twin.step(action)
+        observation, reward, _, _, single_info = single.step(action[1])
+        np.testing.assert_array_equal(observations[[0, 2]], twin_observations[[0, 2]])
+        np.testing.assert_array_equal(rewards[[0, 2]], twin_rewards[[0, 2]])
+        np.testing.assert_array_equal(observations[1], observation)
+        np.testing.assert_array_equal(info["state"][1], single_info["state"])
+        assert rewards[1] == reward
+    assert abs(single_info["state"][S.WAVE_HEADING]) > 0.0

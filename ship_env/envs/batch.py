@@ -29,7 +29,7 @@ import numpy as np
 from ship_env.envs.envelope import ENVELOPE_FIELDS, envelope_info
 from ship_env.envs.sensors import MEASUREMENT_NAMES, MEASUREMENT_SIZE, measure, observe_motion
 from ship_env.envs.task import ShipTask
-from ship_env.model import Conditions
+from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
 from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel
@@ -207,7 +207,13 @@ class ShipBatch:
         self._update = self._update_loop()
 
     def restart(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
-        """Start new episodes for ``ships`` (sorted indices), one scenario each; the others sail on."""
+        """Start new episodes for ``ships`` (sorted indices), one scenario each; the others sail on.
+
+        Where the scenarios need a model with more effects (``ShipTask.model_for``: waves the model has no
+        effect for), every ship sails that model from now on (:meth:`_sail_model`)."""
+        model = self.task.model_for(scenario.conditions for scenario in scenarios)
+        if model is not self.simulator.model:
+            self._sail_model(model)
         self._start_simulator(ships, scenarios)
         episodes = self.episodes
         episodes["wave_yaw"][ships] = [scenario.conditions.wave_height > 0.0 for scenario in scenarios]
@@ -217,6 +223,25 @@ class ShipBatch:
         for ship, scenario in zip(ships, scenarios, strict=True):
             self.start_episode(episodes[ship], scenario)
             self.scenarios[ship] = scenario
+
+    def _sail_model(self, model: ShipModel) -> None:
+        """Sail ``model`` from now on: a simulator of it that goes on from this one's ships, their states,
+        conditions, seeds, step counts and the draws of the effects both models have (a ship sailing on
+        meets no waves: the new effects' draws stay 0)."""
+        old = self.simulator
+        new = Simulator(model, num_ships=self.num_ships, dt=old.dt, method=old.method)
+        columns = [model.state_names.index(name) for name in old.model.state_names]
+        new.state[:, columns] = old.state
+        for name in ("conditions", "seeds", "noise_keys", "step_index"):
+            getattr(new, name)[:] = getattr(old, name)
+        kept = {(placed.entry.effect.name, placed.draw.name): placed for placed in old.model.draw_layout}
+        for placed in model.draw_layout:
+            before = kept.get((placed.entry.effect.name, placed.draw.name))
+            if before is not None:
+                new.draws[:, placed.start : placed.start + placed.size] = old.draws[
+                    :, before.start : before.start + before.size
+                ]
+        self.simulator = new
 
     def _start_simulator(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
         """Start the simulator's ``ships`` as their ``scenarios`` start them."""

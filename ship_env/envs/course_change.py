@@ -87,11 +87,11 @@ class CourseChangeEnv(ShipEnv):
     gusts, the sea, the wave yaw and the sensor noise. ``reset(options=...)`` may pin
     ``disturbance``, ``course_change_deg`` (signed), ``initial_heading_deg`` or ``conditions``
     (a :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``; not with
-    ``disturbance``). The model's effects are chosen at construction: an option that brings weather
-    none of them sails is refused with ``ValueError`` naming the constructor argument that does
-    (waves, ``"wind_current_waves"`` or ``"random"`` or ``conditions`` with a wave height, on an
-    environment made ``"calm"`` or ``"wind_current"``: make it with ``disturbance="wind_current_waves"``
-    or ``"random"``, which add the wave effects, or with ``effects`` including them).
+    ``disturbance``). An option that brings waves to an environment made ``"calm"`` or
+    ``"wind_current"`` sails them: from its first episode with waves the model takes on the wave
+    effects (``wave_filter``, ``wave_spectrum``; compiled then, and computed every step after, as in
+    an environment made with waves). With ``effects`` given, an option that brings weather none of
+    them sails is refused with ``ValueError`` naming the effects to add.
 
     ## Episode End
 

@@ -275,7 +275,7 @@ class TrackFollowTask(ShipTask):
         if track == RANDOM_TRACK:
             track = TRACK_IDS[int(draw * len(TRACK_IDS))]
         if "conditions" in options:
-            conditions = check_conditions("options['conditions']", options["conditions"], self.sailing_model)
+            conditions = check_conditions("options['conditions']", options["conditions"], self)
             disturbance = CUSTOM_DISTURBANCE
         else:
             disturbance = self.disturbance

@@ -28,10 +28,10 @@ from ship_env.model import Conditions, ShipModel, Simulator, load_ship
 from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory
 
 #: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
+ACTION_TYPES = ("continuous", "discrete")
 #: The effects that sail the waves: the HF yaw the compass sees (Fig. 2.13) and the sea's yaw moment
 #: (2.89-2.91). The preset's defaults take them on where an episode brings waves (:meth:`ShipTask.model_for`).
 WAVE_EFFECTS = ("wave_filter", "wave_spectrum")
-ACTION_TYPES = ("continuous", "discrete")
 #: The keywords that change what a policy observes or how often it acts (the tasks' observation options
 #: and decision interval): a policy trained with them steers only an environment made with the same (a
 #: leaderboard sails it so).

@@ -25,9 +25,6 @@ CUSTOM_DISTURBANCE = "custom"
 #: Still water and air, shared by every calm episode (``Conditions`` is frozen).
 CALM = Conditions()
 
-# ``WAVE_EFFECTS`` (:mod:`ship_env.envs.task`) are added to a preset's defaults when the disturbance level
-# can have waves, or when an episode first brings them.
-
 #: Waves come from within this angle of the wind's direction (assumed: a wind sea).
 WAVE_SPREAD = math.radians(30.0)
 

@@ -163,3 +163,39 @@ def test_sb3_controller_runs_a_stable_baselines3_model():
     controller.reset(observation, info)
     action = controller.act(observation, info)
     assert action.shape == (1,) and env.action_space.contains(action)
+
+
+class SpacePolicy:
+    """A policy that answers every observation with a sample of its action space, as stable-baselines3's
+    predict gives it for one observation (a Discrete's integer as a 0-d int64 array)."""
+
+    def __init__(self, action_space: gym.Space) -> None:
+        self.action_space = action_space
+        self.action_space.seed(0)
+
+    def predict(self, observation, state=None, episode_start=None, deterministic=False):
+        return np.asarray(self.action_space.sample()), None
+
+
+@pytest.mark.parametrize(
+    "space",
+    [gym.spaces.Discrete(7), gym.spaces.MultiDiscrete([7, 3]), gym.spaces.Box(-1.0, 1.0, (1,), np.float32)],
+    ids=["discrete", "multi-discrete", "box"],
+)
+def test_sb3_controller_keeps_its_action_spaces_dtype_and_shape(space):
+    controller = SB3Controller(SpacePolicy(space))
+    action = controller.act(np.zeros(5, dtype=np.float32), {})
+    assert action.dtype == space.dtype and action.shape == space.shape and space.contains(action)
+
+
+def test_sb3_controller_steers_the_discrete_rudder_with_a_stable_baselines3_model():
+    from stable_baselines3 import PPO
+
+    env = gym.make("ship_env/CourseKeeping-v0", action_type="discrete", max_episode_steps=5)
+    controller = SB3Controller(PPO("MlpPolicy", env, n_steps=8, batch_size=8, seed=0, device="cpu"))
+    observation, info = env.reset(seed=0)
+    controller.reset(observation, info)
+    for _ in range(5):
+        action = controller.act(observation, info)
+        assert env.action_space.contains(action)
+        observation, _, _, _, info = env.step(action)

@@ -9,7 +9,8 @@ An episode is sailed the same way whoever steers::
         observation, reward, terminated, truncated, info = env.step(action)
 
 ``act`` returns the environment's action: the ordered rudder as a fraction of the environment's
-rudder limit, in [-1, 1], shape (1,). A learned policy reads the observation; the classic
+rudder limit, in [-1, 1], shape (1,) (or, for a learned policy, whatever its action space holds: a
+rudder level of the discrete action, an integer). A learned policy reads the observation; the classic
 autopilots read the instruments in ``info["measurement"]`` (:class:`~ship_env.baselines.measurement.Measurement`)
 and the ordered heading, and work in radians (:class:`Autopilot`); :class:`AutopilotController`
 puts one of them behind this interface.
@@ -21,8 +22,12 @@ from collections.abc import Mapping
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
+from gymnasium import spaces
 
 from ship_env.baselines.measurement import Measurement
+
+#: The environments' continuous action: the ordered rudder over the rudder limit.
+RUDDER_FRACTION = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
 
 
 @runtime_checkable
@@ -33,7 +38,8 @@ class Controller(Protocol):
         """Start an episode from the environment's first observation and info."""
 
     def act(self, observation: np.ndarray, info: Mapping[str, Any]) -> np.ndarray:
-        """The action for this step: ordered rudder / the environment's rudder limit, shape (1,)."""
+        """The action for this step, in the environment's action space (the continuous rudder: ordered
+        rudder / the environment's rudder limit, shape (1,))."""
 
 
 @runtime_checkable
@@ -85,14 +91,24 @@ class SB3Controller:
     """A stable-baselines3 model (or anything with its ``predict``) as a :class:`Controller`.
 
     The policy acts deterministically; a recurrent policy's hidden state is carried from step to
-    step and restarted with each episode.
+    step and restarted with each episode. Its actions keep their action space's dtype and shape
+    (a ``Box``'s float array, a ``Discrete``'s integer, a ``MultiDiscrete``'s integer array).
 
     Args:
         policy: e.g. ``PPO.load("ppo_course_change.zip")``.
+        action_space: the environment's action space; ``None`` (default): the policy's
+            ``action_space`` (a stable-baselines3 model's), or the continuous rudder
+            (``Box(-1, 1, (1,))``) for a policy without one.
     """
 
-    def __init__(self, policy: Policy) -> None:
+    def __init__(self, policy: Policy, action_space: spaces.Space | None = None) -> None:
         self.policy = policy
+        if action_space is None:
+            action_space = getattr(policy, "action_space", None)
+        if action_space is None:
+            action_space = RUDDER_FRACTION
+        #: The actions' space, whose dtype and shape ``act`` returns.
+        self.action_space = action_space
         self._hidden_state: tuple[np.ndarray, ...] | None = None
         self._episode_start = np.ones(1, dtype=bool)
 
@@ -105,4 +121,4 @@ class SB3Controller:
             observation, state=self._hidden_state, episode_start=self._episode_start, deterministic=True
         )
         self._episode_start = np.zeros(1, dtype=bool)
-        return np.asarray(action, dtype=np.float32).reshape(1)
+        return np.asarray(action, dtype=self.action_space.dtype).reshape(self.action_space.shape or ())

@@ -29,7 +29,7 @@ import numpy as np
 from ship_env.envs.envelope import ENVELOPE_FIELDS, envelope_info
 from ship_env.envs.sensors import MEASUREMENT_NAMES, MEASUREMENT_SIZE, measure, observe_motion
 from ship_env.envs.task import ShipTask
-from ship_env.model import Conditions
+from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
 from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel
@@ -188,10 +188,32 @@ class ShipBatch:
         self.scenarios: list[Any] = [None] * self.num_ships
         self.episodes = np.zeros(self.num_ships, dtype=episode_dtype(task.observation_space.shape[0], self.task_fields))
         self.metrics = np.zeros(self.num_ships, dtype=self.metrics_dtype)
-        self._update = batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
+        self._update = self._update_loop()
+
+    def _update_loop(self) -> Callable[..., None]:
+        return batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The attributes a copy or a pickle carries: all but the compiled update loop, made afresh
+        where it is restored: numba rebuilds a pickled compiled function from its code, without its
+        cache, and compiles it again (a spawned worker: 11.7 s against 4.1 s,
+        ``tests/test_envs_copies.py``)."""
+        state = self.__dict__.copy()
+        del state["_update"]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._update = self._update_loop()
 
     def restart(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
-        """Start new episodes for ``ships`` (sorted indices), one scenario each; the others sail on."""
+        """Start new episodes for ``ships`` (sorted indices), one scenario each; the others sail on.
+
+        Where the scenarios need a model with more effects (``ShipTask.model_for``: waves the model has no
+        effect for), every ship sails that model from now on (:meth:`_sail_model`)."""
+        model = self.task.model_for(scenario.conditions for scenario in scenarios)
+        if model is not self.simulator.model:
+            self._sail_model(model)
         self._start_simulator(ships, scenarios)
         episodes = self.episodes
         episodes["wave_yaw"][ships] = [scenario.conditions.wave_height > 0.0 for scenario in scenarios]
@@ -201,6 +223,25 @@ class ShipBatch:
         for ship, scenario in zip(ships, scenarios, strict=True):
             self.start_episode(episodes[ship], scenario)
             self.scenarios[ship] = scenario
+
+    def _sail_model(self, model: ShipModel) -> None:
+        """Sail ``model`` from now on: a simulator of it that goes on from this one's ships, their states,
+        conditions, seeds, step counts and the draws of the effects both models have (a ship sailing on
+        meets no waves: the new effects' draws stay 0)."""
+        old = self.simulator
+        new = Simulator(model, num_ships=self.num_ships, dt=old.dt, method=old.method)
+        columns = [model.state_names.index(name) for name in old.model.state_names]
+        new.state[:, columns] = old.state
+        for name in ("conditions", "seeds", "noise_keys", "step_index"):
+            getattr(new, name)[:] = getattr(old, name)
+        kept = {(placed.entry.effect.name, placed.draw.name): placed for placed in old.model.draw_layout}
+        for placed in model.draw_layout:
+            before = kept.get((placed.entry.effect.name, placed.draw.name))
+            if before is not None:
+                new.draws[:, placed.start : placed.start + placed.size] = old.draws[
+                    :, before.start : before.start + before.size
+                ]
+        self.simulator = new
 
     def _start_simulator(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
         """Start the simulator's ``ships`` as their ``scenarios`` start them."""

@@ -86,7 +86,12 @@ class CourseChangeEnv(ShipEnv):
     +-30 deg) are drawn from the environment's ``np_random``; so is the simulator's seed for the
     gusts, the sea, the wave yaw and the sensor noise. ``reset(options=...)`` may pin
     ``disturbance``, ``course_change_deg`` (signed), ``initial_heading_deg`` or ``conditions``
-    (a :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``).
+    (a :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``; not with
+    ``disturbance``). An option that brings waves to an environment made ``"calm"`` or
+    ``"wind_current"`` sails them: from its first episode with waves the model takes on the wave
+    effects (``wave_filter``, ``wave_spectrum``; compiled then, and computed every step after, as in
+    an environment made with waves). With ``effects`` given, an option that brings weather none of
+    them sails is refused with ``ValueError`` naming the effects to add.
 
     ## Episode End
 

@@ -42,6 +42,11 @@ class ShipEnv(Env[np.ndarray, Any]):
         self._track: list[np.ndarray] = []
         self._renderer: ShipRenderer | None = None
 
+    def __getstate__(self) -> dict[str, Any]:
+        """The attributes a copy or a pickle carries: all but the renderer (its figure or window),
+        which the copy makes afresh when it first renders."""
+        return {**self.__dict__, "_renderer": None}
+
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:

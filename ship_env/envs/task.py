@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -29,6 +29,9 @@ from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_
 
 #: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
 ACTION_TYPES = ("continuous", "discrete")
+#: The effects that sail the waves: the HF yaw the compass sees (Fig. 2.13) and the sea's yaw moment
+#: (2.89-2.91). The preset's defaults take them on where an episode brings waves (:meth:`ShipTask.model_for`).
+WAVE_EFFECTS = ("wave_filter", "wave_spectrum")
 #: The keywords that change what a policy observes or how often it acts (the tasks' observation options
 #: and decision interval): a policy trained with them steers only an environment made with the same (a
 #: leaderboard sails it so).
@@ -65,7 +68,9 @@ class ShipTask:
     Args:
         ship: a ship preset name (``configs/ships``) or a YAML path.
         ship_parameters: parameter overrides for the preset, ``{"yaw.gain": 1.2}`` (SI units).
-        effects: the model's effects; ``None`` takes the preset's defaults plus ``extra_effects``.
+        effects: the model's effects; ``None`` takes the preset's defaults plus ``extra_effects``, and
+            ``WAVE_EFFECTS`` from the first episode whose conditions have waves (given at reset), which
+            then sail every later episode too (:meth:`model_for`).
         extra_effects: effects the task adds to the preset's defaults (the waves' when it has waves).
         rudder_limit_deg: delta_max, the hard-over angle action +-1 orders, deg (it becomes the
             model's rudder limit).
@@ -154,6 +159,9 @@ class ShipTask:
         self.make_dynamics = None if dynamics is None else dynamics_factory(dynamics)
 
         preset = load_ship(ship)
+        #: Whether an episode that brings waves adds ``WAVE_EFFECTS`` to the model (:meth:`model_for`): its
+        #: effects are the preset's defaults, sailed by ship_env's simulator.
+        self.adds_wave_effects = effects is None and dynamics is None
         if effects is None:
             effects = (*preset.enabled, *extra_effects)
         self.model = ShipModel(preset, effects, {**(ship_parameters or {}), "rudder_limit": self.rudder_limit})
@@ -182,6 +190,25 @@ class ShipTask:
         if self.make_dynamics is None:
             return Simulator(self.model, num_ships=num_ships, dt=self.dt)
         return ExternalSimulator(self.model, self.make_dynamics, num_ships=num_ships, dt=self.dt)
+
+    def model_for(self, conditions: Iterable[Conditions]) -> ShipModel:
+        """The model that sails episodes in ``conditions``: the task's, which takes on ``WAVE_EFFECTS`` (for
+        these episodes and every later one, at the cost of the waves' computation each step; compiled
+        then, if not cached) where one brings waves and the model has none of them, with
+        ``adds_wave_effects``."""
+        if (
+            self.adds_wave_effects
+            and not any(self.model.has(effect) for effect in WAVE_EFFECTS)
+            and any(c.wave_height > 0.0 for c in conditions)
+        ):
+            self.model = self.model.with_effects(*WAVE_EFFECTS)
+        return self.model
+
+    @property
+    def sailing_model(self) -> ShipModel | None:
+        """The model whose effects sail the episodes' conditions: the task's, or ``None`` for a ship
+        simulated outside ship_env (its adapter sails them)."""
+        return self.model if self.make_dynamics is None else None
 
     def parameter_record(self, **values: float | bool) -> np.ndarray:
         """The task's constants as its compiled update reads them: one record with ``rudder_limit``

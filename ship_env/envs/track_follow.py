@@ -100,7 +100,10 @@ class TrackFollowEnv(ShipEnv):
     turn within minutes). The track (if ``"random"``) and the simulator's seed (gusts, sensor
     noise) are drawn from the environment's ``np_random``. ``reset(options=...)`` may pin the
     ``track`` or give the ``conditions`` (a :class:`~ship_env.model.Conditions`, reported as
-    disturbance ``"custom"``).
+    disturbance ``"custom"``). Conditions with waves sail them: from the first such episode the model
+    takes on the wave effects (``wave_filter``, ``wave_spectrum``; compiled then, and computed every
+    step after). With ``effects`` given, conditions none of them sails are refused with
+    ``ValueError`` naming the effects to add.
 
     ## Episode End
 

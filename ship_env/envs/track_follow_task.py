@@ -263,7 +263,8 @@ class TrackFollowTask(ShipTask):
         """Draw an episode from ``rng``: the track uniformly over the six if ``"random"``.
 
         ``options`` may pin the ``track`` or give the ``conditions`` (a
-        :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``). Every draw
+        :class:`~ship_env.model.Conditions`, reported as disturbance ``"custom"``; ``ValueError``
+        for weather the model does not sail, :func:`~ship_env.envs.weather.check_sailed`). Every draw
         takes the same numbers from ``rng``, so one seed gives one sequence of episodes; a
         ``"before_turn"`` start takes two more (the leg and the distance).
         """
@@ -274,7 +275,7 @@ class TrackFollowTask(ShipTask):
         if track == RANDOM_TRACK:
             track = TRACK_IDS[int(draw * len(TRACK_IDS))]
         if "conditions" in options:
-            conditions = check_conditions("options['conditions']", options["conditions"])
+            conditions = check_conditions("options['conditions']", options["conditions"], self)
             disturbance = CUSTOM_DISTURBANCE
         else:
             disturbance = self.disturbance

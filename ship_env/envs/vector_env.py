@@ -35,7 +35,11 @@ class ShipVectorEnv(VectorEnv):
     (termination or truncation, see Episode end) returns its last observation; the next ``step``
     restarts that sub-environment, ignores its action and returns the first observation of the new
     episode with reward 0 and the reset's information (with ``scenario``).
-    ``reset(options={"reset_mask": mask})`` restarts only the masked sub-environments.
+    ``reset(options={"reset_mask": mask})`` restarts only the masked sub-environments (with the
+    single environment's options beside it, which act as there: options that bring waves to a model
+    without the wave effects make every ship sail the model with them from then on, each ship's
+    observations and rewards as they were; only the wave filter's states in ``info["state"]`` move,
+    as in an environment made with waves, unseen by a ship in a sea without waves).
 
     Infos are dicts of arrays, each key with its boolean ``_key`` mask (Gymnasium's vector
     layout); ``scenario`` is an object array, set for the sub-environments that started an
@@ -95,6 +99,12 @@ class ShipVectorEnv(VectorEnv):
         self._orders = np.zeros(self.num_envs)
         self._all_envs = np.ones(self.num_envs, dtype=np.bool_)
         self._all_envs.setflags(write=False)  # shared by the ``_key`` masks of every info
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """A copy or a pickle restored: the masks every info shares are read-only again (numpy
+        restores arrays writable)."""
+        self.__dict__.update(state)
+        self._all_envs.setflags(write=False)
 
     def reset(
         self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None

@@ -14,7 +14,7 @@ from typing import Any
 
 from ship_env.envs.checks import check_choice, check_range
 from ship_env.envs.ship_scales import ShipScales
-from ship_env.envs.task import ShipTask
+from ship_env.envs.task import WAVE_EFFECTS, ShipTask
 from ship_env.model import Conditions
 
 #: Disturbance levels; ``"random"`` draws one of them per episode.
@@ -25,14 +25,27 @@ CUSTOM_DISTURBANCE = "custom"
 #: Still water and air, shared by every calm episode (``Conditions`` is frozen).
 CALM = Conditions()
 
-#: Effects added to a preset's defaults when the disturbance level can have waves: the HF yaw the
-#: compass sees (Fig. 2.13) and the sea's yaw moment (2.89-2.91).
-WAVE_EFFECTS = ("wave_filter", "wave_spectrum")
 #: Waves come from within this angle of the wind's direction (assumed: a wind sea).
 WAVE_SPREAD = math.radians(30.0)
 
 #: Uniform numbers :meth:`WeatherRanges.conditions` reads, whatever the level.
 WEATHER_DRAWS = 7
+
+#: The effects that sail each condition a reset option can bring: where the model has none of them (and
+#: does not take them on, as the preset's defaults take on the waves'), the option is refused
+#: (:func:`check_sailed`).
+SAILING_EFFECTS = {
+    "wind_speed": ("wind_moment", "wind_drift"),
+    "current_speed": ("current",),
+    "wave_height": WAVE_EFFECTS,
+}
+#: The conditions an episode at each level can have (``"random"``: any level's).
+LEVEL_CONDITIONS = {
+    "calm": (),
+    "wind_current": ("wind_speed", "current_speed"),
+    "wind_current_waves": ("wind_speed", "current_speed", "wave_height"),
+    RANDOM_DISTURBANCE: ("wind_speed", "current_speed", "wave_height"),
+}
 
 
 def _within(bounds: tuple[float, float], fraction: float) -> float:
@@ -105,12 +118,36 @@ class WeatherRanges:
         return Conditions(**weather)
 
 
-def check_conditions(name: str, conditions: object) -> Conditions:
-    """``conditions`` given in ``reset(options=...)``, checked."""
+def check_sailed(option: str, conditions: Sequence[str], task: ShipTask) -> None:
+    """``ValueError`` where a reset ``option`` brings one of the ``conditions`` (names in
+    ``SAILING_EFFECTS``) that none of the ``task``'s model's effects sails and the model does not take
+    on (the waves' effects, which the preset's defaults take on: ``ShipTask.model_for``), naming the
+    condition, the effects and the constructor argument that sails it (``effects``). A ship simulated
+    outside ship_env (``sailing_model`` None) sails the conditions itself: nothing is checked."""
+    model = task.sailing_model
+    if model is None:
+        return
+    for name in conditions:
+        effects = SAILING_EFFECTS[name]
+        if any(model.has(effect) for effect in effects) or (name == "wave_height" and task.adds_wave_effects):
+            continue
+        raise ValueError(
+            f"{option}: its {name} is sailed by {' or '.join(effects)}, none of them among the effects the "
+            "environment was made with, so it would do nothing; make the environment with effects including them"
+        )
+
+
+def check_conditions(name: str, conditions: object, task: ShipTask) -> Conditions:
+    """``conditions`` given in ``reset(options=...)``, checked: a ``Conditions`` with a positive
+    service speed, whose wind, current and waves the ``task``'s model sails (:func:`check_sailed`)."""
     if not isinstance(conditions, Conditions):
         raise TypeError(f"{name}: expected a Conditions, got {conditions!r}")
     if conditions.service_speed is not None and conditions.service_speed <= 0.0:
         raise ValueError(f"{name}.service_speed: must be positive, got {conditions.service_speed!r}")
+    for condition in SAILING_EFFECTS:
+        value = getattr(conditions, condition)
+        if value > 0.0:
+            check_sailed(f"{name}.{condition} = {value!r}", [condition], task)
     return conditions
 
 
@@ -128,7 +165,9 @@ class WeatherTask(ShipTask):
             and its square root on another.
         **ship_options: the keywords every task shares (:class:`~ship_env.envs.task.ShipTask`);
             ``effects=None`` takes the preset's defaults, plus ``wave_filter`` and
-            ``wave_spectrum`` when ``disturbance`` can bring waves.
+            ``wave_spectrum`` when ``disturbance`` can bring waves, or from the first episode a
+            reset option brings waves to (``ShipTask.model_for``). With ``effects`` given, an option
+            that brings weather none of them sails is refused (:func:`check_sailed`).
     """
 
     def __init__(
@@ -161,12 +200,21 @@ class WeatherTask(ShipTask):
         """An episode's disturbance level and conditions: the level uniform over ``DISTURBANCES``
         (if ``"random"``) from ``level_draw``, the weather from ``WEATHER_DRAWS`` uniforms
         (:meth:`WeatherRanges.conditions`); ``options`` may pin the ``disturbance`` or give the
-        ``conditions`` (reported as ``"custom"``)."""
+        ``conditions`` (reported as ``"custom"``), not both; ``ValueError`` where they bring weather
+        the model does not sail (:func:`check_sailed`)."""
+        if "conditions" in options:
+            if "disturbance" in options:
+                raise ValueError(
+                    "options: 'disturbance' and 'conditions' together; the conditions are sailed as given "
+                    "(reported as 'custom'): give one of them"
+                )
+            conditions = check_conditions("options['conditions']", options["conditions"], self)
+            return CUSTOM_DISTURBANCE, conditions
         disturbance = options.get("disturbance", self.disturbance)
+        if "disturbance" in options:
+            check_choice("options['disturbance']", disturbance, (*DISTURBANCES, RANDOM_DISTURBANCE))
+            option = f"options['disturbance'] = {disturbance!r}"
+            check_sailed(option, LEVEL_CONDITIONS[disturbance], self)
         if disturbance == RANDOM_DISTURBANCE:
             disturbance = DISTURBANCES[int(level_draw * len(DISTURBANCES))]
-        else:
-            check_choice("options['disturbance']", disturbance, DISTURBANCES)
-        if "conditions" in options:
-            return CUSTOM_DISTURBANCE, check_conditions("options['conditions']", options["conditions"])
         return disturbance, self.weather.conditions(disturbance, weather_draws)

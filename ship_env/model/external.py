@@ -221,6 +221,9 @@ class ExternalSimulator(Simulator):
         self._starting[rows] = True
         self._failed[rows] = False
 
+    def _check_propeller_rates(self, name: str, rates: np.ndarray) -> None:
+        """Nothing to refuse: each adapter sails its propeller rate, ahead or astern, as its ship does."""
+
     def step(self, ordered_rudder: float | np.ndarray) -> None:
         """Advance every ship by ``dt``: each adapter's ``step`` (started first if just reset).
 

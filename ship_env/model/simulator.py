@@ -36,10 +36,26 @@ RETIME_CALLS = 1024
 #: turn the choice, a few in a row do.
 TIME_WEIGHT = 0.1
 
-#: The conditions that must not be negative.
-_NOT_NEGATIVE = frozenset(
-    {"service_speed", "propeller_rate", "current_speed", "wind_speed", "wave_height", "yaw_gain_factor"}
-)
+#: The conditions that must not be negative (a negative propeller rate turns astern: :func:`check_propeller_rates`).
+_NOT_NEGATIVE = frozenset({"service_speed", "current_speed", "wind_speed", "wave_height", "yaw_gain_factor"})
+
+
+def _sails_astern(effect: str) -> bool:
+    """Whether an effect sails a propeller astern: its envelope allows it (``propeller_ahead_only=False``)."""
+    return EFFECTS[effect].envelope.propeller_ahead_only is False
+
+
+def check_propeller_rates(name: str, rates: np.ndarray, model: ShipModel) -> None:
+    """``ValueError`` for a propeller turning astern (a negative rate, rps) where none of ``model``'s
+    effects sails it (:func:`_sails_astern`: ``propeller_astern``); without one the model's equations hold
+    for a propeller ahead only (its envelope's ``propeller_ahead_only``)."""
+    if not np.any(rates < 0.0) or any(_sails_astern(effect) for effect in model.effects):
+        return
+    astern = [effect for effect in EFFECTS if _sails_astern(effect)]
+    raise ValueError(
+        f"{name}: {float(np.min(rates))!r} rps turns the propeller astern, which the model sails only with "
+        f"{' or '.join(astern)} (not among its effects); add it to the model's effects or give a rate >= 0"
+    )
 
 
 class Cores:
@@ -103,10 +119,11 @@ class Conditions:
 
     Attributes:
         service_speed: U0, speed through the water on a straight course; ``None`` takes the ship's.
-        propeller_rate: n in rps (used by the propeller-slipstream effect); ``None`` takes the ship's
-            service conditions' (``ShipModel.service_propeller_rate``: 0 where its preset states none),
-            at another speed than the ship's service speed in proportion to it (the same advance ratio
-            J = U / (n D), as a fixed-pitch propeller's rate follows the speed it holds).
+        propeller_rate: n in rps (used by the propeller-slipstream effect), negative astern (sailed only by a
+            model with an astern effect, ``propeller_astern``; the simulator refuses it otherwise); ``None``
+            takes the ship's service conditions' (``ShipModel.service_propeller_rate``: 0 where its preset
+            states none), at another speed than the ship's service speed in proportion to it (the same
+            advance ratio J = U / (n D), as a fixed-pitch propeller's rate follows the speed it holds).
         current_speed, current_direction: the current and the direction it sets *towards*.
         wind_speed, wind_direction: the true wind and the direction it comes *from*.
         wave_height, wave_period, wave_direction: significant height (m), peak period (s) and the
@@ -206,13 +223,30 @@ class Simulator:
         self._orders = np.zeros(self.num_ships)
         self._valid = np.ones(self.num_ships, dtype=np.bool_)
         self._work = new_workspace(model.state_size)
+        #: A fitted preset's covered ranges, checked while any is still to be warned of (``operating_point``).
+        self._coverage = model.fitted_ranges
+        self._link()
+        self.reset()
+
+    def _link(self) -> None:
+        """Make the compiled loop and ship 0's rows (views of the arrays) that ``step`` passes: at
+        construction, and again where a copy or a pickle (which make views independent arrays) is
+        restored."""
         self._step_ships = batch_loop(self.num_ships, step_ships, step_ships_parallel)
         self._state0 = self.state[0]
         self._conditions0 = self.conditions[0]
         self._draws0 = self.draws[0]
-        #: A fitted preset's covered ranges, checked while any is still to be warned of (``operating_point``).
-        self._coverage = model.fitted_ranges
-        self.reset()
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The attributes a copy or a pickle carries: all but those :meth:`_link` makes."""
+        state = self.__dict__.copy()
+        for name in ("_step_ships", "_state0", "_conditions0", "_draws0"):
+            del state[name]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._link()
 
     # -- starting ------------------------------------------------------------------------------
     def reset(
@@ -245,6 +279,7 @@ class Simulator:
         self.conditions[rows] = np.stack(
             [c.row(self.model.service_speed, self.model.service_propeller_rate) for c in per_ship]
         )
+        self._check_propeller_rates("conditions.propeller_rate", self.conditions[rows, S.PROPELLER_RATE])
         if self._coverage is not None:
             self._coverage.check_conditions(self.conditions[rows])
         self.state[rows] = 0.0
@@ -263,6 +298,10 @@ class Simulator:
                 name: np.array([getattr(c, name) for c in per_ship], dtype=float) for name in S.START_CONDITION_NAMES
             }
             self.draws[rows] = self.model.draw(self.noise_keys[rows], self.conditions[rows], start)
+
+    def _check_propeller_rates(self, name: str, rates: np.ndarray) -> None:
+        """Refuse a propeller astern the model does not sail (:func:`check_propeller_rates`)."""
+        check_propeller_rates(name, rates, self.model)
 
     def _rows(self, ships: Sequence[int] | np.ndarray) -> np.ndarray:
         rows = np.asarray(ships)
@@ -319,8 +358,10 @@ class Simulator:
                 raise ValueError(f"conditions: {name!r} is derived from the current and the wind; set those ({known})")
             raise ValueError(f"conditions: unknown condition {name!r}; {known}")
         array = self._per_ship_value(name, value)
-        if name in ("service_speed", "propeller_rate", "current_speed", "wind_speed") and np.any(array < 0.0):
+        if name in ("service_speed", "current_speed", "wind_speed") and np.any(array < 0.0):
             raise ValueError(f"conditions.{name}: must not be negative, got {value!r}")
+        if name == "propeller_rate":
+            self._check_propeller_rates(f"conditions.{name}", array)
         self.conditions[:, S.CONDITION_NAMES.index(name)] = array
         S.derive_conditions(self.conditions)
 

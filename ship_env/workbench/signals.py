@@ -280,7 +280,7 @@ def _log_samples(setup: ReplayModel, log: Log) -> tuple[np.ndarray, dict[str, np
     states[:, S.RUDDER] = rudder
     conditions = np.zeros((log.samples, S.CONDITION_SIZE))
     conditions[:, S.SERVICE_SPEED] = speed
-    conditions[:, S.PROPELLER_RATE] = np.maximum(propeller, 0.0)
+    conditions[:, S.PROPELLER_RATE] = propeller  # signed, as the replay sails it: astern is negative
     wind_speed = np.zeros(log.samples)
     wind_angle = np.zeros(log.samples)
     if log.wind_speed is not None and log.wind_direction is not None:

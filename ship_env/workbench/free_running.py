@@ -292,7 +292,7 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
     current_north, current_east = setup.current
     conditions = Conditions(
         service_speed=at(log.speed, setup.model.service_speed if log.service_speed is None else log.service_speed),
-        propeller_rate=at(log.propeller_rate),
+        propeller_rate=None if log.propeller_rate is None else at(log.propeller_rate),  # None: the ship's own
         wind_speed=max(at(log.wind_speed), 0.0),
         wind_direction=at(log.wind_direction),
         current_speed=math.hypot(current_north, current_east),

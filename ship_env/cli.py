@@ -499,7 +499,7 @@ def run_fit(args: argparse.Namespace) -> int:
         plot_comparison(held_out_comparison(validation, logs), args.plot, "cross-validated fit", options.workers)
         print(f"\nplots written to {args.plot}/")
     if args.json is not None:
-        write_document(fit_document(validation, options.error_scales, runs.checks), args.json)
+        write_document(fit_document(validation, options.error_scales, runs.checks, logs), args.json)
         print(f"fit written to {args.json}")
     _write_preset(args, validation, runs)
     return 0
@@ -582,7 +582,7 @@ def run_improve(args: argparse.Namespace) -> int:
     report = write_report(ladder, logs, args.report, workers=options.workers)
     print(f"\nreport written to {report}")
     if args.json is not None:
-        write_document(ladder_document(ladder, runs.checks), args.json)
+        write_document(ladder_document(ladder, runs.checks, logs), args.json)
         print(f"final model and ladder written to {args.json}")
     _write_preset(args, ladder.final, runs)
     return 0

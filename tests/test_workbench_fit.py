@@ -20,6 +20,7 @@ from ship_env.workbench import (
 from ship_env.workbench.fit import DIFFERENCE_STEP, Problem
 from ship_env.workbench.replay import moved_replays
 from ship_env.workbench.synthetic import (
+    HIDDEN_VALUES,
     LogSettings,
     Manoeuvre,
     SensorNoise,
@@ -62,7 +63,7 @@ def test_free_replay_is_the_simulator_and_the_track_replay_follows_it():
 
 
 def test_fit_finds_the_parameters_of_noise_free_logs():
-    truth = free_running(ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "rudder_offset"])))
+    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "speed_loss", "rudder_offset"], HIDDEN_VALUES))
     logs = sail_all(truth, short_programme(), seed=1, settings=LogSettings(noise=SILENT))
     start = truth.model.with_parameters({"yaw.gain": 1.0, "yaw.time_constant": 1.0, "rudder_offset.angle": 0.0})
     result = fit(start, logs, options=FitOptions(initial_window=0.0))  # the first sample is the exact start
@@ -73,7 +74,7 @@ def test_fit_finds_the_parameters_of_noise_free_logs():
 
 
 def test_fit_with_sensor_noise_reports_its_uncertainty():
-    truth = free_running(ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "propeller_slipstream"])))
+    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "speed_loss", "propeller_slipstream"], HIDDEN_VALUES))
     noise = SensorNoise()
     logs = sail_all(truth, model_test_programme(duration=60.0), seed=2, settings=LogSettings(noise=noise))
     start = truth.model.with_parameters({"yaw.gain": 1.0})

@@ -15,8 +15,8 @@ replay's *inputs* (:data:`INPUTS`). Two kinds of replay:
 
 **Speed is an output, not an input.** A speed channel sets only the run's service speed U0 and its
 initial speed: U0 is the speed the ship keeps on a straight course at the run's propeller setting,
-estimated as the highest speed of the run (the mean over ``INITIAL_WINDOW`` seconds where it is
-highest), since the model's speed u = U0 (1 - u*) (2.53) never exceeds U0 in steady sailing (u* >= 0
+estimated as the highest speed of the run (the mean over the time it takes to sail one ship length,
+where that mean is highest), since the model's speed u = U0 (1 - u*) (2.53) never exceeds U0 in steady sailing (u* >= 0
 with K_u* r*^2 >= 0, 2.55); the initial speed loss is u*(0) = 1 - u(0) / U0 with u(0) the measured
 speed at the first sample (estimated over the initial window, as the other states). From there the
 model's own speed loss (``speed_loss``, 2.55) is integrated and its speed U0 (1 - u*) is the replay's
@@ -183,16 +183,20 @@ def moved_replays(model: ShipModel, key: str, speed_measured: bool = False) -> t
     return moves(("heading", "rate_of_turn", "speed_loss"), ()), moves(("north", "east"), imposed)
 
 
-def service_speed(log: Log, model: ShipModel, window: float = INITIAL_WINDOW) -> float:
+def service_speed(log: Log, model: ShipModel) -> float:
     """The run's service speed U0, m/s: the log's own where it gives one; else, with a speed channel, the
-    highest mean speed over ``window`` seconds (see the module docstring); else the ship's."""
+    highest mean speed over the time the ship takes to sail its length at the run's median speed (see the
+    module docstring: long enough that the sensor's noise hardly lifts the highest mean); else the ship's."""
     if log.service_speed is not None:
         return log.service_speed
     if log.speed is None:
         return model.service_speed
-    interval = float(np.median(np.diff(log.time))) if log.samples > 1 else window
+    speed = np.maximum(log.speed, 0.0)
+    typical = float(np.median(speed))
+    interval = float(np.median(np.diff(log.time))) if log.samples > 1 else 0.0
+    window = model.length / typical if typical > 0.0 else 0.0
     count = int(min(max(round(window / interval), 1), log.samples)) if interval > 0.0 else 1
-    means = np.convolve(np.maximum(log.speed, 0.0), np.full(count, 1.0 / count), mode="valid")
+    means = np.convolve(speed, np.full(count, 1.0 / count), mode="valid")
     highest = float(np.max(means))
     return highest if highest > 0.0 else model.service_speed
 
@@ -246,7 +250,7 @@ def _conditions(log: Log, model: ShipModel, speed: float) -> np.ndarray:
 def pack_runs(logs: Sequence[Log], model: ShipModel, window: float = INITIAL_WINDOW) -> PackedRuns:
     """Concatenate the logs' inputs and outputs; ``model`` supplies the default service speed, its
     state's layout and its effects' own states' initial values at each run's first sample."""
-    speeds = [service_speed(log, model, window) for log in logs]
+    speeds = [service_speed(log, model) for log in logs]
     conditions = [_conditions(log, model, speed) for log, speed in zip(logs, speeds, strict=True)]
     initial_states = np.zeros((len(logs), model.state_size))
     initial_states[:, : S.MOTION_SIZE] = [

@@ -34,10 +34,10 @@ def truth() -> ReplayModel:
 def manoeuvres() -> list[Manoeuvre]:
     """Turns and zig-zags from the approach speed, and one zig-zag accelerating from 0.15 m/s."""
     return [
-        Manoeuvre("turn_35", "turn", math.radians(35.0), 60.0, start_speed=0.35, final_speed=0.35),
-        Manoeuvre("turn_m25", "turn", math.radians(-25.0), 60.0, start_speed=0.3, final_speed=0.3),
-        Manoeuvre("zigzag_20", "zigzag", math.radians(20.0), 60.0, start_speed=0.4, final_speed=0.4),
-        Manoeuvre("zigzag_m15", "zigzag", math.radians(-15.0), 60.0, start_speed=0.15, final_speed=0.35),
+        Manoeuvre("turn_35", "turn", math.radians(35.0), 120.0, start_speed=0.35, final_speed=0.35),
+        Manoeuvre("turn_m25", "turn", math.radians(-25.0), 120.0, start_speed=0.3, final_speed=0.3),
+        Manoeuvre("zigzag_20", "zigzag", math.radians(20.0), 120.0, start_speed=0.4, final_speed=0.4),
+        Manoeuvre("zigzag_m15", "zigzag", math.radians(-15.0), 120.0, start_speed=0.15, final_speed=0.35),
     ]
 
 

@@ -22,8 +22,9 @@ speed at the first sample (estimated over the initial window, as the other state
 model's own speed loss (``speed_loss``, 2.55) is integrated and its speed U0 (1 - u*) is the replay's
 ``SPEED`` column: a run that starts slower than U0 (a model test from rest) accelerates towards it by
 the same first-order surge equation. A log that gives its service speed (``Log.service_speed``) has
-that U0. Without a speed channel the log's or the ship's service speed is U0 and u*(0) = 0; the
-speed loss then shows only through the heading and the track, which do not identify it.
+that U0; a stretch cut from a run (``envelope.segments_inside``) keeps its whole run's. Without a speed
+channel the log's or the ship's service speed is U0 and u*(0) = 0; the speed loss then shows only
+through the heading and the track, which do not identify it.
 
 Many replays run in one compiled call over all cores: a *task* is one run replayed with one
 parameter record, so a fit evaluates every finite-difference perturbation of every run at once.
@@ -184,21 +185,27 @@ def moved_replays(model: ShipModel, key: str, speed_measured: bool = False) -> t
 
 
 def service_speed(log: Log, model: ShipModel) -> float:
-    """The run's service speed U0, m/s: the log's own where it gives one; else, with a speed channel, the
-    highest mean speed over the time the ship takes to sail its length at the run's median speed (see the
-    module docstring: long enough that the sensor's noise hardly lifts the highest mean); else the ship's."""
+    """The run's service speed U0, m/s: the log's own where it gives one; else, with a speed channel, its
+    :func:`highest_speed`; else the ship's."""
     if log.service_speed is not None:
         return log.service_speed
+    highest = highest_speed(log, model.length)
+    return model.service_speed if highest is None else highest
+
+
+def highest_speed(log: Log, length: float) -> float | None:
+    """The highest mean speed of a run over the time a ship of ``length`` (m) takes to sail its length at the
+    run's median speed (long enough that the sensor's noise hardly lifts the highest mean), m/s; None without
+    a speed channel or where the ship never moves ahead."""
     if log.speed is None:
-        return model.service_speed
+        return None
     speed = np.maximum(log.speed, 0.0)
     typical = float(np.median(speed))
     interval = float(np.median(np.diff(log.time))) if log.samples > 1 else 0.0
-    window = model.length / typical if typical > 0.0 else 0.0
+    window = length / typical if typical > 0.0 else 0.0
     count = int(min(max(round(window / interval), 1), log.samples)) if interval > 0.0 else 1
-    means = np.convolve(speed, np.full(count, 1.0 / count), mode="valid")
-    highest = float(np.max(means))
-    return highest if highest > 0.0 else model.service_speed
+    highest = float(np.max(np.convolve(speed, np.full(count, 1.0 / count), mode="valid")))
+    return highest if highest > 0.0 else None
 
 
 def initial_state(log: Log, window: float = INITIAL_WINDOW, speed: float | None = None) -> np.ndarray:

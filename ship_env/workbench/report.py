@@ -104,8 +104,11 @@ def write_report(
         "",
         f"Inputs taken from the logs: {'; '.join(replay_inputs(logs))}.",
         "",
-        *(f"Not identified: {words}." for words in not_identified(last.validation.fit.setup.model, logs)),
-        "",
+        *(
+            line
+            for words in not_identified(last.validation.fit.setup.model, logs)
+            for line in (f"Not identified: {words}.", "")
+        ),
         "## Runs",
         "",
         log_table(logs).markdown(),

@@ -105,7 +105,7 @@ from ship_env.workbench.tables import (
     ladder_table,
     validation_coverage_text,
 )
-from ship_env.workbench.terms import default_terms
+from ship_env.workbench.terms import default_terms, not_identified, with_speed_output
 from ship_env.workbench.validation import CrossValidation
 
 #: The named effect sets of ``--effects``; anything else is a comma-separated list of effects.
@@ -365,6 +365,7 @@ def _workbench_options(args: argparse.Namespace, setup: ReplayModel, logs: Seque
         "heading": None if args.heading_scale is None else math.radians(args.heading_scale),
         "rate_of_turn": None if args.rate_scale is None else math.radians(args.rate_scale),
         "position": args.position_scale,
+        "speed_error": args.speed_scale,
     }
     scales = replace(scales, **{name: value for name, value in given.items() if value is not None})
     return FitOptions(scales=scales, nuisance=nuisance, initial_window=args.window, workers=getattr(args, "workers", 1))
@@ -405,11 +406,10 @@ def _print_inside_outside(
         print(error_table(errors, scales, pooled(errors)).text())
 
 
-def _terms(args: argparse.Namespace, setup: ReplayModel) -> list[str]:
-    """The model's default terms, plus ``--free``, less ``--fix``."""
-    keys = default_terms(setup.model.effects) + [
-        key for key in args.free if key not in default_terms(setup.model.effects)
-    ]
+def _terms(args: argparse.Namespace, setup: ReplayModel, logs: Sequence[Log]) -> list[str]:
+    """The model's default terms for the logs, plus ``--free``, less ``--fix``."""
+    defaults = default_terms(setup.model.effects, logs)
+    keys = defaults + [key for key in args.free if key not in defaults]
     unknown = [key for key in args.fix if key not in keys]
     if unknown:
         raise UsageError("--fix", f"{', '.join(unknown)} not among the fitted terms {', '.join(keys)}")
@@ -455,13 +455,21 @@ def _print_validation_runs(validation: CrossValidation, runs: WorkbenchRuns, sca
         print(validation_coverage_text(validation, scales))
 
 
-def _workbench_start(args: argparse.Namespace) -> tuple[ReplayModel, FitOptions, WorkbenchRuns]:
-    """A workbench command's model, runs and options (the error scales printed), its outputs claimed first."""
+def _workbench_start(args: argparse.Namespace, fitting: bool = True) -> tuple[ReplayModel, FitOptions, WorkbenchRuns]:
+    """A workbench command's model, runs and options (the error scales printed), its outputs claimed first.
+
+    A command that fits (``fitting``) sails the model with the speed loss on where a log measures the
+    speed (:func:`~.terms.with_speed_output`), and says what the logs leave it unable to know.
+    """
     setup = _workbench_setup(args)
     _claim_outputs(args)
     runs = _workbench_runs(args, setup)
     options = _workbench_options(args, setup, runs.logs)
     print(f"error scales: {options.error_scales.describe()}")
+    if fitting:
+        setup = with_speed_output(setup, runs.logs)
+        for words in not_identified(setup.model, runs.logs):
+            print(f"not identified: {words}")
     return setup, options, runs
 
 
@@ -478,7 +486,7 @@ def run_fit(args: argparse.Namespace) -> int:
     """``ship-env fit``: fit the model to the logs, validate it leaving one run out."""
     setup, options, runs = _workbench_start(args)
     logs = runs.logs
-    keys = _terms(args, setup)
+    keys = _terms(args, setup, logs)
     print(_model_line(setup, logs) + f"; fitted terms: {', '.join(keys)}")
     validation = cross_validate(setup, logs, keys, options, groups=runs.groups, validate_on=runs.validation)
     _print_validation(validation, options.error_scales)
@@ -492,7 +500,7 @@ def run_fit(args: argparse.Namespace) -> int:
         plot_comparison(held_out_comparison(validation, logs), args.plot, "cross-validated fit", options.workers)
         print(f"\nplots written to {args.plot}/")
     if args.json is not None:
-        write_document(fit_document(validation, options.error_scales, runs.checks), args.json)
+        write_document(fit_document(validation, options.error_scales, runs.checks, logs), args.json)
         print(f"fit written to {args.json}")
     _write_preset(args, validation, runs)
     return 0
@@ -500,7 +508,7 @@ def run_fit(args: argparse.Namespace) -> int:
 
 def run_compare(args: argparse.Namespace) -> int:
     """``ship-env compare``: replay the logs with a model as it is (no fitting)."""
-    setup, options, runs = _workbench_start(args)
+    setup, options, runs = _workbench_start(args, fitting=False)
     logs = [*runs.logs, *runs.validation]
     print(_model_line(setup, logs))
     comparison = compare(setup, logs, options.initial_window)
@@ -524,7 +532,7 @@ def run_diagnose(args: argparse.Namespace) -> int:
     logs = runs.logs
     print(_model_line(setup, logs))
     validation = cross_validate(
-        setup, logs, _terms(args, setup), options, groups=runs.groups, validate_on=runs.validation
+        setup, logs, _terms(args, setup, logs), options, groups=runs.groups, validate_on=runs.validation
     )
     _print_validation(validation, options.error_scales)
     _print_validation_runs(validation, runs, options.error_scales)
@@ -575,7 +583,7 @@ def run_improve(args: argparse.Namespace) -> int:
     report = write_report(ladder, logs, args.report, workers=options.workers)
     print(f"\nreport written to {report}")
     if args.json is not None:
-        write_document(ladder_document(ladder, runs.checks), args.json)
+        write_document(ladder_document(ladder, runs.checks, logs), args.json)
         print(f"final model and ladder written to {args.json}")
     _write_preset(args, ladder.final, runs)
     return 0
@@ -721,6 +729,14 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
         default=None,
         metavar="M",
         help="track error worth one score unit (default: L / 30, a thirtieth of the ship's length)",
+    )
+    parser.add_argument(
+        "--speed-scale",
+        type=_positive_number,
+        default=None,
+        metavar="M/S",
+        help="speed error worth one score unit (default: 1.7 %% of the mean speed, the heading's 1 deg across the "
+        "velocity)",
     )
 
 

@@ -40,8 +40,10 @@ def test_the_scale_free_scales_are_one_degree_one_degree_per_ship_length_and_a_t
     assert tanker.rate_of_turn == pytest.approx(math.radians(1.0) * 8.0 / 320.0)
     assert tanker.position == pytest.approx(320.0 / 30.0)
     assert tanker.describe() == (
-        "heading 1 deg, rate of turn 0.025 deg/s (1 deg per ship length at 8 m/s), track 10.7 m (L/30, L = 320 m)"
+        "heading 1 deg, rate of turn 0.025 deg/s (1 deg per ship length at 8 m/s), speed 0.14 m/s (1.7 % of 8 m/s), "
+        "track 10.7 m (L/30, L = 320 m)"
     )
+    assert tanker.speed_error == pytest.approx(math.radians(1.0) * 8.0)
     # A channel set absolutely is said without its derivation.
     assert replace(tanker, position=0.1).describe().endswith("track 0.1 m")
     with pytest.raises(ValueError, match="mean speed"):
@@ -90,7 +92,8 @@ def sea_trial_logs() -> list:
         )
         for angle in (10, -10, 20, -20)
     ]
-    return sail_all(truth, zigzags, seed=3, settings=LogSettings(dt=1.0, noise=SEA_TRIAL))
+    # No speed channel: the claim is about the heading and the track's scales (a speed channel would add its own).
+    return sail_all(truth, zigzags, seed=3, settings=LogSettings(dt=1.0, noise=SEA_TRIAL, measure_speed=False))
 
 
 def test_on_a_full_scale_ship_the_ladder_moves_the_heading_only_with_the_scale_free_scales():
@@ -166,7 +169,7 @@ def test_improve_json_holds_the_final_model_the_ladder_and_the_hull_and_compare_
     ladder_file, folder_with_a_run_outside, capsys
 ):
     document = json.loads(ladder_file.read_text())
-    assert set(document["effects"]) == {"yaw", "kinematics", "rudder_offset"}
+    assert set(document["effects"]) == {"yaw", "speed_loss", "kinematics", "rudder_offset"}
     assert [rung["added"] for rung in document["ladder"]] == [[], ["rudder_offset"]]
     assert document["ladder"][1]["held_out"]["score"] < document["ladder"][0]["held_out"]["score"]
     assert document["stopped"]

@@ -37,17 +37,20 @@ def test_fit_prints_terms_and_errors_and_writes_json_and_plots(log_folder, tmp_p
     assert status == 0
     out = capsys.readouterr().out
     for text in (
-        "effects: yaw, kinematics",
+        "effects: yaw, speed_loss, kinematics",  # the logs measure the speed: the model predicts it
         "yaw.gain",
         "std. error (jackknife)",
         "in-sample RMS errors",
         "held-out RMS errors",
         "heading [deg]",
+        "speed [m/s]",
         "track [m]",
     ):
         assert text in out, text
     document = json.loads(fit_file.read_text())
-    assert document["effects"] == ["yaw", "kinematics"] and set(document["values"]) == {"yaw.gain", "yaw.time_constant"}
+    assert document["effects"] == ["yaw", "speed_loss", "kinematics"]
+    assert set(document["values"]) == {"yaw.gain", "yaw.time_constant", "speed_loss.gain", "speed_loss.time_constant"}
+    assert document["not_identified"] == [] and "speed" in document["error_scales"]
     assert len(list((tmp_path / "plots").glob("*.png"))) == 3
     base = held_out_score(out)
     assert (
@@ -90,7 +93,7 @@ def test_compare_replays_a_fitted_model(log_folder, tmp_path, capsys):
         == 0
     )
     out = capsys.readouterr().out
-    assert "effects: yaw, rudder_offset, kinematics" in out and "pooled" in out
+    assert "effects: yaw, speed_loss, rudder_offset, kinematics" in out and "pooled" in out
     pooled = next(line for line in out.splitlines() if line.startswith("pooled")).split()
     assert float(pooled[1]) < 1.0  # deg: the fitted offset model replays the runs closely
 
@@ -102,7 +105,7 @@ def test_diagnose_names_the_missing_effect_and_draws_the_signals(log_folder, tmp
     table = out.split("missing effects, best first")[1]
     first = next(line for line in table.splitlines() if line.startswith("1 "))
     assert "rudder_offset" in first and "rudder offset (neutral rudder angle" in first
-    assert "speed_loss" in table and "every log measures the speed" in table
+    assert "effects: yaw, speed_loss, kinematics" in table  # the logs measure the speed: the speed loss is fitted
     assert "the missing yaw acceleration against " in out and str(plot) in out
     assert plot.read_bytes().startswith(b"\x89PNG")
     # A file that exists is the user's: refused before any work, left as it was.
@@ -189,7 +192,7 @@ def test_json_onto_an_existing_file_fails_without_force(log_folder, tmp_path, ca
     assert "--json" in error and "exists" in error and "--force" in error
     assert users_file.read_text() == "the user's notes\n"
     assert main(["fit", str(log_folder), "--ship", SHIP, "--json", str(users_file), "--force"]) == 0
-    assert json.loads(users_file.read_text())["effects"] == ["yaw", "kinematics"]
+    assert json.loads(users_file.read_text())["effects"] == ["yaw", "speed_loss", "kinematics"]
 
 
 @pytest.mark.parametrize("command", ["compare", "improve"])

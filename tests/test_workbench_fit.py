@@ -20,9 +20,11 @@ from ship_env.workbench import (
 from ship_env.workbench.fit import DIFFERENCE_STEP, Problem
 from ship_env.workbench.replay import moved_replays
 from ship_env.workbench.synthetic import (
+    HIDDEN_VALUES,
     LogSettings,
     Manoeuvre,
     SensorNoise,
+    free_running,
     model_test_programme,
     noise_scales,
     sail_all,
@@ -49,18 +51,19 @@ def short_programme() -> list[Manoeuvre]:
 
 
 def test_free_replay_is_the_simulator_and_the_track_replay_follows_it():
-    truth = ReplayModel(ShipModel(SHIP, EVERY_EFFECT), 0.02, -0.03)
+    truth = free_running(ReplayModel(ShipModel(SHIP, EVERY_EFFECT), 0.02, -0.03))
     logs = sail_all(truth, short_programme(), seed=3, settings=LogSettings(noise=SILENT, rudder_kind="ordered"))
     for log, replayed in zip(logs, simulate(truth, logs, window=0.0), strict=True):
         assert replayed.valid
         np.testing.assert_allclose(replayed.heading, log.heading, rtol=0.0, atol=1e-9)
         np.testing.assert_allclose(replayed.north, log.north, rtol=0.0, atol=1e-9)
+        np.testing.assert_allclose(replayed.speed, log.speed, rtol=0.0, atol=1e-9)  # the model's own speed
         # Heun's method on the imposed measured heading: second order in the 0.2 s step.
         assert np.max(np.hypot(replayed.track_north - log.north, replayed.track_east - log.east)) < 2e-3
 
 
 def test_fit_finds_the_parameters_of_noise_free_logs():
-    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "rudder_offset"]))
+    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "speed_loss", "rudder_offset"], HIDDEN_VALUES))
     logs = sail_all(truth, short_programme(), seed=1, settings=LogSettings(noise=SILENT))
     start = truth.model.with_parameters({"yaw.gain": 1.0, "yaw.time_constant": 1.0, "rudder_offset.angle": 0.0})
     result = fit(start, logs, options=FitOptions(initial_window=0.0))  # the first sample is the exact start
@@ -71,7 +74,7 @@ def test_fit_finds_the_parameters_of_noise_free_logs():
 
 
 def test_fit_with_sensor_noise_reports_its_uncertainty():
-    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "propeller_slipstream"]))
+    truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "speed_loss", "propeller_slipstream"], HIDDEN_VALUES))
     noise = SensorNoise()
     logs = sail_all(truth, model_test_programme(duration=60.0), seed=2, settings=LogSettings(noise=noise))
     start = truth.model.with_parameters({"yaw.gain": 1.0})

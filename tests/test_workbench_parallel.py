@@ -17,8 +17,9 @@ SHIP = "esso_osaka_model"
 
 
 def logs_with_a_rudder_offset():
+    # Two of the three runs accelerate, so that each fold sees the surge time constant tau_u*.
     truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "rudder_offset"]))
-    return sail_all(truth, model_test_programme(duration=40.0)[::2], seed=5, settings=LogSettings())
+    return sail_all(truth, model_test_programme(duration=40.0)[1::2], seed=5, settings=LogSettings())
 
 
 def assert_same(one: CrossValidation, other: CrossValidation) -> None:

@@ -195,7 +195,7 @@ def test_fit_writes_a_preset_that_compare_sails_and_never_overwrites_without_for
     assert document["effects"]["rudder_offset"]["enabled"] is True
     capsys.readouterr()
     assert main(["compare", str(folder), "--ship", str(preset), "--model", "default"]) == 0
-    assert "yaw, rudder_offset, kinematics" in capsys.readouterr().out
+    assert "yaw, speed_loss, rudder_offset, kinematics" in capsys.readouterr().out
     written = preset.read_text()
     assert main(fit) == 1
     output = capsys.readouterr()

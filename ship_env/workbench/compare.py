@@ -1,7 +1,7 @@
 """Compare a model with measurements: RMS errors per run and pooled, and drawings of each run.
 
 Each run is replayed from its measured initial state (no per-run fitting). The drawing of a run
-(:func:`plot_run`) shows the measured and simulated heading, rate of turn and rudder against time,
+(:func:`plot_run`) shows the measured and simulated heading, rate of turn, speed and rudder against time,
 the tracks (measured, simulated freely, and replayed with the measured heading) and the residuals;
 after a cross-validation, shaded around the simulated heading, rate of turn and track, the
 jackknife band of the fold models' replays (:mod:`.bands`): how sure the model is where it predicts.
@@ -27,7 +27,17 @@ from ship_env.workbench.errors import RunErrors, pooled, run_errors
 from ship_env.workbench.logs import Log
 from ship_env.workbench.outputs import save_drawing
 from ship_env.workbench.parallel import run_each
-from ship_env.workbench.replay import EAST, HEADING, INITIAL_WINDOW, NORTH, RATE, ReplayModel, Simulated, simulate
+from ship_env.workbench.replay import (
+    EAST,
+    HEADING,
+    INITIAL_WINDOW,
+    NORTH,
+    RATE,
+    SPEED,
+    ReplayModel,
+    Simulated,
+    simulate,
+)
 from ship_env.workbench.runs import screen_runs
 from ship_env.workbench.validation import CrossValidation
 
@@ -114,9 +124,9 @@ def plot_run(
     log: Log, simulated: Simulated, errors: RunErrors, title: str, path: Path, band: Band | None = None
 ) -> Path:
     """Draw one run, measured against simulated (with its jackknife ``band`` where given), into a PNG file."""
-    drawing = Drawing(figsize=(13, 8.5))
+    drawing = Drawing(figsize=(13, 10.5))
     FigureCanvasAgg(drawing)
-    grid = drawing.add_gridspec(3, 2, width_ratios=(1.6, 1.0))
+    grid = drawing.add_gridspec(4, 2, width_ratios=(1.6, 1.0))
     time = log.time - log.time[0]
     band = band if band is not None and band.replays > 1 else None  # one replay has no spread to show
     heading_axes = drawing.add_subplot(grid[0, 0])
@@ -137,7 +147,14 @@ def plot_run(
     rudder_axes = rate_axes.twinx()
     rudder_axes.plot(time, np.degrees(log.rudder), color="tab:green", linewidth=0.6, alpha=0.7)
     rudder_axes.set_ylabel(f"{log.rudder_kind} rudder [deg]", color="tab:green")
-    residual_axes = drawing.add_subplot(grid[2, 0], sharex=heading_axes)
+    speed_axes = drawing.add_subplot(grid[2, 0], sharex=heading_axes)
+    if band is not None:
+        speed_axes.fill_between(time, band.low(SPEED), band.high(SPEED), **BAND_STYLE)
+    if log.speed is not None:
+        speed_axes.plot(time, log.speed, **MEASURED_STYLE)
+    speed_axes.plot(time, simulated.speed, **SIMULATED_STYLE)
+    speed_axes.set_ylabel("speed u [m/s]" if log.speed is not None else "speed u [m/s] (not measured)")
+    residual_axes = drawing.add_subplot(grid[3, 0], sharex=heading_axes)
     residual_axes.plot(
         time, np.degrees(simulated.heading - log.heading), color="tab:red", linewidth=0.8, label="heading [deg]"
     )
@@ -170,7 +187,7 @@ def plot_run(
     shown = errors.in_display_units()
     drawing.suptitle(
         f"{title}\n{log.name}: RMS heading {shown['heading']:.2f} deg, rate {shown['rate_of_turn']:.3f} deg/s, "
-        f"position {shown['position']:.2f} m, track {shown['track']:.2f} m",
+        f"speed {shown['speed']:.3g} m/s, position {shown['position']:.2f} m, track {shown['track']:.2f} m",
         fontsize=10,
     )
     return save_drawing(drawing, path, dpi=90)

@@ -62,8 +62,6 @@ SENSORS: dict[str, Sensors] = {
 NOT_IN_CSV: dict[str, str] = {
     "steering_machine": "its logs record the ordered rudder (the actual one would show the steering machine), "
     "which the standard format reads as the actual rudder",
-    "speed_loss": "its logs leave out the speed (a measured one would show the speed loss), and the standard "
-    "format cannot state each run's own speed",
 }
 #: The effects ``--hidden`` takes.
 DEMO_EFFECTS = tuple(effect for effect in HIDDEN_EFFECTS if effect not in NOT_IN_CSV)
@@ -163,6 +161,8 @@ def readme_text(folder: Path, document: dict) -> str:
         + (f" plus the hidden effects {', '.join(hidden)}:" if hidden else " alone: nothing is hidden."),
         *(f"  {key} = {_with_unit(value, document['units'][key])}" for key, value in document["values"].items()),
         f"The same in {TRUTH_FILE}, keyed as 'ship-env fit --json' writes its values (SI units).",
+        "Each run accelerates from its start speed to its service speed by the speed-loss equation (tau_u* = 1, "
+        "no loss in a turn: K_u* = 0); the logs measure the speed, so a fit predicts it and fits the speed loss.",
         "",
         "Try:",
         f"  ship-env fit {zigzag}{options} --validate-on {turning}",

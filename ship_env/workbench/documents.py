@@ -2,8 +2,10 @@
 fitted model read back (``--parameters``) onto the hull it was fitted on.
 
 A fit's document holds the ship's hull, the effects, the fitted values with their standard errors
-and units, the error scales, each run's envelope check and the in-sample, held-out and validation
-errors (deg, deg/s, m). A ladder's document is its final model's fit document plus ``ladder`` (per
+and units, what the fit took from the logs as inputs (``inputs``) and what they left it unable to
+know (``not_identified``, :mod:`.terms`), the error scales, each run's envelope check and the
+in-sample, held-out and validation errors (deg, deg/s, m/s, m). A ladder's document is its final
+model's fit document plus ``ladder`` (per
 rung: the effects added, the effects, the held-out and validation errors) and ``stopped`` (why the
 climb stopped); both are read back by :func:`read_fitted_model`.
 
@@ -20,7 +22,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -30,8 +32,9 @@ from ship_env.paths import config_dir
 from ship_env.workbench.envelope import EnvelopeCheck
 from ship_env.workbench.errors import CHANNEL_UNITS, ErrorScales, RunErrors
 from ship_env.workbench.improve import Ladder
+from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.terms import with_values
+from ship_env.workbench.terms import not_identified, replay_inputs, with_values
 from ship_env.workbench.validation import CrossValidation
 
 
@@ -69,9 +72,12 @@ def _errors(errors: RunErrors, scales: ErrorScales) -> dict[str, Any]:
 
 
 def fit_document(
-    validation: CrossValidation, scales: ErrorScales, checks: Mapping[str, EnvelopeCheck] | None = None
+    validation: CrossValidation,
+    scales: ErrorScales,
+    checks: Mapping[str, EnvelopeCheck] | None = None,
+    logs: Sequence[Log] = (),
 ) -> dict[str, Any]:
-    """A cross-validated fit as a JSON document (see the module docstring)."""
+    """A cross-validated fit to ``logs`` as a JSON document (see the module docstring)."""
     fitted = validation.fit
     model = fitted.setup.model
     document: dict[str, Any] = {
@@ -82,10 +88,13 @@ def fit_document(
         # An infinite standard error (a term the data do not determine) is null: JSON has no infinity.
         "std_errors": {e.term.key: e.std_error if math.isfinite(e.std_error) else None for e in fitted.estimates},
         "units": {e.term.key: e.term.unit for e in fitted.estimates},
+        "inputs": replay_inputs(logs),
+        "not_identified": not_identified(model, logs),
         "error_units": dict(CHANNEL_UNITS),
         "error_scales": {
             "heading": math.degrees(scales.heading),
             "rate_of_turn": math.degrees(scales.rate_of_turn),
+            "speed": scales.speed_error,
             "track": scales.position,
             "in_words": scales.describe(),
         },
@@ -104,8 +113,11 @@ def fit_document(
     return document
 
 
-def ladder_document(ladder: Ladder, checks: Mapping[str, EnvelopeCheck] | None = None) -> dict[str, Any]:
-    """An error ladder as a JSON document: its final model's fit document, each rung and why it stopped."""
+def ladder_document(
+    ladder: Ladder, checks: Mapping[str, EnvelopeCheck] | None = None, logs: Sequence[Log] = ()
+) -> dict[str, Any]:
+    """An error ladder on ``logs`` as a JSON document: its final model's fit document, each rung and why it
+    stopped."""
     scales = ladder.scales
     rungs = []
     for rung in ladder.rungs:
@@ -117,7 +129,7 @@ def ladder_document(ladder: Ladder, checks: Mapping[str, EnvelopeCheck] | None =
         if rung.validation.pooled_validation is not None:
             entry["validation"] = _errors(rung.validation.pooled_validation, scales)
         rungs.append(entry)
-    return {**fit_document(ladder.final, scales, checks), "ladder": rungs, "stopped": ladder.stopped}
+    return {**fit_document(ladder.final, scales, checks, logs), "ladder": rungs, "stopped": ladder.stopped}
 
 
 def write_document(document: Mapping[str, Any], path: Path) -> Path:

@@ -26,6 +26,7 @@ from scipy.ndimage import uniform_filter1d
 from ship_env.model.declarations import Envelope
 from ship_env.model.effects.wave_spectrum import GRAVITY
 from ship_env.workbench.logs import MIN_SAMPLES, Log
+from ship_env.workbench.replay import highest_speed
 
 #: Seconds over which the track is smoothed before the course over ground is taken from it.
 COURSE_WINDOW = 1.0
@@ -127,12 +128,18 @@ def check_envelope(log: Log, envelope: Envelope, length: float) -> EnvelopeCheck
     return EnvelopeCheck(log.name, envelope, outside)
 
 
-def segments_inside(log: Log, check: EnvelopeCheck, min_duration: float = MIN_SEGMENT) -> list[Log]:
+def segments_inside(
+    log: Log, check: EnvelopeCheck, min_duration: float = MIN_SEGMENT, length: float | None = None
+) -> list[Log]:
     """The stretches of ``log`` inside the envelope, each at least ``min_duration`` long, as logs of their own.
 
     Each segment is cut cleanly at the first and last sample inside and named after its run and
-    times (``run@12.3-45.6s``); a replay restarts it from its own measured state.
+    times (``run@12.3-45.6s``); a replay restarts it from its own measured state. With the ship's
+    ``length`` (m), a run with a speed channel gives its segments its own service speed
+    (:func:`~.replay.highest_speed`), which a stretch inside a turn does not show.
     """
+    whole_run = highest_speed(log, length) if length is not None and log.service_speed is None else None
+    service_speed = log.service_speed if whole_run is None else whole_run
     inside = ~check.outside
     edges = np.flatnonzero(np.diff(np.concatenate([[0], inside.astype(np.int8), [0]])))
     segments = []
@@ -146,6 +153,7 @@ def segments_inside(log: Log, check: EnvelopeCheck, min_duration: float = MIN_SE
                 log,
                 name=f"{log.name}@{start:.1f}-{end:.1f}s",
                 notes=log.notes + (f"segment inside the envelope, t = {start:.1f}..{end:.1f} s",),
+                service_speed=service_speed,
                 **kept,
             )
         )
@@ -158,7 +166,7 @@ def inside_logs(
     """Every run's segments inside the envelope, and for each segment the run it comes from (its group)."""
     segments, groups = [], []
     for log in logs:
-        for segment in segments_inside(log, check_envelope(log, envelope, length), min_duration):
+        for segment in segments_inside(log, check_envelope(log, envelope, length), min_duration, length):
             segments.append(segment)
             groups.append(log.name)
     return segments, groups

@@ -2,14 +2,16 @@
 
 Channels (each an RMS over the run's samples):
 
-- heading, rad, and rate of turn, rad/s, of the free simulation;
+- heading, rad, rate of turn, rad/s, and speed through the water, m/s, of the free simulation (the
+  speed where the log has a speed channel: the model's own, ``replay.SPEED``, never the measured one);
 - position, m: distance between the measured and the freely simulated track;
 - track, m: distance between the measured track and the track replayed with the measured
   heading (see :mod:`ship_env.workbench.replay`): the error of the track effects alone.
 
 The **score** puts them on one scale: ``sqrt(mean_c (RMS_c / scale_c)^2)`` over heading, rate of
-turn and track, where the scales are the errors one accepts. The free position is reported but left
-out of the score: it integrates the heading error, which the heading channel already counts.
+turn, speed and track (those measured), where the scales are the errors one accepts. The free
+position is reported but left out of the score: it integrates the heading error, which the heading
+channel already counts.
 
 A replay that leaves the model's validity (a state not finite, the ship going astern) is
 *diverged*: from the sample where it left, its outputs hold the last valid state
@@ -24,11 +26,13 @@ water over the runs' samples (:func:`mean_speed`),
 
 - heading: 1 deg (an angle is already free of the ship's size);
 - rate of turn: 1 deg per ship length sailed, (1 deg) x U / L;
+- speed: (1 deg) x U, the error of the velocity's length that equals, across it, the heading's 1 deg
+  (1.7 % of the speed);
 - track: L / 30.
 
-On the 3 m Esso Osaka model at 0.27 m/s these are 1 deg, 0.091 deg/s and 0.100 m; on a 320 m tanker
-at 7.7 m/s, 1 deg, 0.024 deg/s and 10.7 m. Absolute scales (``ErrorScales(heading, rate, position)``)
-may be given instead, channel by channel.
+On the 3 m Esso Osaka model at 0.27 m/s these are 1 deg, 0.091 deg/s, 0.0047 m/s and 0.100 m; on a 320 m
+tanker at 7.7 m/s, 1 deg, 0.024 deg/s, 0.13 m/s and 10.7 m. Absolute scales (``ErrorScales(heading, rate,
+position, speed_error)``) may be given instead, channel by channel.
 """
 
 from __future__ import annotations
@@ -44,11 +48,13 @@ from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import Simulated
 
 #: The channels of an error report, with their display units.
-CHANNEL_UNITS = {"heading": "deg", "rate_of_turn": "deg/s", "position": "m", "track": "m"}
+CHANNEL_UNITS = {"heading": "deg", "rate_of_turn": "deg/s", "speed": "m/s", "position": "m", "track": "m"}
 #: Scale-free error scales: the heading error, rad, and the heading change per ship length sailed, rad,
 #: worth one unit; and the track error worth one unit as a fraction of the ship's length.
 SCALE_FREE_HEADING = math.radians(1.0)
 SCALE_FREE_TURN_PER_LENGTH = math.radians(1.0)
+#: The speed error worth one unit as a fraction of the speed: the heading's 1 deg, in radians.
+SCALE_FREE_SPEED_FRACTION = math.radians(1.0)
 SCALE_FREE_TRACK_LENGTHS = 1.0 / 30.0
 
 
@@ -60,6 +66,7 @@ class ErrorScales:
         heading: rad.
         rate_of_turn: rad/s.
         position: m, of the distance between measured and simulated track.
+        speed_error: m/s, of the speed through the water.
         length, speed: the ship's length, m, and speed, m/s, that scale-free scales were derived from
             (:meth:`for_ship`; None for absolute scales): they only explain the scales in words.
     """
@@ -67,11 +74,12 @@ class ErrorScales:
     heading: float = math.radians(1.0)
     rate_of_turn: float = math.radians(0.1)
     position: float = 0.1
+    speed_error: float = 0.005
     length: float | None = None
     speed: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("heading", "rate_of_turn", "position"):
+        for name in ("heading", "rate_of_turn", "position", "speed_error"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0.0):
                 raise ValueError(f"error scale {name!r} must be positive, got {value!r}")
@@ -79,7 +87,7 @@ class ErrorScales:
     @classmethod
     def for_ship(cls, length: float, speed: float) -> ErrorScales:
         """Scale-free scales for a ship of ``length`` (m) at ``speed`` (m/s): heading 1 deg, rate of turn
-        (1 deg) x U / L (1 deg per ship length sailed), track L / 30."""
+        (1 deg) x U / L (1 deg per ship length sailed), speed (1 deg) x U, track L / 30."""
         if not (math.isfinite(length) and length > 0.0):
             raise ValueError(f"error scales: the ship's length must be positive, got {length!r} m")
         if not (math.isfinite(speed) and speed > 0.0):
@@ -88,6 +96,7 @@ class ErrorScales:
             heading=SCALE_FREE_HEADING,
             rate_of_turn=SCALE_FREE_TURN_PER_LENGTH * speed / length,
             position=SCALE_FREE_TRACK_LENGTHS * length,
+            speed_error=SCALE_FREE_SPEED_FRACTION * speed,
             length=length,
             speed=speed,
         )
@@ -101,13 +110,16 @@ class ErrorScales:
         """The scales in words, saying which are scale-free and what they were derived from."""
         rate = f"rate of turn {math.degrees(self.rate_of_turn):.3g} deg/s"
         track = f"track {self.position:.3g} m"
+        speed = f"speed {self.speed_error:.3g} m/s"
         if self.length is not None and self.speed is not None:
             per_length = self.rate_of_turn * self.length / self.speed
             if math.isclose(per_length, SCALE_FREE_TURN_PER_LENGTH):
                 rate += f" (1 deg per ship length at {self.speed:.3g} m/s)"
+            if math.isclose(self.speed_error, SCALE_FREE_SPEED_FRACTION * self.speed):
+                speed += f" ({100.0 * SCALE_FREE_SPEED_FRACTION:.2g} % of {self.speed:.3g} m/s)"
             if math.isclose(self.position, SCALE_FREE_TRACK_LENGTHS * self.length):
                 track += f" (L/{1.0 / SCALE_FREE_TRACK_LENGTHS:.0f}, L = {self.length:g} m)"
-        return f"heading {math.degrees(self.heading):.3g} deg, {rate}, {track}"
+        return f"heading {math.degrees(self.heading):.3g} deg, {rate}, {speed}, {track}"
 
 
 def mean_speed(model: ShipModel, logs: Sequence[Log]) -> float:
@@ -125,7 +137,8 @@ def mean_speed(model: ShipModel, logs: Sequence[Log]) -> float:
 
 @dataclass(frozen=True)
 class RunErrors:
-    """RMS errors of one run (or pooled over runs), SI units; NaN where a channel is not measured.
+    """RMS errors of one run (or pooled over runs), SI units; NaN where a channel is not measured (the speed
+    where a log has no speed channel).
 
     ``samples`` counts the samples behind the RMS values (for pooling); ``diverged`` the runs behind
     them whose replay left the model's validity, and ``diverged_at`` when a run's did, s (NaN if it
@@ -138,24 +151,27 @@ class RunErrors:
     rate_of_turn: float
     position: float
     track: float
+    speed: float = math.nan
     diverged: int = 0
     diverged_at: float = math.nan
 
     def score(self, scales: ErrorScales) -> float:
-        """sqrt(mean (RMS / scale)^2) over heading, rate of turn and track (those measured)."""
+        """sqrt(mean (RMS / scale)^2) over heading, rate of turn, speed and track (those measured)."""
         parts = [
             self.heading / scales.heading,
             self.rate_of_turn / scales.rate_of_turn,
+            self.speed / scales.speed_error,
             self.track / scales.position,
         ]
         measured = [part**2 for part in parts if math.isfinite(part)]
         return math.sqrt(sum(measured) / len(measured)) if measured else math.nan
 
     def in_display_units(self) -> dict[str, float]:
-        """The RMS values in deg, deg/s and m."""
+        """The RMS values in deg, deg/s, m/s and m (``CHANNEL_UNITS``)."""
         return {
             "heading": math.degrees(self.heading),
             "rate_of_turn": math.degrees(self.rate_of_turn),
+            "speed": self.speed,
             "position": self.position,
             "track": self.track,
         }
@@ -184,6 +200,7 @@ def run_errors(log: Log, simulated: Simulated, where: np.ndarray | None = None) 
         rate_of_turn=nan if log.rate_of_turn is None else _rms((simulated.rate_of_turn - log.rate_of_turn)[keep]),
         position=position,
         track=track,
+        speed=nan if log.speed is None else _rms((simulated.speed - np.maximum(log.speed, 0.0))[keep]),
         diverged=int(math.isfinite(diverged_at)),
         diverged_at=diverged_at,
     )
@@ -216,6 +233,7 @@ def pooled(errors: Sequence[RunErrors], name: str = "pooled") -> RunErrors:
         rate_of_turn=pool("rate_of_turn"),
         position=pool("position"),
         track=pool("track"),
+        speed=pool("speed"),
         diverged=sum(e.diverged for e in errors),
     )
 
@@ -243,4 +261,5 @@ def pooled_jackknife(errors: Sequence[RunErrors]) -> RunErrors:
         rate_of_turn=spread("rate_of_turn"),
         position=spread("position"),
         track=spread("track"),
+        speed=spread("speed"),
     )

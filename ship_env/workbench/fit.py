@@ -1,11 +1,12 @@
 """Output-error fitting of a model's parameters to measured runs, with leave-one-run-out validation.
 
-The measured rudder, speed, propeller rate and wind drive the model (:mod:`.replay`); the fit
+The measured rudder, propeller rate and wind drive the model (:mod:`.replay`, ``INPUTS``); the fit
 chooses the terms (:mod:`.terms`) that minimise the weighted squared differences between measured
 and simulated
 
-- heading and rate of turn (free simulation from the run's initial state), and
-- track (north, east) replayed with the measured heading,
+- heading, rate of turn and speed (free simulation from the run's initial state: the speed is the
+  model's, a measured speed sets only the run's service speed and initial speed), and
+- track (north, east) replayed with the measured heading (and speed),
 
 each divided by its error scale (:class:`~ship_env.workbench.errors.ErrorScales`), with
 ``scipy.optimize.least_squares`` (trust-region reflective, within the terms' ranges). The Jacobian
@@ -46,6 +47,7 @@ from ship_env.workbench.replay import (
     INITIAL_WINDOW,
     NORTH,
     RATE,
+    SPEED,
     ReplayModel,
     Simulated,
     Tasks,
@@ -61,6 +63,7 @@ from ship_env.workbench.terms import (
     default_terms,
     make_term,
     value_of,
+    with_speed_output,
     with_values,
     write_record,
 )
@@ -242,7 +245,9 @@ class Problem:
         # its effect cannot act on these logs. It holds at every point (numbers would not: a term may move
         # a replay only once another term has grown from zero).
         self._can_move = [
-            moved_replays(setup.model, key) if acts_on(key.partition(".")[0], self.logs) else (False, False)
+            moved_replays(setup.model, key, all(log.speed is not None for log in self.logs))
+            if acts_on(key.partition(".")[0], self.logs)
+            else (False, False)
             for key in keys
         ]
         self.evaluations = 0
@@ -322,12 +327,14 @@ class Problem:
         return replay(self.runs, records, tasks)
 
     def _free_part(self, run: int, free: np.ndarray) -> np.ndarray:
-        """The weighted heading and rate-of-turn residual of a free replay (or of a stack of them)."""
+        """The weighted heading, rate-of-turn and speed residual of a free replay (or of a stack of them)."""
         log = self.logs[run]
         scales = self.options.error_scales
         parts = [(free[..., : log.samples, HEADING] - log.heading) / scales.heading]
         if log.rate_of_turn is not None:
             parts.append((free[..., : log.samples, RATE] - log.rate_of_turn) / scales.rate_of_turn)
+        if log.speed is not None:
+            parts.append((free[..., : log.samples, SPEED] - np.maximum(log.speed, 0.0)) / scales.speed_error)
         return np.concatenate(parts, axis=-1)
 
     def _track_part(self, run: int, track: np.ndarray) -> np.ndarray:
@@ -358,7 +365,7 @@ class Problem:
         return vector
 
     def _rows(self, run: int, track: bool) -> slice:
-        """The rows of a run's free (heading, rate) or track (north, east) residual."""
+        """The rows of a run's free (heading, rate, speed) or track (north, east) residual."""
         first, stop = self._edges[run], self._edges[run + 1]
         split = stop - 2 * self.logs[run].samples if self._has_position[run] else stop
         return slice(split, stop) if track else slice(first, split)
@@ -405,7 +412,7 @@ class Problem:
 
     def residual_length(self, run: int) -> int:
         log = self.logs[run]
-        return (1 + (log.rate_of_turn is not None) + 2 * log.has_position) * log.samples
+        return (1 + (log.rate_of_turn is not None) + (log.speed is not None) + 2 * log.has_position) * log.samples
 
     def padded(self, term_values: np.ndarray) -> np.ndarray:
         """A point with these terms (scale units) and every nuisance term zero (runs start as measured)."""
@@ -529,6 +536,21 @@ def as_setup(model: ShipModel | ReplayModel) -> ReplayModel:
     return model if isinstance(model, ReplayModel) else ReplayModel(model)
 
 
+def speed_output_terms(
+    setup: ReplayModel, logs: Sequence[Log], terms: Sequence[str] | None
+) -> tuple[ReplayModel, list[str]]:
+    """The model a fit to ``logs`` sails (the speed loss on where a log measures the speed,
+    :func:`~.terms.with_speed_output`) and the terms it fits: ``terms``, or the default ones for the logs;
+    where the speed loss was turned on here, its default terms are added to those given."""
+    sailed = with_speed_output(setup, logs)
+    if terms is None:
+        return sailed, default_terms(sailed.model.effects, logs)
+    keys = list(terms)
+    if sailed is not setup:
+        keys += [key for key in default_terms(("speed_loss",)) if key not in keys]
+    return sailed, keys
+
+
 @one_thread
 def fit(
     model: ShipModel | ReplayModel,
@@ -538,14 +560,16 @@ def fit(
 ) -> FitResult:
     """Fit ``terms`` (default: those of the model's effects, ``terms.DEFAULT_TERMS``) to the logs.
 
+    Where a log measures the speed, the model sails with the speed loss on and its speed is fitted
+    (:func:`~.terms.with_speed_output`; the speed loss's default terms join ``terms`` where it was off).
+
     Example::
 
         model = ShipModel("esso_osaka_model", ["yaw", "kinematics", "rudder_offset"])
         result = fit(model, load_logs(["../shared/data/esso_osaka/zigzag"]))
         result.estimates, result.pooled.heading
     """
-    setup = as_setup(model)
-    keys = default_terms(setup.model.effects) if terms is None else list(terms)
+    setup, keys = speed_output_terms(as_setup(model), logs, terms)
     return Problem(setup, logs, keys, options or FitOptions()).solve()
 
 
@@ -557,7 +581,6 @@ def fit_each_run(
     options: FitOptions | None = None,
 ) -> list[FitResult]:
     """One fit per run (in-sample): how well the model can fit each run on its own."""
-    setup = as_setup(model)
-    keys = default_terms(setup.model.effects) if terms is None else list(terms)
+    setup, keys = speed_output_terms(as_setup(model), logs, terms)
     options = (options or FitOptions()).for_runs(setup.model, logs)
     return [Problem(setup, [log], keys, options).solve() for log in logs]

@@ -89,7 +89,9 @@ class Log:
         speed: forward speed through the water u, m/s.
         propeller_rate: n, rps.
         wind_speed, wind_direction: true wind, m/s, and where it comes from, rad from north.
-        service_speed: U0, m/s, for a log without a speed channel (``None``: the ship's).
+        service_speed: U0, m/s, the run's straight-course speed where known: for a log without a speed channel
+            the speed it sails at (``None``: the ship's); beside a speed channel, the speed the ship
+            accelerates towards (``None``: estimated from the speed, ``replay.service_speed``).
         source: the file it was read from.
         notes: what the loader changed or noticed.
     """

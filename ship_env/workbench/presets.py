@@ -23,11 +23,14 @@ presets' own format (``configs/ships/*.yaml``, :func:`ship_env.model.load_ship`)
   r* at the highest speed, |r| = r* U / L) and a propeller turning ahead only where no log reverses
   it. Where the starting preset states a narrower limit, its limit is kept and its source says so;
 - ``fitted``: what it was fitted to: the starting preset, the logs (and the validation logs) with
-  their hashes, the command, the effects and terms, the fitted steady current (``conditions``: a
-  finding about the runs, an effect of the test site such as a towing tank's circulation, not a
-  property of the ship: the simulators, environments and leaderboard never sail it unless asked,
-  :func:`site_conditions`), the pooled held-out (and validation) RMS errors in deg, deg/s
-  and m, the coverage, and the ship_env version.
+  their hashes, the command, the effects and terms, what the fit took from the logs as inputs
+  (``inputs``: the rudder, propeller rate, wind; the speed only as each run's service and initial
+  speed, :mod:`.replay`) and what the logs left it unable to know (``not_identified``: the speed loss
+  where no log measures the speed), the fitted steady current (``conditions``: a finding about the
+  runs, an effect of the test site such as a towing tank's circulation, not a property of the ship: the
+  simulators, environments and leaderboard never sail it unless asked, :func:`site_conditions`), the
+  pooled held-out (and validation) RMS errors in deg, deg/s, m/s and m, the coverage, and the ship_env
+  version.
 
 A replay of a fitted preset's runs (:func:`preset_replay_model`: ``compare --ship FILE`` and the other
 workbench commands) sails in the steady current the fit found, as the fit's own replay did.
@@ -54,7 +57,7 @@ from ship_env.workbench.errors import CHANNEL_UNITS, RunErrors
 from ship_env.workbench.fit import Estimate
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.terms import CURRENT_TERMS, reverses_propeller
+from ship_env.workbench.terms import CURRENT_TERMS, not_identified, replay_inputs, reverses_propeller
 from ship_env.workbench.validation import CrossValidation
 
 #: Hex digits of a log file's SHA-256 kept in a preset (48 bits: no two files of a campaign collide).
@@ -300,6 +303,8 @@ def preset_document(
         "logs": [{"file": file.name, "sha256": file.sha256} for file in files],
         "effects": list(model.effects),
         "terms": [estimate.term.key for estimate in fit.estimates],
+        "inputs": replay_inputs(logs),
+        "not_identified": not_identified(model, logs),
         "std_errors": "the larger of the Jacobian's and the jackknife's over the left-out runs",
         "error_units": dict(CHANNEL_UNITS),
         "held_out": _errors(validation.pooled),

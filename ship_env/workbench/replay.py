@@ -1,19 +1,30 @@
 """Replay measured runs through the model: the measured inputs in, the simulated outputs out.
 
-Each run is replayed sample by sample with the measured rudder, speed, propeller rate and wind
-held over each interval (zero-order hold, as the simulator holds its conditions over a step). Two
-kinds of replay:
+Each run is replayed sample by sample with the measured rudder, propeller rate and wind held over
+each interval (zero-order hold, as the simulator holds its conditions over a step): these are the
+replay's *inputs* (:data:`INPUTS`). Two kinds of replay:
 
-- **free**: the model's own heading, rate of turn and track, integrated by the simulator's
+- **free**: the model's own heading, rate of turn, speed and track, integrated by the simulator's
   compiled step (``ship_env.model.integrators.step_ship_with_noise``, RK4, with zero white noise) from
-  the run's initial state;
-- **track**: the measured heading and rate of turn are imposed and only the track (and the speed
-  loss) is integrated, by Heun's method on the model's own state derivative
+  the run's initial state: the ship sailing free under the measured inputs;
+- **track**: the measured heading and rate of turn -- and the measured speed, where the log has a
+  speed channel -- are imposed and only the track is integrated (the speed loss too where the speed is
+  not measured), by Heun's method on the model's own state derivative
   (``ship_env.model.dynamics.derivatives``). It isolates the track effects -- sway (2.47-2.49),
-  leeway, current (2.71, 2.72) -- from errors in the heading.
+  leeway, current (2.71, 2.72) -- from errors in the heading and the speed.
 
-A speed channel is fed as the service speed U0 at every sample (with the speed-loss effect off the
-model's speed is then the measured one); without one the log's or the ship's service speed is used.
+**Speed is an output, not an input.** A speed channel sets only the run's service speed U0 and its
+initial speed: U0 is the speed the ship keeps on a straight course at the run's propeller setting,
+estimated as the highest speed of the run (the mean over the time it takes to sail one ship length,
+where that mean is highest), since the model's speed u = U0 (1 - u*) (2.53) never exceeds U0 in steady sailing (u* >= 0
+with K_u* r*^2 >= 0, 2.55); the initial speed loss is u*(0) = 1 - u(0) / U0 with u(0) the measured
+speed at the first sample (estimated over the initial window, as the other states). From there the
+model's own speed loss (``speed_loss``, 2.55) is integrated and its speed U0 (1 - u*) is the replay's
+``SPEED`` column: a run that starts slower than U0 (a model test from rest) accelerates towards it by
+the same first-order surge equation. A log that gives its service speed (``Log.service_speed``) has
+that U0; a stretch cut from a run (``envelope.segments_inside``) keeps its whole run's. Without a speed
+channel the log's or the ship's service speed is U0 and u*(0) = 0; the speed loss then shows only
+through the heading and the track, which do not identify it.
 A log without a propeller channel is replayed at the ship's service propeller rate (its preset's
 ``service_conditions``; 0 where it states none).
 
@@ -40,9 +51,12 @@ from ship_env.model.integrators import RK4, WORK_ROWS, borrowed, step_ship_with_
 from ship_env.model.kernel import kernel, parallel_kernel
 from ship_env.workbench.logs import Log
 
-#: Columns of a replay's output.
-NORTH, EAST, HEADING, RATE = 0, 1, 2, 3
-OUTPUT_SIZE = 4
+#: Columns of a replay's output: the track, heading, rate of turn and speed through the water u, m/s.
+NORTH, EAST, HEADING, RATE, SPEED = 0, 1, 2, 3, 4
+OUTPUT_SIZE = 5
+#: What a replay takes from a log as an input (held over each sample interval), channel by channel where the
+#: log has it; the speed is not among them (the module docstring).
+INPUTS = ("rudder", "propeller_rate", "wind_speed", "wind_direction")
 #: Seconds at the start of a run from which its initial state is estimated.
 INITIAL_WINDOW = 2.0
 
@@ -70,6 +84,8 @@ class PackedRuns:
     """The runs' measured inputs and outputs, concatenated for the compiled replay.
 
     Run ``i`` occupies rows ``offsets[i]:offsets[i + 1]`` of every per-sample array.
+    ``measured_speed_loss`` is the measured speed as u* = 1 - max(u, 0) / U0 (imposed by the track
+    replay), NaN in a run without a speed channel.
     """
 
     offsets: np.ndarray
@@ -79,6 +95,7 @@ class PackedRuns:
     heading: np.ndarray
     rate_of_turn: np.ndarray
     initial_states: np.ndarray
+    measured_speed_loss: np.ndarray
 
     @property
     def longest(self) -> int:
@@ -114,14 +131,15 @@ _IMPLICIT: dict[str, tuple[str, ...]] = {
 }
 
 
-def moved_replays(model: ShipModel, key: str) -> tuple[bool, bool]:
-    """Whether a change of the term ``key`` can move a free replay's heading and rate of turn, and a track
-    replay's north and east -- from the model's equations, not from numbers.
+def moved_replays(model: ShipModel, key: str, speed_measured: bool = False) -> tuple[bool, bool]:
+    """Whether a change of the term ``key`` can move a free replay's heading, rate of turn and speed, and a
+    track replay's north and east -- from the model's equations, not from numbers.
 
     A term moves a replay where some contribution of an effect of the model reads it (a white-noise
     intensity never does: a replay's white noise is zero) and what that contribution changes feeds
-    the replay's outputs: the track replay imposes the measured heading and rate of turn and holds
-    the rudder, so a yaw term never moves it, and a current (read as the conditions
+    the replay's outputs: the track replay imposes the measured heading and rate of turn (and the
+    measured speed, where every log has one: ``speed_measured``) and holds the rudder, so a yaw term
+    never moves it, and a current (read as the conditions
     ``current_speed``, ``current_direction`` and those derived from them, ``current_north``,
     ``current_east``) moves the heading only where a yaw contribution reads the current or the
     velocity over the ground. A term that is not an effect's parameter or the current (a principal
@@ -164,16 +182,43 @@ def moved_replays(model: ShipModel, key: str) -> tuple[bool, bool]:
                 pending += arguments
         return False
 
-    return moves(("heading", "rate_of_turn"), ()), moves(("north", "east"), ("heading", "rate_of_turn", "rudder"))
+    imposed = ("heading", "rate_of_turn", "rudder", *(("speed_loss",) if speed_measured else ()))
+    return moves(("heading", "rate_of_turn", "speed_loss"), ()), moves(("north", "east"), imposed)
 
 
-def initial_state(log: Log, window: float = INITIAL_WINDOW) -> np.ndarray:
+def service_speed(log: Log, model: ShipModel) -> float:
+    """The run's service speed U0, m/s: the log's own where it gives one; else, with a speed channel, its
+    :func:`highest_speed`; else the ship's."""
+    if log.service_speed is not None:
+        return log.service_speed
+    highest = highest_speed(log, model.length)
+    return model.service_speed if highest is None else highest
+
+
+def highest_speed(log: Log, length: float) -> float | None:
+    """The highest mean speed of a run over the time a ship of ``length`` (m) takes to sail its length at the
+    run's median speed (long enough that the sensor's noise hardly lifts the highest mean), m/s; None without
+    a speed channel or where the ship never moves ahead."""
+    if log.speed is None:
+        return None
+    speed = np.maximum(log.speed, 0.0)
+    typical = float(np.median(speed))
+    interval = float(np.median(np.diff(log.time))) if log.samples > 1 else 0.0
+    window = length / typical if typical > 0.0 else 0.0
+    count = int(min(max(round(window / interval), 1), log.samples)) if interval > 0.0 else 1
+    highest = float(np.max(np.convolve(speed, np.full(count, 1.0 / count), mode="valid")))
+    return highest if highest > 0.0 else None
+
+
+def initial_state(log: Log, window: float = INITIAL_WINDOW, speed: float | None = None) -> np.ndarray:
     """The run's motion (``state.MOTION_STATES``) at its first sample, estimated from its first ``window`` seconds.
 
     Less noisy than the first sample alone, and unbiased where the ship already accelerates:
     the heading is the intercept of a parabola fitted over the window, the rate of turn that of a
-    straight line through the measured rate (or the parabola's slope), the position that of a
-    straight line; the actual rudder is the first rudder sample.
+    straight line through the measured rate (or the parabola's slope), the position and the speed that
+    of a straight line; the actual rudder is the first rudder sample. With the run's service speed
+    ``speed`` (U0, :func:`service_speed`) and a speed channel, the speed loss is u*(0) = 1 - u(0) / U0,
+    within [0, 1]; else 0.
     """
     inside = log.time - log.time[0] <= window
     elapsed = log.time[inside] - log.time[0]
@@ -193,15 +238,15 @@ def initial_state(log: Log, window: float = INITIAL_WINDOW) -> np.ndarray:
         state[S.NORTH] = polynomial(log.north, 1)[0]
         state[S.EAST] = polynomial(log.east, 1)[0]
     state[S.RUDDER] = log.rudder[0]
+    if speed is not None and log.speed is not None:
+        state[S.SPEED_LOSS] = min(max(1.0 - polynomial(np.maximum(log.speed, 0.0), 1)[0] / speed, 0.0), 1.0)
     return state
 
 
-def _conditions(log: Log, model: ShipModel) -> np.ndarray:
+def _conditions(log: Log, model: ShipModel, speed: float) -> np.ndarray:
+    """The run's conditions sample by sample, at its service speed ``speed`` (U0, m/s)."""
     rows = np.zeros((log.samples, S.CONDITION_SIZE))
-    if log.speed is not None:
-        rows[:, S.SERVICE_SPEED] = np.maximum(log.speed, 0.0)
-    else:
-        rows[:, S.SERVICE_SPEED] = model.service_speed if log.service_speed is None else log.service_speed
+    rows[:, S.SERVICE_SPEED] = speed
     if log.propeller_rate is not None:
         rows[:, S.PROPELLER_RATE] = log.propeller_rate  # signed: astern is negative (``propeller_astern``)
     else:  # the ship's operating point (0 where its preset states none)
@@ -216,10 +261,17 @@ def _conditions(log: Log, model: ShipModel) -> np.ndarray:
 def pack_runs(logs: Sequence[Log], model: ShipModel, window: float = INITIAL_WINDOW) -> PackedRuns:
     """Concatenate the logs' inputs and outputs; ``model`` supplies the default service speed, its
     state's layout and its effects' own states' initial values at each run's first sample."""
-    conditions = [_conditions(log, model) for log in logs]
+    speeds = [service_speed(log, model) for log in logs]
+    conditions = [_conditions(log, model, speed) for log, speed in zip(logs, speeds, strict=True)]
     initial_states = np.zeros((len(logs), model.state_size))
-    initial_states[:, : S.MOTION_SIZE] = [initial_state(log, window) for log in logs]
+    initial_states[:, : S.MOTION_SIZE] = [
+        initial_state(log, window, speed) for log, speed in zip(logs, speeds, strict=True)
+    ]
     model.start_states(initial_states, np.stack([rows[0] for rows in conditions]))
+    measured_speed_loss = [
+        np.full(log.samples, np.nan) if log.speed is None else 1.0 - np.maximum(log.speed, 0.0) / speed
+        for log, speed in zip(logs, speeds, strict=True)
+    ]
     return PackedRuns(
         offsets=np.concatenate([[0], np.cumsum([log.samples for log in logs])]).astype(np.int64),
         time=np.concatenate([log.time for log in logs]),
@@ -230,23 +282,29 @@ def pack_runs(logs: Sequence[Log], model: ShipModel, window: float = INITIAL_WIN
             [np.gradient(log.heading, log.time) if log.rate_of_turn is None else log.rate_of_turn for log in logs]
         ),
         initial_states=initial_states,
+        measured_speed_loss=np.concatenate(measured_speed_loss),
     )
 
 
 @kernel
-def _track_step(state, first, conditions, time, heading, rate, params, slope, stage, white_noise, draws):
+def _track_step(state, first, conditions, time, heading, rate, speed_loss, params, slope, stage, white_noise, draws):
     """Advance north, east, the speed loss and the effects' own states over one interval with the measured
-    heading imposed (Heun)."""
+    heading imposed (Heun); the measured speed too where there is one (``speed_loss`` not NaN)."""
     p = params[0]
     dt = time[first + 1] - time[first]
+    speed_measured = not math.isnan(speed_loss[first])
     state[S.HEADING] = heading[first]
     state[S.RATE_OF_TURN] = rate[first]
+    if speed_measured:
+        state[S.SPEED_LOSS] = speed_loss[first]
     # One call site for both slopes (inlined once: half the compile time, the same numbers).
     for index in range(2):
         for j in range(state.shape[0]):
             stage[j] = state[j] if index == 0 else state[j] + dt * slope[0, j]
         stage[S.HEADING] = heading[first + index]
         stage[S.RATE_OF_TURN] = rate[first + index]
+        if speed_measured:
+            stage[S.SPEED_LOSS] = speed_loss[first + index]
         derivatives(stage, state[S.RUDDER], conditions, white_noise, draws, 0.0, p, slope[index])
     for j in (S.TIME, S.NORTH, S.EAST, S.SPEED_LOSS):
         state[j] += 0.5 * dt * (slope[0, j] + slope[1, j])
@@ -254,25 +312,28 @@ def _track_step(state, first, conditions, time, heading, rate, params, slope, st
         state[j] += 0.5 * dt * (slope[0, j] + slope[1, j])
     state[S.HEADING] = heading[first + 1]
     state[S.RATE_OF_TURN] = rate[first + 1]
+    if speed_measured:
+        state[S.SPEED_LOSS] = speed_loss[first + 1]
     return math.isfinite(state[S.NORTH]) and math.isfinite(state[S.EAST]) and state[S.SPEED_LOSS] <= 1.0
 
 
 @kernel
-def _record(out, task, sample, state):
+def _record(out, task, sample, state, service_speed):
     out[task, sample, NORTH] = state[S.NORTH]
     out[task, sample, EAST] = state[S.EAST]
     out[task, sample, HEADING] = state[S.HEADING]
     out[task, sample, RATE] = state[S.RATE_OF_TURN]
+    out[task, sample, SPEED] = service_speed * (1.0 - state[S.SPEED_LOSS])  # (2.53)
 
 
 @kernel
 def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid_samples):
     """Replay task ``task`` of ``_replay`` with the scratch space ``work`` and a row of conditions ``row``."""
     task_record, task_run, task_track, task_initial, task_current = tasks
-    offsets, time, rudder, conditions, heading, rate = runs
+    offsets, time, rudder, conditions, heading, rate, speed_loss = runs
     # Borrowed (see ``integrators.borrowed``): the arrays pass on to each step at no reference-counting cost.
-    work, row, records, task_initial, time, rudder, conditions, heading, rate, no_draws, out = borrowed(
-        (work, row, records, task_initial, time, rudder, conditions, heading, rate, no_draws, out)
+    work, row, records, task_initial, time, rudder, conditions, heading, rate, speed_loss, no_draws, out = borrowed(
+        (work, row, records, task_initial, time, rudder, conditions, heading, rate, speed_loss, no_draws, out)
     )
     size = task_initial.shape[1]
     step_work = work[:WORK_ROWS]
@@ -293,7 +354,7 @@ def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid_sam
     current_north, current_east = row[S.CURRENT_NORTH], row[S.CURRENT_EAST]
     inside = True
     valid_samples[task] = count
-    _record(out, task, 0, state)
+    _record(out, task, 0, state, conditions[first, S.SERVICE_SPEED])
     for k in range(count - 1):
         i = first + k
         for j in range(S.CONDITION_SIZE):
@@ -304,7 +365,9 @@ def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid_sam
         row[S.CURRENT_EAST] = current_east
         if inside:
             if task_track[task]:
-                inside = _track_step(state, i, row, time, heading, rate, params, slope, stage, white_noise, no_draws)
+                inside = _track_step(
+                    state, i, row, time, heading, rate, speed_loss, params, slope, stage, white_noise, no_draws
+                )
             else:
                 inside = step_ship_with_noise(
                     state, rudder[i], row, white_noise, no_draws, params, time[i + 1] - time[i], RK4, step_work
@@ -312,7 +375,7 @@ def _replay_task(task, work, row, records, tasks, runs, no_draws, out, valid_sam
             if not inside:
                 valid_samples[task] = k + 1
         if inside:
-            _record(out, task, k + 1, state)
+            _record(out, task, k + 1, state, row[S.SERVICE_SPEED])
         else:
             for j in range(OUTPUT_SIZE):
                 out[task, k + 1, j] = out[task, k, j]
@@ -323,7 +386,7 @@ def _replay(records, tasks, runs, no_draws, out, valid_samples):
     """Replay every task (one run with one record) into ``out[task, sample, column]``.
 
     ``tasks`` holds the tasks' arrays (record index, run index, track flag, initial state, current),
-    ``runs`` the packed runs' (offsets, time, rudder, conditions, heading, rate of turn).
+    ``runs`` the packed runs' (offsets, time, rudder, conditions, heading, rate of turn, measured speed loss).
     ``valid_samples[task]`` receives how many samples the task's state stayed inside the model's
     validity (the run's length if it never left); after that its outputs are held at the last valid
     state, so that a fitter sees a large but finite error. A replayed log
@@ -394,8 +457,8 @@ def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndar
         tasks: what to replay.
 
     Returns:
-        ``(outputs, valid_samples)``: outputs of shape (tasks, longest run, 4) with columns north, east,
-        heading, rate of turn (samples beyond a task's run are zero), and per task how many of its
+        ``(outputs, valid_samples)``: outputs of shape (tasks, longest run, OUTPUT_SIZE) with columns north,
+        east, heading, rate of turn, speed (samples beyond a task's run are zero), and per task how many of its
         samples lie inside the model's validity (all of them unless the replay diverged).
     """
     count = len(tasks.record)
@@ -406,7 +469,15 @@ def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndar
     _replay(
         records,
         (tasks.record, tasks.run, tasks.track, initial, tasks.current),
-        (runs.offsets, runs.time, runs.rudder, runs.conditions, runs.heading, runs.rate_of_turn),
+        (
+            runs.offsets,
+            runs.time,
+            runs.rudder,
+            runs.conditions,
+            runs.heading,
+            runs.rate_of_turn,
+            runs.measured_speed_loss,
+        ),
         np.zeros(draws.row_size(records)),
         outputs,
         valid_samples,
@@ -416,10 +487,12 @@ def replay(runs: PackedRuns, records: np.ndarray, tasks: Tasks) -> tuple[np.ndar
 
 @dataclass(frozen=True)
 class Simulated:
-    """One run replayed: the free simulation and the track with the measured heading.
+    """One run replayed: the free simulation and the track with the measured heading (and speed, where measured).
 
-    ``valid_samples`` counts the samples before either replay left the model's validity (all of
-    them if neither did); from there on its outputs hold the last valid state.
+    ``speed`` is the free replay's speed through the water, m/s, ``track_speed`` the track replay's (the
+    measured one where the log has a speed channel). ``valid_samples`` counts the samples before either
+    replay left the model's validity (all of them if neither did); from there on its outputs hold the last
+    valid state.
     """
 
     time: np.ndarray
@@ -427,8 +500,10 @@ class Simulated:
     rate_of_turn: np.ndarray
     north: np.ndarray
     east: np.ndarray
+    speed: np.ndarray
     track_north: np.ndarray
     track_east: np.ndarray
+    track_speed: np.ndarray
     valid_samples: int
 
     @property
@@ -465,8 +540,10 @@ def unpack(logs: Sequence[Log], outputs: np.ndarray, valid_samples: np.ndarray) 
                 rate_of_turn=free[:, RATE],
                 north=free[:, NORTH],
                 east=free[:, EAST],
+                speed=free[:, SPEED],
                 track_north=track[:, NORTH],
                 track_east=track[:, EAST],
+                track_speed=track[:, SPEED],
                 valid_samples=int(min(valid_samples[i], valid_samples[count + i])),
             )
         )

@@ -31,6 +31,7 @@ from ship_env.workbench.tables import (
     ladder_table,
     log_table,
 )
+from ship_env.workbench.terms import not_identified, replay_inputs
 from ship_env.workbench.validation import CrossValidation
 
 
@@ -172,10 +173,18 @@ def write_report(
             "each run's samples, *held out*: each run is replayed from its measured initial state by the model "
             "fitted to the other runs. *Track* is the track replayed with the measured heading (the error of the "
             "track effects alone), *position* the freely simulated track; both are distances between measured "
-            "and simulated positions. The score is sqrt(mean((RMS / scale)^2)) over heading, rate of turn and "
+            "and simulated positions; *speed* is the model's own speed, predicted from each run's service and "
+            "initial speed. The score is sqrt(mean((RMS / scale)^2)) over heading, rate of turn, speed and "
             f"track with the error scales {scales.describe()}."
         ),
         "",
+        f"Inputs taken from the logs: {'; '.join(replay_inputs(logs))}.",
+        "",
+        *(
+            line
+            for words in not_identified(last.validation.fit.setup.model, logs)
+            for line in (f"Not identified: {words}.", "")
+        ),
         "## Runs",
         "",
         log_table(logs).markdown(),

@@ -4,11 +4,15 @@ Used to check the workbench on data whose truth is known -- a log made with an e
 model lacks must lead the diagnosis to that effect. A run is sailed with
 :class:`~ship_env.model.Simulator` (not the workbench's replay, so the two code paths check each
 other): an approach on a straight course, then a zig-zag (rudder reversed each time the heading
-passes +-the zig-zag angle, the standard test) or a turn at constant rudder. The speed through the
-water follows a measured-like acceleration from ``start_speed`` towards ``final_speed``; the true
-wind varies as a Gauss-Markov process around its mean (a gusty pond or sea). The log records what
-sensors would: heading, rate of turn, position, rudder (actual or ordered), speed, propeller rate
-and true wind (its direction in [0, 2 pi)), each with white noise (:class:`SensorNoise`).
+passes +-the zig-zag angle, the standard test) or a turn at constant rudder. The ship sails free: its
+service speed U0 is the run's ``final_speed`` (the straight-course speed at its propeller setting)
+and it starts at ``start_speed``, u*(0) = 1 - start / final, accelerating by its own surge equation,
+the speed loss (thesis 2.55): a true model without the ``speed_loss`` effect sails with it on at no
+loss in a turn (K_u* = 0, :func:`free_running`), as every ship that accelerates has surge dynamics. The log
+gives the run's service speed besides its speed channel. The true wind varies as a Gauss-Markov
+process around its mean (a gusty pond or sea). The log records what sensors would: heading, rate of
+turn, position, rudder (actual or ordered), speed, propeller rate and true wind (its direction in
+[0, 2 pi)), each with white noise (:class:`SensorNoise`).
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ship_env.model import REQUIRED_EFFECTS, Conditions, ShipModel, Simulator
+from ship_env.model import state as S
 from ship_env.workbench.errors import ErrorScales, pooled, run_errors
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel, simulate
@@ -65,8 +70,10 @@ class Manoeuvre:
         duration: s, including the approach.
         approach: s on a straight course before the first rudder order.
         zigzag_angle: heading change that reverses the rudder, rad (zig-zags).
-        start_speed, final_speed: speed through the water at the start and approached, m/s.
-        acceleration_time: time constant of that approach, s.
+        start_speed, final_speed: speed through the water at the start, and the service speed U0 it
+            accelerates towards on a straight course (by the true model's speed loss, 2.55), m/s.
+        acceleration_time: time constant of that approach, s, for a generator that drives the speed
+            (``tests/second_simulator.py``); :func:`sail` sails it by the true model's surge equation.
         propeller_rate: n, rps.
         wind_speed, wind_direction: mean true wind, m/s, and where it comes from, rad.
     """
@@ -104,8 +111,8 @@ class LogSettings:
         dt: sample interval and simulation step, s.
         noise: the sensors' noise.
         rudder_kind: record the ``"actual"`` rudder or the ``"ordered"`` one.
-        measure_speed: record the speed; if False the log gives the final speed as service speed
-            (and the run sails at it throughout).
+        measure_speed: record the speed; if False the run sails at its final speed as service speed from
+            u* = 0 (and the log gives only that service speed).
     """
 
     dt: float = 0.2
@@ -125,19 +132,31 @@ def _gauss_markov(count: int, dt: float, deviation: float, rng: np.random.Genera
     return values
 
 
+#: The speed loss of a true model that lacks the effect: no loss in a turn (K_u* = 0, beta3 = 0); it accelerates
+#: towards its service speed by (2.55) with tau_u* = 1: from a quarter of it to 95 % in about 12 ship lengths
+#: sailed at U0 (36 s on the 3 m model), so that each run of the programme reaches its service speed, as
+#: the speed ramp of 30 s its runs were written for did.
+NO_TURN_SPEED_LOSS = {"speed_loss.gain": 0.0, "speed_loss.cubic": 0.0, "speed_loss.time_constant": 1.0}
+
+
+def free_running(truth: ReplayModel) -> ReplayModel:
+    """The true model as it sails free: with its surge equation, the speed loss (2.55), on -- where the model
+    lacks it, with no loss in a turn (:data:`NO_TURN_SPEED_LOSS`)."""
+    if truth.model.has("speed_loss"):
+        return truth
+    model = truth.model.with_effects("speed_loss").with_parameters(NO_TURN_SPEED_LOSS)
+    return ReplayModel(model, truth.current_north, truth.current_east)
+
+
 def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSettings = LogSettings()) -> Log:
-    """Sail one manoeuvre with the true model and return what the sensors logged."""
+    """Sail one manoeuvre with the true model sailing free (:func:`free_running`) and return what the sensors
+    logged."""
+    truth = free_running(truth)
     rng = np.random.default_rng(seed)
     dt = settings.dt
     count = round(manoeuvre.duration / dt) + 1
     time = np.arange(count) * dt
     steady = not settings.measure_speed
-    speed = (
-        np.full(count, manoeuvre.final_speed)
-        if steady
-        else manoeuvre.final_speed
-        + (manoeuvre.start_speed - manoeuvre.final_speed) * np.exp(-time / manoeuvre.acceleration_time)
-    )
     wind_speed = np.maximum(manoeuvre.wind_speed * (1.0 + _gauss_markov(count, dt, WIND_SPEED_VARIATION, rng)), 0.0)
     wind_direction = manoeuvre.wind_direction + _gauss_markov(count, dt, WIND_DIRECTION_VARIATION, rng)
     north, east = truth.current
@@ -146,13 +165,15 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
     simulator.reset(
         seed=seed,
         conditions=Conditions(
-            service_speed=speed[0],
+            service_speed=manoeuvre.final_speed,
             propeller_rate=manoeuvre.propeller_rate,
             current_speed=math.hypot(north, east),
             current_direction=math.atan2(east, north),
         ),
         heading=heading0,
     )
+    if not steady:
+        simulator.state[0, S.SPEED_LOSS] = 1.0 - manoeuvre.start_speed / manoeuvre.final_speed  # u*(0), (2.53)
     true = {name: np.empty(count) for name in ("heading", "rate_of_turn", "north", "east", "rudder", "speed")}
     orders = np.zeros(count)
     order = 0.0
@@ -170,7 +191,6 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
                 ):
                     order = -order
         orders[k] = order
-        simulator.set_conditions("service_speed", speed[k])
         simulator.set_conditions("wind_speed", wind_speed[k])
         simulator.set_conditions("wind_direction", wind_direction[k])
         true["heading"][k] = simulator.heading[0]
@@ -209,7 +229,7 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
         propeller_rate=np.full(count, manoeuvre.propeller_rate),
         wind_speed=np.maximum(sensed(wind_speed, noise.wind_speed), 0.0),
         wind_direction=np.mod(sensed(wind_direction, noise.wind_direction), 2.0 * math.pi),  # as a vane reads it
-        service_speed=manoeuvre.final_speed if steady else None,
+        service_speed=manoeuvre.final_speed,
         source="synthetic",
         notes=(f"sailed by {truth.model!r} with current {truth.current} m/s, seed {seed}",),
     )
@@ -283,20 +303,21 @@ def model_test_programme(duration: float = 90.0, ship: str = PROGRAMME_SHIP) -> 
 
 
 #: The effects the hidden-effect suite (tests/test_workbench_hidden.py) hides in the programme's logs, one at
-#: a time, and the workbench finds.
+#: a time, and the workbench finds. Not the speed loss: every true ship sails with it (:func:`free_running`)
+#: and a fit to logs with a speed channel has it on from the start (:func:`~.terms.with_speed_output`).
 HIDDEN_EFFECTS = (
     "wind_moment",
     "wind_drift",
     "current",
     "norrbin",
-    "speed_loss",
     "sway",
     "rudder_offset",
     "steering_machine",
     "propeller_slipstream",
 )
 #: Values the hidden-effect checks sail with where the preset's placeholder does not suit a truth
-#: (the esso_osaka_model preset's speed-loss gain of 0.8 stops the ship in a 35 deg turn).
+#: (the esso_osaka_model preset's speed-loss gain of 0.8 stops the ship in a 35 deg turn): the true ships'
+#: speed loss.
 HIDDEN_VALUES: dict[str, float] = {"speed_loss.gain": 0.3}
 #: Values the hidden-effect checks give an effect whose ship preset holds the null value (an aligned
 #: rudder, a slipstream inside K*): a 1 deg offset and the 3 m model's slipstream coefficient.
@@ -316,7 +337,12 @@ def hidden_current(model: ShipModel) -> tuple[float, float]:
 
 def noise_scales(noise: SensorNoise) -> ErrorScales:
     """Error scales equal to the sensors' noise: a score near 1 means errors near the noise."""
-    return ErrorScales(heading=noise.heading, rate_of_turn=noise.rate_of_turn, position=math.sqrt(2.0) * noise.position)
+    return ErrorScales(
+        heading=noise.heading,
+        rate_of_turn=noise.rate_of_turn,
+        position=math.sqrt(2.0) * noise.position,
+        speed_error=noise.speed,
+    )
 
 
 def hidden_effect_logs(
@@ -328,16 +354,17 @@ def hidden_effect_logs(
     values: Mapping[str, float] = HIDDEN_VALUES,
     dt: float = LogSettings.dt,
 ) -> tuple[ReplayModel, list[Log]]:
-    """Logs sailed by the speed-scheduled Nomoto ship plus the ``hidden`` effects: (truth, logs).
+    """Logs sailed by the speed-scheduled Nomoto ship plus the ``hidden`` effects, sailing free
+    (:func:`free_running`): (truth, logs).
 
-    The hidden effects take the preset's values but for ``values``; the logs are sampled every
-    ``dt`` seconds (default: the programme's; default manoeuvres: :func:`model_test_programme`
-    scaled to ``ship``). They record what the hidden effects need to show and no more: the ordered
-    rudder when the steering machine is hidden (its actual rudder would reveal it), no speed when the
-    speed loss is hidden (a measured speed would hold it).
+    The hidden effects take the preset's values but for ``values``; the logs are
+    sampled every ``dt`` seconds (default: the programme's; default manoeuvres:
+    :func:`model_test_programme` scaled to ``ship``). They record what the hidden effects need to show
+    and no more: the ordered rudder when the steering machine is hidden (its actual rudder would reveal
+    it), no speed when the speed loss is hidden (a measured speed would show it: the fit then has it on).
     """
     model = ShipModel(ship, [*REQUIRED_EFFECTS, *hidden], values)
-    truth = ReplayModel(model, *(hidden_current(model) if "current" in hidden else (0.0, 0.0)))
+    truth = free_running(ReplayModel(model, *(hidden_current(model) if "current" in hidden else (0.0, 0.0))))
     settings = LogSettings(
         dt=dt,
         noise=noise,
@@ -348,7 +375,7 @@ def hidden_effect_logs(
 
 
 def noise_floor(truth: ReplayModel, logs: Sequence[Log], scales: ErrorScales) -> float:
-    """The pooled score of the true model replayed on its own noisy logs: the best a fit can hope for."""
-    return pooled([run_errors(log, replayed) for log, replayed in zip(logs, simulate(truth, logs), strict=True)]).score(
-        scales
-    )
+    """The pooled score of the true model (as it sailed, :func:`free_running`) replayed on its own noisy logs: the
+    best a fit can hope for."""
+    replays = simulate(free_running(truth), logs)
+    return pooled([run_errors(log, replayed) for log, replayed in zip(logs, replays, strict=True)]).score(scales)

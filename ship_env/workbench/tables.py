@@ -36,15 +36,17 @@ def std_error_cell(value: float) -> str:
     return "not determined" if value == math.inf else significant(value, 2)
 
 
-ERROR_HEADER = ("heading [deg]", "rate [deg/s]", "position [m]", "track [m]", "score")
+ERROR_HEADER = ("heading [deg]", "rate [deg/s]", "speed [m/s]", "position [m]", "track [m]", "score")
 
 
 def error_cells(errors: RunErrors, scales: ErrorScales) -> tuple[str, ...]:
-    """RMS heading, rate of turn, free position and track, and the score."""
+    """RMS heading, rate of turn, speed (the free replay's: '-' without a speed channel), free position and
+    track, and the score."""
     shown = errors.in_display_units()
     return (
         number(shown["heading"]),
         number(shown["rate_of_turn"], 3),
+        significant(shown["speed"], 2),
         number(shown["position"]),
         number(shown["track"]),
         number(errors.score(scales)),

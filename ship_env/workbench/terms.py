@@ -12,8 +12,15 @@ Each effect names the terms fitted when it is added (``DEFAULT_TERMS``; an effec
 outside ``ship_env`` has all its parameters fitted, in their declared ranges, with the declared
 null value; see :func:`effect_terms`); the parameters left out keep the preset's value (e.g. the
 propeller diameter, the hull's cross-flow drag). Effects that output-error fitting cannot estimate
-(random disturbances) and effects a log cannot show (a speed loss where the speed is measured) are
-excluded with the reason (:func:`why_not_fitted`).
+(random disturbances) and effects the logs cannot show (a speed loss where no log measures the speed)
+are excluded with the reason (:func:`why_not_fitted`).
+
+**Speed is a fitted output.** Where a log measures the speed, the replay predicts it
+(:mod:`.replay`): a fit to such logs sails with the speed loss on (:func:`with_speed_output`) and
+fits its terms K_u* and tau_u* (2.55; beta3 of H_u, 2.39, with ``--free speed_loss.cubic``: it shows
+only where u* is large, a hard-over turn or a start from rest). Where no log measures it, the speed-loss terms
+are not fitted (:func:`default_terms` with the logs): the fit cannot know the speed loss, and keeps
+the starting model's (:func:`not_identified` says so in words).
 """
 
 from __future__ import annotations
@@ -28,7 +35,7 @@ from ship_env.model import EFFECTS, PRINCIPAL, ShipModel
 from ship_env.model.declarations import Parameter
 from ship_env.model.effects.current import STEADY_COMPONENT
 from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.replay import INPUTS, ReplayModel
 
 CURRENT_TERMS = ("current.north", "current.east")
 
@@ -233,9 +240,53 @@ def make_term(key: str, setup: ReplayModel) -> Term:
     )
 
 
-def default_terms(effects: Sequence[str]) -> list[str]:
-    """The terms fitted by default for a set of effects, in the order of ``EFFECTS``."""
-    return [key for name in EFFECTS if name in effects for key in effect_terms(name)]
+def measures_speed(logs: Sequence[Log]) -> bool:
+    """Whether some log has a speed channel (the replay then predicts the speed, :mod:`.replay`)."""
+    return any(log.speed is not None for log in logs)
+
+
+def default_terms(effects: Sequence[str], logs: Sequence[Log] | None = None) -> list[str]:
+    """The terms fitted by default for a set of effects, in the order of ``EFFECTS``; with ``logs`` of which
+    none measures the speed, without the speed loss's (the logs do not identify it)."""
+    unidentified = () if logs is None or measures_speed(logs) else ("speed_loss",)
+    return [key for name in EFFECTS if name in effects and name not in unidentified for key in effect_terms(name)]
+
+
+def with_speed_output(setup: ReplayModel, logs: Sequence[Log]) -> ReplayModel:
+    """The model a fit to ``logs`` sails: with the speed loss on where a log measures the speed, so that the
+    replay's speed is the model's own prediction (2.55, 2.53), not the ship's service speed held throughout."""
+    if not measures_speed(logs) or setup.model.has("speed_loss"):
+        return setup
+    return replace(setup, model=setup.model.with_effects("speed_loss"))
+
+
+def not_identified(model: ShipModel, logs: Sequence[Log]) -> list[str]:
+    """What a fit of ``model`` to ``logs`` cannot know, in words (empty where it can know all its effects)."""
+    if measures_speed(logs):
+        return []
+    kept = (
+        "its speed loss is on with the starting preset's values"
+        if model.has("speed_loss")
+        else "it sails at constant speed (the speed loss is off)"
+    )
+    return [f"speed loss: no log measures the speed, so the fit does not identify the speed loss; {kept}"]
+
+
+def replay_inputs(logs: Sequence[Log]) -> list[str]:
+    """What a fit to ``logs`` takes from them as an input (:data:`~.replay.INPUTS` the logs have), and how it
+    takes the speed: the service speed and the initial speed where measured, else the service speed only."""
+    present = {
+        "rudder": True,
+        "propeller_rate": any(log.propeller_rate is not None for log in logs),
+        "wind_speed": any(log.has_wind for log in logs),
+        "wind_direction": any(log.has_wind for log in logs),
+    }
+    inputs = [name for name in INPUTS if present[name]]
+    if measures_speed(logs):
+        inputs.append("speed: each run's service speed U0 and initial speed only (the speed is predicted)")
+    else:
+        inputs.append("service speed: each run's U0, held (no speed channel: the speed is not predicted)")
+    return inputs
 
 
 def with_values(setup: ReplayModel, values: Mapping[str, float]) -> ReplayModel:
@@ -261,8 +312,8 @@ def why_not_fitted(effect: str, model: ShipModel, logs: Sequence[Log]) -> str | 
         return NOT_FITTED[effect]
     checks = {
         "speed_loss": (
-            all(log.speed is not None for log in logs),
-            "every log measures the speed, which holds the speed loss",
+            not measures_speed(logs),
+            "no log measures the speed: the speed loss is not identified (the preset keeps its values)",
         ),
         "steering_machine": (all(log.rudder_kind == "actual" for log in logs), "every log records the actual rudder"),
         "propeller_slipstream": (any(log.propeller_rate is None for log in logs), "a log has no propeller rate"),

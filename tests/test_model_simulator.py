@@ -143,6 +143,22 @@ def test_negative_speed_is_rejected():
         Conditions(current_speed="fast")
 
 
+def test_a_ship_started_slow_accelerates_as_the_speed_loss_equation_says():
+    """On a straight course (2.55) reads tau_u* (L / u) du*/dt = -u*, with u = U0 (1 - u*): the logistic
+    u*(t) = 1 / (1 + (1 - u0*) / u0* exp(U0 t / (tau_u* L))); started at half its service speed."""
+    model = ShipModel(CONTAINER, ("yaw", "speed_loss", "steering_machine", "kinematics"))
+    simulator = Simulator(model, dt=0.5)
+    simulator.reset(seed=0, speed=0.5 * model.service_speed)
+    assert simulator.speed[0] == pytest.approx(0.5 * model.service_speed, rel=1e-15)
+    rate = model.service_speed / (model.parameter("speed_loss.time_constant") * model.length)
+    for _ in range(400):
+        simulator.step(0.0)
+    expected = 1.0 / (1.0 + np.exp(rate * simulator.time[0]))  # u0* = 1/2
+    assert 1.0 - simulator.speed[0] / model.service_speed == pytest.approx(expected, rel=1e-8)
+    with pytest.raises(ValueError, match=r"speed: expected positive speeds"):
+        simulator.reset(speed=0.0)
+
+
 def test_changed_wind_and_current_carry_their_velocities():
     """A condition set while sailing re-derives the wind's and current's velocity components (2.71, 2.74)."""
     sim = Simulator(ShipModel(CONTAINER), num_ships=2)

@@ -201,11 +201,18 @@ class ExternalSimulator(Simulator):
         rudder: float | np.ndarray = 0.0,
         rate_of_turn: float | np.ndarray | None = None,
         ships: Sequence[int] | np.ndarray | None = None,
+        speed: float | np.ndarray | None = None,
     ) -> None:
         """:meth:`Simulator.reset`'s ships, started by their adapters at their next step.
 
-        ``ValueError`` for conditions with K* or tau* factors: they scale ship_env's own model.
+        ``ValueError`` for conditions with K* or tau* factors: they scale ship_env's own model; and for a
+        ``speed``: an adapter starts its ship at the service speed of its conditions.
         """
+        if speed is not None:
+            raise ValueError(
+                f"speed: {speed!r}: a ship simulated by {adapter_name(self.adapters[0])} starts at its service "
+                "speed; give the speed as conditions' service_speed"
+            )
         super().reset(seed, conditions, heading, rudder, rate_of_turn, ships)
         rows = np.arange(self.num_ships) if ships is None else np.asarray(ships)
         for row, sailed in zip(rows, self._per_ship_conditions(conditions, len(rows)), strict=True):

@@ -257,8 +257,9 @@ class Simulator:
         rudder: float | np.ndarray = 0.0,
         rate_of_turn: float | np.ndarray | None = None,
         ships: Sequence[int] | np.ndarray | None = None,
+        speed: float | np.ndarray | None = None,
     ) -> None:
-        """Start ships at the origin, at their service speed, on ``heading`` (rad).
+        """Start ships at the origin, at their service speed (or ``speed``), on ``heading`` (rad).
 
         Args:
             seed: one integer (the k-th restarted ship uses seed + k), one per restarted ship, or
@@ -268,6 +269,9 @@ class Simulator:
             rudder: initial actual rudder angle(s), rad.
             rate_of_turn: initial rate(s) of turn, rad/s; ``None`` starts straight (r = 0).
             ships: indices of the ships to restart (the others sail on untouched); None for all.
+            speed: initial speed(s) through the water u, m/s, positive; the speed loss starts at
+                u* = 1 - u / U0 (2.41) and the ``speed_loss`` effect takes it towards its steady value;
+                ``None`` starts at the service speed U0 (u* = 0).
         """
         rows = np.arange(self.num_ships) if ships is None else self._rows(ships)
         count = len(rows)
@@ -289,6 +293,11 @@ class Simulator:
         )
         if rate_of_turn is not None:
             self.state[rows, S.RATE_OF_TURN] = self._per_ship_value("rate_of_turn", rate_of_turn, count)
+        if speed is not None:
+            speeds = self._per_ship_value("speed", speed, count)
+            if np.any(speeds <= 0.0):
+                raise ValueError(f"speed: expected positive speeds through the water in m/s, got {speed!r}")
+            self.state[rows, S.SPEED_LOSS] = 1.0 - speeds / self.conditions[rows, S.SERVICE_SPEED]
         if not self.model.own_states_start_at_zero:
             started = self.state[rows]
             self.model.start_states(started, self.conditions[rows])

@@ -44,7 +44,7 @@ from ship_env.manoeuvres.series import first_crossing, value_at, velocity_over_g
 from ship_env.model import Conditions, Simulator
 from ship_env.text_table import Table
 from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import ReplayModel
+from ship_env.workbench.replay import ReplayModel, service_speed
 from ship_env.workbench.validation import CrossValidation
 
 #: The rudder is "over" where it is at least this fraction of the manoeuvre's angle.
@@ -279,9 +279,10 @@ class _TurningHelmsman:
 
 def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
     """The model's manoeuvre, sailed free from the measured state at the first execute: the heading, rate of
-    turn, rudder and speed there (the speed as the service speed: a steady approach), the propeller rate and
-    wind there, the fit's current; a turn holds its rudder to the measured turn's end, a zig-zag reverses it
-    closed loop on the heading until its fifth execute or twice the measured run's time."""
+    turn, rudder and speed there (the run's service speed U0 as the replay takes it, :func:`~.replay.service_speed`,
+    the speed loss from there by the model's own equation), the propeller rate and wind there, the fit's
+    current; a turn holds its rudder to the measured turn's end, a zig-zag reverses it closed loop on the
+    heading until its fifth execute or twice the measured run's time."""
     start = manoeuvre.executes[0]
     dt = float(np.median(np.diff(log.time)))
 
@@ -291,16 +292,19 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
     rate = np.gradient(log.heading, log.time) if log.rate_of_turn is None else log.rate_of_turn
     current_north, current_east = setup.current
     conditions = Conditions(
-        service_speed=at(log.speed, setup.model.service_speed if log.service_speed is None else log.service_speed),
+        service_speed=service_speed(log, setup.model),
         propeller_rate=None if log.propeller_rate is None else at(log.propeller_rate),  # None: the ship's own
         wind_speed=max(at(log.wind_speed), 0.0),
         wind_direction=at(log.wind_direction),
         current_speed=math.hypot(current_north, current_east),
         current_direction=math.atan2(current_east, current_north),
     )
+    speed = at(log.speed) if log.speed is not None and at(log.speed) > 0.0 else None  # None: at U0
     simulator = Simulator(setup.model, dt=dt)
     heading0 = at(log.heading)
-    simulator.reset(seed=0, conditions=conditions, heading=heading0, rudder=at(log.rudder), rate_of_turn=at(rate))
+    simulator.reset(
+        seed=0, conditions=conditions, heading=heading0, rudder=at(log.rudder), rate_of_turn=at(rate), speed=speed
+    )
     helmsman = _ZigZagHelmsman(manoeuvre, heading0) if manoeuvre.kind == "zig-zag" else _TurningHelmsman(manoeuvre)
     until = 2.0 * (log.time[-1] - start) if manoeuvre.kind == "zig-zag" else manoeuvre.end - start
     rows = []

@@ -254,7 +254,7 @@ def _figure(value: float) -> str:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0], allow_abbrev=False)
     parser.add_argument("--rounds", type=int, default=3, help="rounds of every comparison (default 3)")
     parser.add_argument("--quick", action="store_true", help="0.3 s per measurement instead of 2 s (a smoke run)")
     parser.add_argument("--no-cold", action="store_true", help="skip the first make from an empty cache")

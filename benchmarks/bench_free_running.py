@@ -127,6 +127,6 @@ def main_benchmark(keep: Path | None) -> int:
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0], allow_abbrev=False)
     parser.add_argument("--keep", type=Path, default=None, help="write the logs, report and preset here")
     raise SystemExit(main_benchmark(parser.parse_args().keep))

@@ -54,7 +54,7 @@ def format_report(results: dict, command: str) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0], allow_abbrev=False)
     parser.add_argument("--repeats", type=int, default=3, help="runs per estimator (default: %(default)s)")
     parser.add_argument("--scale", type=float, default=1.0, help="multiply the logs' durations (default: %(default)s)")
     parser.add_argument("--json", type=Path, default=None, help="also write the results as JSON")

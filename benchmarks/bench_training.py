@@ -82,7 +82,7 @@ class BeatBaselineCheck(BaseCallback):
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], allow_abbrev=False)
     parser.add_argument("--every", type=int, default=100_000, help="environment steps between checks")
     parser.add_argument("--max-steps", type=int, default=3_000_000, help="give up after this many steps")
     parser.add_argument("--seed", type=int, default=0)

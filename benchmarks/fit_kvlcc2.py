@@ -379,7 +379,7 @@ def validity_check(values, dt: float, slipstream: bool) -> list[str]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], allow_abbrev=False)
     parser.add_argument("--dt", type=float, default=0.5, help="step for both models, s (default 0.5)")
     parser.add_argument("--quick", action="store_true", help="only the first 300 s of each manoeuvre")
     parser.add_argument("--slipstream", action="store_true", help="also fit the propeller-slipstream coefficient")

@@ -53,7 +53,7 @@ def shoot(browser: str, page: Path, picture: Path, height: int) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], allow_abbrev=False)
     parser.add_argument("--build", type=Path, default=DOCS / "_build", help="the built HTML (default: docs/_build)")
     parser.add_argument("--out", type=Path, default=None, help="folder for the PNGs (default: BUILD/screenshots)")
     parser.add_argument("--browser", default=None, help=f"browser binary (default: the first of {', '.join(BROWSERS)})")

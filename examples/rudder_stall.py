@@ -66,7 +66,7 @@ STALL_ANGLE = math.radians(15.0)
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0], allow_abbrev=False)
     parser.add_argument("--out", type=Path, default=None, help="folder for the logs and the plot (default: temporary)")
     args = parser.parse_args(argv)
     out = args.out or Path(tempfile.mkdtemp(prefix="rudder_stall_"))

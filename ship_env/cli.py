@@ -34,6 +34,7 @@ from ship_env.command_line import (
     add_plot_argument,
     name_list,
     number,
+    parse_command_line,
     prepare_outputs,
     whole_number,
 )
@@ -901,6 +902,7 @@ def build_parser() -> argparse.ArgumentParser:
     """The ``ship-env`` parser with all subcommands."""
     parser = argparse.ArgumentParser(
         prog="ship-env",
+        allow_abbrev=False,
         description=(
             "Ship steering simulator (Passenier 1989; De Keizer / Van Leeuwen model): standard manoeuvres, "
             "and the measurement workbench (fit, compare, diagnose, improve)."
@@ -916,7 +918,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``ship-env`` with ``argv`` (default: the process's arguments); returns the exit status."""
-    args = build_parser().parse_args(argv)
+    args = parse_command_line(build_parser(), argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)  # the command line a written preset records
     try:
         return args.handler(args)

@@ -44,6 +44,7 @@ def add_command(
         description=description,
         epilog=f"{examples_title}:\n" + "\n".join(f"  {example}" for example in examples),
         formatter_class=argparse.RawDescriptionHelpFormatter,
+        allow_abbrev=False,  # --suit is not --suite
     )
     parser.set_defaults(handler=handler, command_parser=parser)
     return parser
@@ -81,6 +82,16 @@ class Command:
         )
         self.arguments(parser)
         return parser
+
+
+def parse_command_line(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> argparse.Namespace:
+    """``argv`` parsed by ``parser``, whose subcommands :func:`add_command` registered; an argument no
+    parser knows ends with the subcommand's usage (argparse's own ends with the top-level usage)."""
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:
+        command_parser: argparse.ArgumentParser = args.command_parser
+        command_parser.error(f"unrecognized arguments: {' '.join(unknown)}")
+    return args
 
 
 # -- argument types -------------------------------------------------------------------------------

@@ -241,7 +241,7 @@ def test_leaderboard_command_prints_ranked_tables_and_writes_files(tmp_path, cap
             "15",
             "--disturbances",
             "wind_current",
-            "--tracks",
+            "--no-tracks",
             "--conditions",
             "nominal",
             "half-speed",

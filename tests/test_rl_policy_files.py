@@ -115,7 +115,7 @@ def test_discrete_actions_do_not_fit_the_continuous_environment(tmp_path):
 def test_leaderboard_command_reports_a_bad_policy_file(tmp_path, capsys):
     path = untrained_policy("Pendulum-v1", tmp_path / "pendulum")
     with pytest.raises(SystemExit) as raised:
-        main(["leaderboard", "--policies", str(path), "--tracks", "--out", str(tmp_path / "out")])
+        main(["leaderboard", "--policies", str(path), "--no-tracks", "--out", str(tmp_path / "out")])
     assert raised.value.code == 2
     err = capsys.readouterr().err
     assert "argument --policies: policy file" in err and "pendulum/model.zip" in err

@@ -121,14 +121,14 @@ def test_the_leaderboard_refuses_a_payload_without_running_it_unless_trusted(tmp
         tmp_path / "payload", replacing_pickle("observation_space", pickle.dumps(TouchOnUnpickling(marker)))
     )
     with pytest.raises(SystemExit) as raised:
-        main(["leaderboard", "--policies", str(path.parent), "--tracks", "--out", str(out)])
+        main(["leaderboard", "--policies", str(path.parent), "--no-tracks", "--out", str(out)])
     assert raised.value.code == 2
     err = capsys.readouterr().err
     assert "argument --policies: policy file" in err and "pathlib.Path.touch" in err and "--trust-policy-code" in err
     assert not marker.exists() and not out.exists()
 
     with pytest.raises(SystemExit):
-        main(["leaderboard", "--policies", str(path.parent), "--trust-policy-code", "--tracks", "--out", str(out)])
+        main(["leaderboard", "--policies", str(path.parent), "--trust-policy-code", "--no-tracks", "--out", str(out)])
     assert marker.exists() and "its observation_space is None" in capsys.readouterr().err
 
 

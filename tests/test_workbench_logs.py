@@ -20,7 +20,7 @@ from ship_env.workbench import (
     load_logs,
     write_log,
 )
-from ship_env.workbench.formats import read_format
+from ship_env.workbench.formats import format_template, read_format
 from ship_env.workbench.logs import every_nth, log_from_frame
 
 
@@ -134,6 +134,36 @@ def test_undetectable_format_lists_the_columns():
         log_from_frame(trial_frame(), None, name="trial")
 
 
+def test_undetectable_format_names_the_missing_channels_and_prints_a_format_file_that_reads_the_log(tmp_path):
+    frame = trial_frame().rename(
+        columns={"Time": "Time [s]", "HDG": "HDG [deg]", "Rudder": "Rudder (deg)", "ROT": "ROT [deg/min]"}
+    )
+    frame["Wind speed [kn]"] = 8.0  # a "speed" header the template must not take for the ship's speed
+    frame["wind_dir (deg)"] = 90.0
+    with pytest.raises(LogError) as error:
+        log_from_frame(frame, None, name="trial", source="trial.csv")
+    message = str(error.value)
+    assert "a log needs the channels time, heading, rudder" in message
+    assert "(missing: time, heading, rudder;" in message
+    assert "pass it with --format FILE.yaml" in message
+    template = message.split("check and fill in:\n\n", 1)[1]
+    assert 'speed: {column: "STW", unit: m/s}' in template  # no unit in the header: the SI one, to check
+    (tmp_path / "trial.yaml").write_text(template.replace('"STW", unit: m/s', '"STW", unit: kn'))
+    log = log_from_frame(frame, str(tmp_path / "trial.yaml"), name="trial")
+    expected = log_from_frame(trial_frame(), trial_format(rudder=Column("Rudder", "deg")), name="trial")
+    for channel in ("time", "heading", "rudder", "rate_of_turn", "speed"):
+        np.testing.assert_allclose(getattr(log, channel), getattr(expected, channel))
+    np.testing.assert_allclose(log.wind_speed, 8.0 * 1852.0 / 3600.0)
+    np.testing.assert_allclose(log.wind_direction, math.pi / 2.0)
+    assert 'east: {column: "?", unit: m}' in format_template(["t", "psi", "rudder", "x"])  # north's partner
+
+
+def test_a_template_fills_in_a_required_channel_no_header_suggests():
+    with pytest.raises(LogError) as error:
+        log_from_frame(trial_frame().rename(columns={"Rudder": "Helm"}), None, name="trial")
+    assert 'rudder: {column: "?", unit: rad}   # no header named like it' in str(error.value)
+
+
 def test_text_in_a_numeric_column():
     frame = trial_frame().astype({"STW": object})
     frame.loc[7, "STW"] = "n/a"
@@ -209,6 +239,25 @@ def test_files_folders_and_their_errors(tmp_path):
         load_log(tmp_path / "notes.txt")
     with pytest.raises(LogError, match=r"the run names \['a'\] repeat"):
         load_logs([tmp_path / "a.csv", tmp_path / "a.csv"])
+
+
+def test_a_folder_that_does_not_exist_is_named_so(tmp_path):
+    with pytest.raises(LogError, match=r"runs: no such file or folder$"):  # was "cannot read files without an ending"
+        load_logs([tmp_path / "runs"])
+
+
+def test_a_folder_of_folders_names_those_that_hold_logs(tmp_path):
+    for name in ("zigzag", "turning"):
+        (tmp_path / name).mkdir()
+        standard_frame().to_csv(tmp_path / name / "run.csv", index=False)
+    (tmp_path / "empty").mkdir()
+    (tmp_path / "README.txt").write_text("what ship-env demo-logs wrote")
+    with pytest.raises(LogError) as error:
+        load_logs([tmp_path])
+    assert str(error.value) == (
+        f"{tmp_path}: no .csv, .parquet, .pq files in this folder; its folders turning, zigzag hold logs: "
+        f"pass one or several of them (say {tmp_path / 'turning'})"
+    )
 
 
 def test_every_nth_sample():

@@ -26,7 +26,7 @@ def chosen_spec(args: argparse.Namespace) -> SuiteSpec:
     """``--suite``'s spec with the subsets the other options choose."""
     choices = {
         "course_changes_deg": args.course_changes,
-        "tracks": args.tracks,
+        "tracks": [] if args.no_tracks else args.tracks,
         "conditions": None if args.conditions is None else [_CONDITIONS_BY_SLUG[s] for s in args.conditions],
         "course_change_disturbances": args.disturbances,
         "repetitions": args.repetitions,
@@ -148,13 +148,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="LEVEL",
         help=f"sail only these CourseChange levels ({', '.join(COURSE_CHANGE_DISTURBANCES)})",
     )
-    parser.add_argument(
+    tracks = parser.add_mutually_exclusive_group()
+    tracks.add_argument(
         "--tracks",
         choices=TRACK_IDS,
-        nargs="*",
+        nargs="+",
         default=None,
         metavar="ID",
-        help="sail only these TrackFollow tracks (none: no TrackFollow suites)",
+        help=f"sail only these TrackFollow tracks ({', '.join(TRACK_IDS)}; default: the suite's, all six)",
+    )
+    tracks.add_argument(
+        "--no-tracks",
+        action="store_true",
+        help="sail no TrackFollow suites: CourseChange only",
     )
     parser.add_argument(
         "--conditions",
@@ -197,10 +203,10 @@ COMMAND = Command(
     ),
     examples=(
         "ship-env leaderboard",
-        "ship-env leaderboard --suite test --tracks",
+        "ship-env leaderboard --suite test",
         "ship-env leaderboard --suite full --backend ray --out leaderboard_full",
-        "ship-env leaderboard --policies runs/CourseChange-v0/ppo --conditions nominal --tracks",
-        "ship-env leaderboard --ship fitted.yaml --tracks",
+        "ship-env leaderboard --policies runs/CourseChange-v0/ppo --conditions nominal --no-tracks",
+        "ship-env leaderboard --ship fitted.yaml --tracks T1 T2",
     ),
     handler=run_leaderboard_command,
     arguments=add_arguments,

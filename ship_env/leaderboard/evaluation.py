@@ -60,9 +60,9 @@ def run_job(job: Job, on_episode: Callable[[], object] | None = None) -> list[Ep
     if job.entrant.kind == "learned":
         import torch
 
-        from ship_env.rl.agents import DEFAULT_TORCH_THREADS
+        from ship_env.rl.agents import evaluation_torch_threads
 
-        torch.set_num_threads(DEFAULT_TORCH_THREADS)
+        torch.set_num_threads(evaluation_torch_threads())  # one, unless OMP_NUM_THREADS says otherwise
     return sail_suite(job.entrant, job.suite, job.run, on_episode)
 
 

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from functools import partial
@@ -52,6 +53,8 @@ CONTRIB_ALGORITHMS = frozenset({"ppo_lstm"})
 #: Torch's intra-op threads during training unless told otherwise: on the 2-core machines this
 #: project targets, 2 threads collapse under other load (design notes 9).
 DEFAULT_TORCH_THREADS = 1
+#: The variable that sets torch's intra-op threads where the user chose them (torch reads it too).
+TORCH_THREADS_VARIABLE = "OMP_NUM_THREADS"
 #: rl-zoo3's keys that set up the run rather than the algorithm.
 SETUP_KEYS = ("n_envs", "n_timesteps", "policy", "env_kwargs", "normalize", "env_wrapper", "callback")
 #: rl-zoo3's keys that ``ship-env train`` does not support.
@@ -105,6 +108,13 @@ class AgentConfig:
     def on_ship(self, ship: str) -> AgentConfig:
         """This config sailing ``ship`` (a preset name or a ship YAML path): its ``env_kwargs``' ``ship`` replaced."""
         return replace(self, env_kwargs={**self.env_kwargs, "ship": ship})
+
+
+def evaluation_torch_threads() -> int:
+    """Torch's intra-op threads to sail learned policies on: :data:`TORCH_THREADS_VARIABLE`'s value where
+    the user set it to a positive whole number, else :data:`DEFAULT_TORCH_THREADS`."""
+    text = os.environ.get(TORCH_THREADS_VARIABLE, "").strip()
+    return int(text) if text.isdigit() and int(text) > 0 else DEFAULT_TORCH_THREADS
 
 
 def algorithm_class(algo: str) -> type[BaseAlgorithm]:

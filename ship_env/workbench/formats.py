@@ -18,7 +18,9 @@ and ``standard`` (the channel names as headers, SI units: what :meth:`Log.to_fra
 
 from __future__ import annotations
 
+import json
 import math
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -221,13 +223,79 @@ def resolve_format(name_or_path: str | Path | LogFormat) -> LogFormat:
     raise FormatError(f"unknown log format {text!r}; built in: {', '.join(FORMATS)} (or a YAML file)")
 
 
+#: Words in a column header (its unit in brackets left out) that suggest each channel, for the
+#: format template a failed detection prints; a header with "wind" in it suggests only the wind's.
+HEADER_WORDS: dict[str, frozenset[str]] = {
+    "time": frozenset({"time", "t"}),
+    "heading": frozenset({"heading", "hdg", "psi"}),
+    "rudder": frozenset({"rudder", "delta"}),
+    "rate_of_turn": frozenset({"rot", "r", "rate", "turn"}),
+    "north": frozenset({"north", "x"}),
+    "east": frozenset({"east", "y"}),
+    "speed": frozenset({"speed", "stw", "u"}),
+    "propeller_rate": frozenset({"propeller", "prop", "n", "rpm", "rps"}),
+    "wind_speed": frozenset({"speed", "velo", "velocity"}),
+    "wind_direction": frozenset({"dir", "direction"}),
+}
+_UNIT_IN_HEADER = re.compile(r"[\[(]\s*([^\])]*?)\s*[\])]")
+
+
+def _header_channel(header: str, taken: set[str]) -> str | None:
+    """The first channel not in ``taken`` that ``header``'s words suggest (:data:`HEADER_WORDS`)."""
+    words = set(re.findall(r"[a-z]+", _UNIT_IN_HEADER.sub(" ", header.lower())))
+    wind = "wind" in words
+    for channel, hints in HEADER_WORDS.items():
+        if channel not in taken and channel.startswith("wind") == wind and words & hints:
+            return channel
+    return None
+
+
+def format_template(headers: Iterable[str]) -> str:
+    """A format file for a log with these headers, to fill in: each channel with the header its words
+    suggest (:data:`HEADER_WORDS`) and the unit in the header's brackets, where a known one; a required
+    channel (or the partner of one found, :data:`PAIRED_CHANNELS`) that no header suggests with column "?"."""
+    found: dict[str, str] = {}
+    for header in headers:
+        suggested = _header_channel(header, set(found))
+        if suggested is not None:
+            found[suggested] = header
+    lines = [
+        "name: my_log",
+        "rudder_kind: actual   # or ordered, where the log records the rudder's order",
+        "columns:",
+    ]
+    partners = {first: second for pair in PAIRED_CHANNELS for first, second in (pair, pair[::-1])}
+    for name, channel in CHANNELS.items():
+        if name not in found and not channel.required and partners.get(name) not in found:
+            continue
+        units = UNITS[channel.quantity]
+        header = found.get(name, "?")
+        in_brackets = _UNIT_IN_HEADER.search(header)
+        unit = in_brackets.group(1) if in_brackets and in_brackets.group(1) in units else next(iter(units))
+        note = f"{channel.meaning}; unit: {', '.join(units)}"
+        if name == "rudder":
+            note += "; sign: -1 where port rudder is positive"
+        if name not in found:
+            note = f"no header named like it: write its column; {note}"
+        lines.append(f"  {name}: {{column: {json.dumps(header)}, unit: {unit}}}   # {note}")
+    return "\n".join(lines) + "\n"
+
+
 def detect_format(headers: Iterable[str], source: str) -> LogFormat:
-    """The built-in format whose columns the file has, or a FormatError saying what is missing."""
+    """The built-in format whose columns the file has, or a FormatError naming the required channels the
+    standard format misses and printing a format file (:func:`format_template`) to write."""
+    headers = list(headers)
     present = set(headers)
     for fmt in FORMATS.values():
         if all(column.name in present for column in fmt.columns.values() if not column.optional):
             return fmt
+    required = [name for name, channel in CHANNELS.items() if channel.required]
+    missing = [name for name in required if name not in present]
+    others = [name for name in FORMATS if name != STANDARD.name]
     raise FormatError(
-        f"{source}: no built-in log format fits the columns {sorted(present)}; declare one "
-        f"(--format FILE.yaml, see ship_env.workbench.formats) or use: {', '.join(FORMATS)}"
+        f"{source}: no built-in log format fits the columns {sorted(present)}: a log needs the channels "
+        f"{', '.join(required)}, which the standard format reads from columns of those names (missing: "
+        f"{', '.join(missing)}; the other built-in formats: {', '.join(others)}). "
+        "Write which column holds which channel to a format file and pass it with --format FILE.yaml; "
+        f"for these columns, check and fill in:\n\n{format_template(headers)}"
     )

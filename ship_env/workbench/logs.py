@@ -153,10 +153,12 @@ class Log:
 
 def _read_table(path: Path) -> pd.DataFrame:
     reader = READERS.get(path.suffix.lower())
+    if not path.exists():
+        raise LogError(f"{path}: no such file or folder" if reader is None else f"{path}: no such file")
     if reader is None:
         raise LogError(f"{path}: cannot read {path.suffix or 'files without an ending'}; use {', '.join(READERS)}")
     if not path.is_file():
-        raise LogError(f"{path}: no such file")
+        raise LogError(f"{path}: not a file")
     try:
         return reader(path)
     except (ValueError, OSError, ImportError) as error:
@@ -424,6 +426,19 @@ def every_nth(log: Log, step: int) -> Log:
     return replace(log, notes=log.notes + (f"every {step}th sample used",), **kept)
 
 
+def _folders_of_logs(folder: Path) -> str:
+    """The sentence naming ``folder``'s subfolders that hold logs, to pass instead (empty where none)."""
+    holding = sorted(
+        sub for sub in folder.iterdir() if sub.is_dir() and any(p.suffix.lower() in READERS for p in sub.iterdir())
+    )
+    if not holding:
+        return ""
+    return (
+        f"; its folders {', '.join(sub.name for sub in holding)} hold logs: pass one or several of them "
+        f"(say {holding[0]})"
+    )
+
+
 def log_paths(paths: Iterable[str | Path]) -> list[Path]:
     """Files named, and the readable files inside folders named, sorted per folder."""
     found: list[Path] = []
@@ -431,7 +446,7 @@ def log_paths(paths: Iterable[str | Path]) -> list[Path]:
         if item.is_dir():
             inside = sorted(p for p in item.iterdir() if p.suffix.lower() in READERS)
             if not inside:
-                raise LogError(f"{item}: no {', '.join(READERS)} files in this folder")
+                raise LogError(f"{item}: no {', '.join(READERS)} files in this folder{_folders_of_logs(item)}")
             found.extend(inside)
         else:
             found.append(item)

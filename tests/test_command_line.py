@@ -1,0 +1,71 @@
+"""Parsing the ``ship-env`` command line: no abbreviated options, each subcommand's usage for its own
+errors, and the leaderboard's ``--tracks`` / ``--no-tracks``."""
+
+from __future__ import annotations
+
+import argparse
+
+import pytest
+
+from ship_env.cli import build_parser, main
+from ship_env.envs.tracks import TRACK_IDS
+from ship_env.leaderboard.cli import chosen_spec
+
+
+def _subcommand_parsers(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    (subcommands,) = (action for action in parser._actions if isinstance(action, argparse._SubParsersAction))
+    return dict(subcommands.choices)
+
+
+def _error(argv: list[str], capsys: pytest.CaptureFixture[str]) -> str:
+    with pytest.raises(SystemExit) as exit_info:
+        main(argv)
+    assert exit_info.value.code == 2
+    return capsys.readouterr().err
+
+
+def test_no_parser_takes_an_abbreviated_option():
+    parser = build_parser()
+    parsers = _subcommand_parsers(parser)
+    assert {"manoeuvre", "fit", "compare", "diagnose", "improve", "demo-logs", "train", "leaderboard"} <= set(parsers)
+    for name, subparser in {"ship-env": parser, **parsers}.items():
+        assert subparser.allow_abbrev is False, name
+
+
+@pytest.mark.parametrize(
+    ("argv", "usage"),
+    [
+        (["leaderboard", "--suit", "quick"], "usage: ship-env leaderboard"),  # was taken as --suite
+        (["leaderboard", "--sute", "quick"], "usage: ship-env leaderboard"),  # printed ship-env's usage
+        (["manoeuvre", "--zig", "10/10"], "usage: ship-env manoeuvre"),
+        (["fit", "logs", "--form", "f.yaml"], "usage: ship-env fit"),
+    ],
+)
+def test_an_unknown_option_ends_with_its_subcommands_usage(argv, usage, capsys):
+    err = _error(argv, capsys)
+    assert err.startswith(usage)
+    assert f"error: unrecognized arguments: {' '.join(argv[-2:])}" in err
+
+
+def _leaderboard_spec(*options: str):
+    return chosen_spec(build_parser().parse_args(["leaderboard", "--suite", "test", *options]))
+
+
+def test_the_test_suite_sails_every_track_unless_no_tracks_says_otherwise():
+    assert _leaderboard_spec().tracks == TRACK_IDS
+    assert _leaderboard_spec("--tracks", "T2", "T5").tracks == ("T2", "T5")
+    assert _leaderboard_spec("--no-tracks").tracks == ()
+
+
+@pytest.mark.parametrize(
+    ("options", "named"),
+    [
+        (["--tracks"], "argument --tracks: expected at least one argument"),  # dropped TrackFollow
+        (["--tracks", "T1", "--no-tracks"], "argument --no-tracks: not allowed with argument --tracks"),
+        (["--tracks", "T9"], "argument --tracks: invalid choice: 'T9'"),
+    ],
+)
+def test_tracks_options_that_do_not_fit_are_refused_by_name(options, named, capsys):
+    err = _error(["leaderboard", *options], capsys)
+    assert err.startswith("usage: ship-env leaderboard")
+    assert named in err

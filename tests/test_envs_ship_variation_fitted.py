@@ -3,31 +3,18 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
 import pytest
-import yaml
+from fitted_presets import fitted_preset
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.course_change_task import CourseChangeTask
 from ship_env.envs.variation import FITTED_TERMS
-from ship_env.paths import config_dir
 
 #: Draws per spread check (the issue's 2,000).
 DRAWS = 2000
-
-
-def fitted_preset(tmp_path: Path, errors: dict[str, float], name: str = "fitted") -> Path:
-    """The kvlcc2 preset with standard errors on its K*, tau* (``errors``: term -> std_error), as a fit writes them."""
-    document = yaml.safe_load((config_dir() / "ships" / "kvlcc2.yaml").read_text())
-    for key, error in errors.items():
-        effect, _, term = key.partition(".")
-        document["effects"][effect][term]["std_error"] = error
-    path = tmp_path / f"{name}.yaml"
-    path.write_text(yaml.safe_dump(document, sort_keys=False))
-    return path
 
 
 def drawn_terms(task: CourseChangeTask, seed: int, count: int = DRAWS) -> dict[str, np.ndarray]:

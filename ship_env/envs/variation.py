@@ -53,7 +53,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ship_env.envs.checks import check_range
-from ship_env.model import EFFECTS, Conditions, ShipModel
+from ship_env.model import EFFECTS, Conditions, Ship, ShipModel
 
 #: The varied quantities and the ranges ``ship_variation=True`` draws them from.
 DEFAULT_SHIP_VARIATION: dict[str, tuple[float, float]] = {
@@ -143,6 +143,12 @@ FITTED_TERMS = {"yaw.gain": "yaw_gain", "yaw.time_constant": "yaw_time_constant"
 MAXIMUM_REDRAWS = 100
 
 
+def draws_fitted(preset: Ship) -> bool:
+    """Whether ``preset`` gives a standard error for each of :data:`FITTED_TERMS` (``ship_variation="fitted"``
+    can draw from it)."""
+    return all(preset.std_errors.get(key) is not None for key in FITTED_TERMS)
+
+
 class FittedShipVariation:
     """Ships drawn from a fitted preset's uncertainty (``ship_variation="fitted"``; the module docstring).
 
@@ -157,8 +163,8 @@ class FittedShipVariation:
 
     def __init__(self, model: ShipModel) -> None:
         errors = model.ship.std_errors
-        lacking = [key for key in FITTED_TERMS if errors.get(key) is None]
-        if lacking:
+        if not draws_fitted(model.ship):
+            lacking = [key for key in FITTED_TERMS if errors.get(key) is None]
             where = model.ship.path or model.ship.name
             raise ValueError(
                 f"ship_variation={FITTED!r}: the preset {model.ship.name!r} ({where}) gives no standard error "

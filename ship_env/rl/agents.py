@@ -106,6 +106,11 @@ class AgentConfig:
         """This config sailing ``ship`` (a preset name or a ship YAML path): its ``env_kwargs``' ``ship`` replaced."""
         return replace(self, env_kwargs={**self.env_kwargs, "ship": ship})
 
+    def with_ship_variation(self, ship_variation: str) -> AgentConfig:
+        """This config with its ``env_kwargs``' ``ship_variation`` replaced (``"fitted"``: ships drawn from
+        a fitted preset's standard errors, :mod:`ship_env.envs.variation`)."""
+        return replace(self, env_kwargs={**self.env_kwargs, "ship_variation": ship_variation})
+
 
 def algorithm_class(algo: str) -> type[BaseAlgorithm]:
     """The stable-baselines3 (or sb3-contrib) class of an ``--algo`` name (imported on first use: it

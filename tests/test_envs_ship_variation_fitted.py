@@ -94,3 +94,14 @@ def test_a_preset_without_standard_errors_is_refused_naming_the_option_and_the_p
         gym.make("ship_env/TrackFollow-v0", ship=str(only_gain), ship_variation="fitted")
     with pytest.raises(ValueError, match=r"ship_variation: expected true, 'fitted' or a mapping of ranges, got 'fit'"):
         gym.make("ship_env/CourseChange-v0", ship_variation="fit")
+
+
+def test_the_identified_esso_osaka_ships_spread_as_its_standard_errors():
+    """The shipped identified preset: K* 0.62 +- 0.10, tau* 0.87 +- 0.26 (its bound 3.3 s below: < 1 % of spread)."""
+    task = CourseChangeTask(ship="esso_osaka_model", ship_variation="fitted")
+    drawn = drawn_terms(task, seed=3)
+    for key in FITTED_TERMS:
+        error = task.model.ship.std_errors[key]
+        assert error is not None and error > 0.1 * task.model.parameter(key)  # a spread that matters
+        assert drawn[key].std(ddof=1) == pytest.approx(error, rel=0.10), key
+        assert drawn[key].mean() == pytest.approx(task.model.parameter(key), abs=4 * error / math.sqrt(DRAWS)), key

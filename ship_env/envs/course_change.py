@@ -144,8 +144,10 @@ class CourseChangeEnv(ShipEnv):
     :mod:`ship_env.envs.ship_scales`), ``sensor_noise_scale``, ``fix_interval`` (s, default 0: a
     fix every step), ``action_type``, ``rudder_levels``,
     ``observation_history``, ``decision_interval``, ``observe_design_speed`` and ``ship_variation``
-    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`), and ``dynamics`` (a ship
-    simulated outside ship_env: :mod:`ship_env.model.external`).
+    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`; ``"fitted"`` on a
+    preset written by ``ship-env fit/improve --preset`` draws K* and tau* from its fit, each
+    theta ~ N(theta_hat, s^2) with s its ``std_error``, redrawn until inside the parameter's range),
+    and ``dynamics`` (a ship simulated outside ship_env: :mod:`ship_env.model.external`).
 
     ## Version History
 

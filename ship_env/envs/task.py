@@ -23,7 +23,7 @@ from ship_env.envs.checks import check_choice, check_number, check_whole_number
 from ship_env.envs.envelope import envelope_limits
 from ship_env.envs.sensors import sensors_record
 from ship_env.envs.ship_scales import ship_scales
-from ship_env.envs.variation import ShipFactors, ShipVariation, sailed_conditions
+from ship_env.envs.variation import FITTED, FittedShipVariation, ShipFactors, ShipVariation, sailed_conditions
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
 from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory
 
@@ -90,7 +90,9 @@ class ShipTask:
             numbers include amidships).
         ship_variation: ``None`` (default) sails the preset's ship every episode; ``True`` or a
             mapping of ranges draws each episode's ship (K*, tau*, service speed, weather
-            strength; :mod:`ship_env.envs.variation`), recorded as the scenario's ``ship``.
+            strength; :mod:`ship_env.envs.variation`), recorded as the scenario's ``ship``;
+            ``"fitted"`` draws K* and tau* from a fitted preset's standard errors (a Gaussian
+            truncated to their ranges by redrawing; a preset without them is refused).
         observation_history: how many past steps of the heading error, rate of turn and rudder
             observations (``history_observations``) follow the observation, newest first (0,
             default: none). A policy without memory can then tell how the ship answers its rudder.
@@ -135,7 +137,7 @@ class ShipTask:
         fix_interval: float | None = None,
         action_type: str = "continuous",
         rudder_levels: int = 7,
-        ship_variation: bool | Mapping[str, Sequence[float]] | None = None,
+        ship_variation: bool | str | Mapping[str, Sequence[float]] | None = None,
         observation_history: int = 0,
         decision_interval: int = 1,
         observe_design_speed: bool = False,
@@ -149,7 +151,14 @@ class ShipTask:
         self.action_type = check_choice("action_type", action_type, ACTION_TYPES)
         levels = check_whole_number("rudder_levels", rudder_levels, 2)
         noise_scale = check_number("sensor_noise_scale", sensor_noise_scale, 0.0)
-        self.variation = None if ship_variation in (None, False) else ShipVariation(ship_variation)
+        self.variation: ShipVariation | FittedShipVariation | None = None
+        if isinstance(ship_variation, str):
+            if ship_variation != FITTED:
+                raise ValueError(
+                    f"ship_variation: expected true, {FITTED!r} or a mapping of ranges, got {ship_variation!r}"
+                )
+        elif ship_variation is not None and ship_variation is not False:
+            self.variation = ShipVariation(ship_variation)
         self.observation_history = check_whole_number("observation_history", observation_history, 0)
         self.decision_interval = check_whole_number("decision_interval", decision_interval, 1)
         if not isinstance(observe_design_speed, bool):
@@ -165,6 +174,8 @@ class ShipTask:
         if effects is None:
             effects = (*preset.enabled, *extra_effects)
         self.model = ShipModel(preset, effects, {**(ship_parameters or {}), "rudder_limit": self.rudder_limit})
+        if ship_variation == FITTED:
+            self.variation = FittedShipVariation(self.model)
         #: The ship's length, speed and time over the reference ship's (:mod:`ship_env.envs.ship_scales`).
         self.scales = ship_scales(self.model)
         #: The model's validity envelope, as the compiled check reads it from :meth:`parameter_record`

@@ -19,6 +19,25 @@ the task's own, so with ``ship_variation`` off (the default) an id's episodes ar
 were, and with it on a seed gives the same task episode (course change, weather, track) on the ship
 drawn.
 
+``ship_variation="fitted"`` (:data:`FITTED`) draws the ship from its fit instead: a preset written
+by ``ship-env fit/improve --preset`` carries each fitted value theta_hat with its standard error s
+(the larger of the Jacobian's and the jackknife's, :mod:`ship_env.workbench.presets`), and each
+episode's K* and tau* are drawn (:class:`FittedShipVariation`)
+
+    theta ~ N(theta_hat, s^2) truncated to [theta_min, theta_max],
+
+independently for K* and tau*, with theta_min, theta_max the parameter's declared range (K* >= 0,
+tau* >= 1e-6: ``ship_env.model.effects.yaw``) and truncation by redrawing: a draw outside the range
+is drawn again, so the ships keep the Gaussian's shape inside the range. Clipping would instead
+pile the tail's probability onto the bound (a ship with K* = 0 exactly, no rudder at all, or
+tau* = 1e-6); where the bound lies more than 3 s from theta_hat the redraws change the spread by
+under 1 %. The preset records neither the fold (jackknife) models nor the covariance of the
+terms, so the draws are independent: a fit that trades K* against tau* (their errors correlated)
+draws ships somewhat wider than its data allow along the trade. The other fitted terms (the wind
+moment, the sway, Norrbin's terms) sail at their fitted values: the ships of one vector
+environment can differ only in K* and tau* (the per-ship factors below). A preset without standard
+errors for K* and tau* (a built-in one) is refused, naming the option and the preset.
+
 The ships of one vector environment differ at once: K* and tau* reach the simulator as per-ship
 :class:`~ship_env.model.Conditions` (``yaw_gain_factor``, ``yaw_time_constant_factor``), not as the
 model's parameters.
@@ -34,7 +53,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ship_env.envs.checks import check_range
-from ship_env.model import Conditions
+from ship_env.model import EFFECTS, Conditions, Ship, ShipModel
 
 #: The varied quantities and the ranges ``ship_variation=True`` draws them from.
 DEFAULT_SHIP_VARIATION: dict[str, tuple[float, float]] = {
@@ -112,6 +131,69 @@ class ShipVariation:
                 "yaw_gain": yaw * factors["yaw_gain"],
                 "yaw_time_constant": yaw * factors["yaw_time_constant"],
             }
+        )
+
+
+#: ``ship_variation="fitted"``: each episode's K*, tau* drawn from the preset's fit (:class:`FittedShipVariation`).
+FITTED = "fitted"
+#: The fitted terms ``ship_variation="fitted"`` draws, and the :class:`ShipFactors` field each sails as.
+FITTED_TERMS = {"yaw.gain": "yaw_gain", "yaw.time_constant": "yaw_time_constant"}
+#: Draws of one term before a range that keeps refusing them is reported (each falls inside the range
+#: with probability at least one half while the fitted value lies inside it).
+MAXIMUM_REDRAWS = 100
+
+
+def draws_fitted(preset: Ship) -> bool:
+    """Whether ``preset`` gives a standard error for each of :data:`FITTED_TERMS` (``ship_variation="fitted"``
+    can draw from it)."""
+    return all(preset.std_errors.get(key) is not None for key in FITTED_TERMS)
+
+
+class FittedShipVariation:
+    """Ships drawn from a fitted preset's uncertainty (``ship_variation="fitted"``; the module docstring).
+
+    Args:
+        model: the environment's model of a preset written by ``ship-env fit/improve --preset``; the
+            draws centre on its K* and tau* (the fitted values, unless ``ship_parameters`` set others).
+
+    Raises:
+        ValueError: the preset gives no standard error for K* or tau* (a built-in preset, or a fit
+            that did not determine them), naming the option, the preset and the terms.
+    """
+
+    def __init__(self, model: ShipModel) -> None:
+        errors = model.ship.std_errors
+        if not draws_fitted(model.ship):
+            lacking = [key for key in FITTED_TERMS if errors.get(key) is None]
+            where = model.ship.path or model.ship.name
+            raise ValueError(
+                f"ship_variation={FITTED!r}: the preset {model.ship.name!r} ({where}) gives no standard error "
+                f"(std_error) for {', '.join(lacking)}; only a preset written by `ship-env fit --preset` or "
+                "`ship-env improve --preset` with those terms fitted does (fixed factors: ship_variation=True "
+                "or a mapping of ranges)"
+            )
+        declared = {f"{name}.{p.name}": p for name, effect in EFFECTS.items() for p in effect.parameters}
+        #: Per term: the fitted value theta_hat, its standard error s and its declared range.
+        self.values = {key: model.parameter(key) for key in FITTED_TERMS}
+        self.std_errors = {key: float(errors[key] or 0.0) for key in FITTED_TERMS}
+        self.ranges = {key: (declared[key].minimum, declared[key].maximum) for key in FITTED_TERMS}
+
+    def draw_term(self, key: str, rng: np.random.Generator) -> float:
+        """One term drawn from N(theta_hat, s^2), redrawn until inside its declared range."""
+        low, high = self.ranges[key]
+        for _ in range(MAXIMUM_REDRAWS):
+            value = float(rng.normal(self.values[key], self.std_errors[key]))
+            if low <= value <= high:
+                return value
+        raise ValueError(
+            f"ship_variation={FITTED!r}: {key} {self.values[key]!r} +- {self.std_errors[key]!r} drew no value "
+            f"inside its range [{low}, {high}] in {MAXIMUM_REDRAWS} draws"
+        )
+
+    def draw(self, rng: np.random.Generator) -> ShipFactors:
+        """A ship from ``rng``: K*, then tau*, each as a multiple of the model's (speed and weather nominal)."""
+        return ShipFactors(
+            **{field: self.draw_term(key, rng) / self.values[key] for key, field in FITTED_TERMS.items()}
         )
 
 

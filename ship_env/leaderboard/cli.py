@@ -16,7 +16,15 @@ from ship_env.command_line import Command, add_progress_argument, number, ship_p
 from ship_env.envs.tracks import TRACK_IDS, TrackError
 from ship_env.extras import require
 from ship_env.leaderboard.evaluation import BACKENDS
-from ship_env.leaderboard.suites import CONDITIONS, COURSE_CHANGE_DISTURBANCES, SUITE_SPECS, SuiteSpec
+from ship_env.leaderboard.suites import (
+    CONDITIONS,
+    COURSE_CHANGE_DISTURBANCES,
+    DEFAULT_SHIP,
+    FITTED_UNCERTAINTY,
+    SUITE_SPECS,
+    SuiteSpec,
+    sails_condition,
+)
 from ship_env.ray_cluster import add_backend_arguments
 
 _CONDITIONS_BY_SLUG = {condition.slug: condition for condition in CONDITIONS}
@@ -55,6 +63,12 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
             check_design_ship(args.ship)
         except ValueError as error:
             args.command_parser.error(f"argument --ship: {error}")
+    ship = args.ship or DEFAULT_SHIP
+    if args.conditions and FITTED_UNCERTAINTY.slug in args.conditions and not sails_condition(FITTED_UNCERTAINTY, ship):
+        args.command_parser.error(
+            f"argument --conditions: {FITTED_UNCERTAINTY.slug} draws ships from a fitted preset's standard errors; "
+            f"the ship {ship} gives none (sail --ship FILE written by ship-env fit --preset or improve --preset)"
+        )
     try:
         board = run_leaderboard(
             chosen_spec(args),
@@ -90,7 +104,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         choices=list(SUITE_SPECS),
         default="dev",
         help="dev (alias quick), for screening and tuning: the thesis's course changes and tracks once in every "
-        "condition (nominal, K*, tau* x0.5 and x2, half speed); full: the dev episodes three times; test, to "
+        "condition (nominal, K*, tau* x0.5 and x2, half speed, and on a fitted preset ships drawn from its "
+        "standard errors, fitted-uncertainty); full: the dev episodes three times; test, to "
         "report: course changes, seeds and track starts no screen sailed; unseen: the dev episodes on "
         "shipmmg's MMG KVLCC2 (calm, wind and current, tracks scaled to 320 m; needs shipmmg) "
         "(default: %(default)s)",
@@ -101,7 +116,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="FILE",
         help="the ship sailed: a preset name or a ship YAML (say one written by ship-env fit ... --preset); the "
-        "classic autopilots are designed from its values, the conditions scale its K*, tau* and speed, and the "
+        "classic autopilots are designed from its values, the conditions scale its K*, tau* and speed (on a "
+        "fitted preset fitted-uncertainty draws them from its standard errors, other ships for dev and test), and the "
         "learned entrants sail it, named as trained on another ship where they were (default: container_226m; "
         "not with --suite unseen)",
     )

@@ -86,7 +86,7 @@ def suite_envs(suite: Suite, entrant: Entrant) -> tuple[gym.Env, ShipModel]:
     """The environment the suite sails (with its condition's ship, observed as ``entrant`` was
     trained to) and the nominal ship's model."""
     env_kwargs: dict[str, Any] = {**suite.env_kwargs, **dict(entrant.observation_kwargs)}
-    if suite.condition.scales:
+    if suite.condition.varies:
         env_kwargs["ship_variation"] = suite.condition.ship_variation()
     env = gym.make(suite.env_id, **env_kwargs)
     return env, ship_task(env).model

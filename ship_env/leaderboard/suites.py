@@ -14,6 +14,13 @@ episode's seed and reset options are fixed here.
   The environment sails that ship as its ``ship_variation`` option would draw it
   (:meth:`Condition.ship_variation`): the design ship's environment, whose observations keep the
   design ship's scales (a learned policy is not told the changed K*, as no autopilot is).
+- **Fitted uncertainty** (:data:`FITTED_UNCERTAINTY`), on a fitted preset only (one whose K*, tau*
+  carry standard errors: written by ``ship-env fit/improve --preset``; on any other ship the
+  condition is left out): the same suites, each episode on another ship drawn from the fit
+  (``ship_variation="fitted"``, :mod:`ship_env.envs.variation`): K*, tau* from Gaussians with the
+  preset's standard errors, inside their ranges. The ship is drawn from the episode's seed, so the
+  dev and test suites (seeds 0.. and :data:`TEST_FIRST_SEED`..) sail different ships, the same ones
+  every time: the controllers are ranked on the ships the logs allow, beside the fixed factors.
 
 The named suites (:data:`SUITE_SPECS`) select on some episodes and report on others:
 
@@ -52,6 +59,7 @@ import gymnasium as gym
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG, TRACK_IDS
+from ship_env.envs.variation import FITTED, draws_fitted
 from ship_env.model import load_ship
 
 COURSE_CHANGE = "ship_env/CourseChange-v0"
@@ -130,11 +138,20 @@ class Condition:
     name: str
     slug: str
     scales: Mapping[str, float] = field(default_factory=dict)
+    variation: str | None = None
 
-    def ship_variation(self) -> dict[str, tuple[float, float]]:
-        """The condition's ship as the environments' ``ship_variation`` ranges (each a single
-        value; :mod:`ship_env.envs.variation`): {} for the nominal ship."""
+    def ship_variation(self) -> dict[str, tuple[float, float]] | str:
+        """The condition's ship as the environments' ``ship_variation``: its named draw
+        (``"fitted"``), or its ranges (each a single value; :mod:`ship_env.envs.variation`): {}
+        for the nominal ship."""
+        if self.variation is not None:
+            return self.variation
         return {VARIATION_KEYS[key]: (scale, scale) for key, scale in self.scales.items()}
+
+    @property
+    def varies(self) -> bool:
+        """Whether the sailed ship differs from the design ship (a scale or a draw)."""
+        return bool(self.scales) or self.variation is not None
 
 
 #: Each scaled parameter's key in the environments' ``ship_variation`` ranges.
@@ -146,7 +163,14 @@ NOMINAL = Condition("nominal", "nominal")
 K_TAU_HALF = Condition("K*, tau* x0.5", "k-tau-half", {"yaw.gain": 0.5, "yaw.time_constant": 0.5})
 K_TAU_DOUBLE = Condition("K*, tau* x2", "k-tau-double", {"yaw.gain": 2.0, "yaw.time_constant": 2.0})
 HALF_SPEED = Condition("half speed", "half-speed", {"service_speed": 0.5})
-CONDITIONS = (NOMINAL, K_TAU_HALF, K_TAU_DOUBLE, HALF_SPEED)
+#: Each episode on a ship drawn from a fitted preset's standard errors (sailed on fitted presets only).
+FITTED_UNCERTAINTY = Condition("fitted uncertainty", "fitted-uncertainty", variation=FITTED)
+CONDITIONS = (NOMINAL, K_TAU_HALF, K_TAU_DOUBLE, HALF_SPEED, FITTED_UNCERTAINTY)
+
+
+def sails_condition(condition: Condition, ship: str) -> bool:
+    """Whether ``condition`` can be sailed on ``ship``: :data:`FITTED_UNCERTAINTY` on a fitted preset only."""
+    return condition.variation != FITTED or draws_fitted(load_ship(ship))
 
 
 @dataclass(frozen=True)
@@ -241,7 +265,8 @@ class SuiteSpec:
         course_changes_deg: the CourseChange magnitudes sailed (each to both sides).
         repetitions: how often each episode is sailed, with other seeds.
         tracks: the TrackFollow tracks.
-        conditions: the ship conditions.
+        conditions: the ship conditions (:data:`FITTED_UNCERTAINTY` left out on a ship that is not a
+            fitted preset).
         course_change_disturbances: the CourseChange disturbance levels, one suite each.
         first_seed: the seed of the first episode (:data:`SEED_STRIDE` apart per repetition).
         track_start: TrackFollow's ``start`` (:data:`~ship_env.envs.track_follow_task.STARTS`).
@@ -265,7 +290,10 @@ class SuiteSpec:
         start = {} if self.track_start == FIRST_WAYPOINT else {"start": self.track_start}
         ship = {} if self.ship is None else {"ship": self.ship}
         suites = []
+        sailed_ship = DEFAULT_SHIP if self.ship is None else self.ship
         for condition in self.conditions:
+            if not sails_condition(condition, sailed_ship):
+                continue
             for disturbance in self.course_change_disturbances:
                 suites.append(
                     Suite(
@@ -283,7 +311,8 @@ class SuiteSpec:
 
 
 #: The named suites (the module's docstring): ``dev`` sails every episode once in every condition (the
-#: nominal ship, its K*, tau* halved and doubled, half speed), ``full`` three times, ``test`` once
+#: nominal ship, its K*, tau* halved and doubled, half speed, and on a fitted preset its fitted
+#: uncertainty), ``full`` three times, ``test`` once
 #: on held-out magnitudes, seeds and track starts; ``quick`` is ``dev`` by its former name.
 DEV = SuiteSpec()
 SUITE_SPECS: dict[str, SuiteSpec] = {

@@ -109,6 +109,11 @@ class AgentConfig:
         """This config sailing ``ship`` (a preset name or a ship YAML path): its ``env_kwargs``' ``ship`` replaced."""
         return replace(self, env_kwargs={**self.env_kwargs, "ship": ship})
 
+    def with_ship_variation(self, ship_variation: str) -> AgentConfig:
+        """This config with its ``env_kwargs``' ``ship_variation`` replaced (``"fitted"``: ships drawn from
+        a fitted preset's standard errors, :mod:`ship_env.envs.variation`)."""
+        return replace(self, env_kwargs={**self.env_kwargs, "ship_variation": ship_variation})
+
 
 def evaluation_torch_threads() -> int:
     """Torch's intra-op threads to sail learned policies on: :data:`TORCH_THREADS_VARIABLE`'s value where

@@ -12,7 +12,9 @@ import time
 from pathlib import Path
 
 from ship_env.command_line import Command, add_progress_argument, ship_preset, whole_number
+from ship_env.envs.variation import FITTED, FITTED_TERMS, draws_fitted
 from ship_env.extras import require
+from ship_env.model import load_ship
 from ship_env.ray_cluster import add_backend_arguments
 from ship_env.rl.agents import ALGORITHMS, DEFAULT_TORCH_THREADS
 from ship_env.rl.metadata import METADATA_FILE, MODEL_FILE, PolicyMetadata
@@ -32,6 +34,8 @@ def reproducing_command(args: argparse.Namespace, seed: int, out: Path) -> str:
     words = ["ship-env", "train", "--algo", args.algo, "--env", args.env, "--seed", str(seed)]
     if args.ship is not None:
         words += ["--ship", args.ship]
+    if args.ship_variation is not None:
+        words += ["--ship-variation", args.ship_variation]
     if args.steps is not None:
         words += ["--steps", str(args.steps)]
     if args.config is not None:
@@ -80,6 +84,14 @@ def run_train(args: argparse.Namespace) -> int:
         args.command_parser.error(f"argument --env/--config: {error}")
     if args.ship is not None:
         config = config.on_ship(args.ship)
+    if args.ship_variation is not None:
+        ship = str(config.env_kwargs.get("ship", "the environment's own, container_226m"))
+        if "ship" not in config.env_kwargs or not draws_fitted(load_ship(ship)):
+            args.command_parser.error(
+                f"argument --ship-variation: {FITTED} draws ships from a fitted preset's standard errors; the ship "
+                f"({ship}) gives none for {', '.join(FITTED_TERMS)} (train --ship FILE written by fit --preset)"
+            )
+        config = config.with_ship_variation(args.ship_variation)
     runs = seed_runs(args)
     try:
         for run in runs:
@@ -144,6 +156,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="the ship trained on: a preset name or a ship YAML (say one written by ship-env fit ... --preset), "
         "in place of the config's env_kwargs ship (default: the config's, else container_226m)",
+    )
+    parser.add_argument(
+        "--ship-variation",
+        choices=[FITTED],
+        default=None,
+        help="in place of the config's env_kwargs ship_variation: fitted draws each episode's K*, tau* from the "
+        "--ship preset's standard errors (a preset written by ship-env fit/improve --preset)",
     )
     parser.add_argument(
         "--steps",
@@ -214,7 +233,8 @@ COMMAND = Command(
         "save model.zip with metadata.json (environment and its kwargs, config, seed, steps, wall\n"
         "time, package versions, the command that reproduces the run). --seeds trains several seeds,\n"
         "one after another or as Ray tasks (--backend ray), each the same run as its own --seed command.\n"
-        "--ship trains on another ship (a fitted preset's YAML), recorded as the env kwargs' ship.\n"
+        "--ship trains on another ship (a fitted preset's YAML), recorded as the env kwargs' ship;\n"
+        "--ship-variation fitted on ships drawn from its standard errors.\n"
         "--trained-agent continues a saved agent instead of new weights (fine-tuning it on other\n"
         "environment options), recorded in the metadata with the file's SHA-256.\n"
         "A folder that already holds a run is not overwritten without --force. TensorBoard logs go to\n"
@@ -226,6 +246,7 @@ COMMAND = Command(
         "ship-env train --algo ppo --env ship_env/CourseChange-v0 --seeds 0-4 --backend ray",
         "ship-env train --algo sac --env ship_env/CourseChange-v0 --steps 50000 --seed 3 --out runs/sac3",
         "ship-env train --algo ppo --env ship_env/CourseChange-v0 --ship fitted.yaml --seeds 0-4 --out runs/fitted",
+        "ship-env train --algo ppo --ship fitted.yaml --ship-variation fitted --seeds 0-4 --out runs/fitted_draws",
         "ship-env train --algo ppo --env ship_env/TrackFollow-v0 --seeds 0-4 --config tuned.yaml "
         "--trained-agent ship_env/policies/TrackFollow-v0/ppo",
     ),

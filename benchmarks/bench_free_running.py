@@ -113,9 +113,7 @@ def main_benchmark(keep: Path | None) -> int:
     try:
         predicted = figures(ShipModel(preset))
     except FloatingPointError as error:  # the fitted ship left its model's validity in the turn
-        print(
-            f"\nthe fit on {len(ZIGZAGS)} zig-zags took {seconds:.0f} s; the fitted preset cannot turn: {error}"
-        )
+        print(f"\nthe fit on {len(ZIGZAGS)} zig-zags took {seconds:.0f} s; the fitted preset cannot turn: {error}")
         return 1
     rows = []
     failed = 0

@@ -12,8 +12,8 @@ slipstream term fitted at 10.2 rps then acts at 10.2 rps in ``Simulator``, the e
 manoeuvres and the leaderboard, not at 0 rps where the rudder is weaker.
 
 A fitted preset also records the ranges its runs covered (``fitted.coverage``,
-:mod:`ship_env.workbench.coverage`): the propeller rate, r* = L |r| / max(u, u_min), the drift angle
-|atan2(-v, u)| and the rudder angle |delta|. A :class:`~ship_env.model.Simulator` sailing it beyond
+:mod:`ship_env.workbench.coverage`): the propeller rate, ``r* = L |r| / max(u, u_min)``, the drift angle
+``|atan2(-v, u)|`` and the rudder angle ``|delta|``. A :class:`~ship_env.model.Simulator` sailing it beyond
 them (:class:`FittedRanges`: the propeller rate where a ship starts, the others after every step)
 warns with a :class:`CoverageWarning` naming the quantity, its value and the range, once per preset
 file and quantity in a process (a training loop is not flooded): the model extrapolates there. A

@@ -62,9 +62,7 @@ def plot_ladder(ladder: Ladder, path: Path) -> Path:
     return save_drawing(drawing, path, dpi=90)
 
 
-def plot_free_running(
-    results: Sequence[RunFigures], logs: Sequence[Log], length: float, title: str, path: Path
-) -> Path:
+def plot_free_running(results: Sequence[RunFigures], logs: Sequence[Log], length: float, path: Path) -> Path:
     """Each run's track from its first execute, measured against sailed free, in ship lengths, into a PNG."""
     by_name = {log.name: log for log in logs}
     columns = min(4, len(results))
@@ -94,7 +92,6 @@ def plot_free_running(
     axes[0].legend(fontsize=8)
     drawing.supxlabel("east from the first execute [L]")
     drawing.supylabel("north [L]")
-    drawing.suptitle(title)
     return save_drawing(drawing, path, dpi=80)
 
 
@@ -123,11 +120,10 @@ def _free_running_lines(ladder: Ladder, logs: Sequence[Log], folder: Path) -> li
             results,
             everything,
             length,
-            f"{label} model: {', '.join(rung.effects)}",
             folder / f"free_running_{label}.png",
         )
         lines += [
-            f"### {label} model",
+            f"### {label} model: {', '.join(rung.effects)}",
             "",
             free_running_table(results).markdown(),
             "",

@@ -16,14 +16,19 @@ differently:
   mismatch of a size that also means something physically, so no materiality can tell them apart.)
 
 The model: De Keizer's speed-scheduled first-order Nomoto yaw (thesis 2.54, 2.27) with kinematics
-(2.64, 2.65), and optionally Norrbin's cubic and |r*| r* terms, the propeller slipstream over the
-rudder, a rudder offset and a steady current:
+(2.64, 2.65), the speed through the water from the surge equation of the speed loss (2.55, 2.39,
+2.53), and optionally Norrbin's cubic and |r*| r* terms, the propeller slipstream over the rudder,
+a rudder offset and a steady current:
 
     dr/dt = [ (u^2 + c_s (n D)^2) K* (delta + delta_0) - u^2 H(r*) ] / (tau* L^2),   r* = L r / u
     H(r*) = alpha1 r* + alpha2' |r*| r* + alpha3 r*^3
+    du*/dt = (u / L) (K_u* r*^2 - u* - beta3 u*^3) / tau_u*,   u = U0 (1 - u*)
     dpsi/dt = r,   dx0/dt = u cos(psi) + c_north,   dy0/dt = u sin(psi) + c_east
 
-The speed through the water follows the manoeuvre's acceleration from its start to its final speed.
+Each run's service speed U0 is its manoeuvre's final speed and it starts at its start speed,
+u*(0) = 1 - start / U0 (the log gives U0): the ship accelerates by its own surge equation, as a real one does. With the
+``speed_loss`` effect off it loses no speed in a turn (K_u* = 0, beta3 = 0) and approaches U0 with
+ship_env's generator's time constant (``NO_TURN_SPEED_LOSS``, tau_u* = 1).
 The coefficients are read from a ship preset (a :class:`~ship_env.model.ShipModel`'s values): only
 the numbers are shared, never the code that integrates them.
 """
@@ -38,14 +43,14 @@ import numpy as np
 
 from ship_env.model import ShipModel
 from ship_env.workbench import Log
-from ship_env.workbench.synthetic import Manoeuvre, SensorNoise
+from ship_env.workbench.synthetic import NO_TURN_SPEED_LOSS, Manoeuvre, SensorNoise
 
 #: Euler sub-steps per sample interval.
 SUBSTEPS = 10
 #: Samples by which the rate gyro lags the ship.
 GYRO_DELAY = 1
 #: The effects this simulator can sail besides the yaw equation and kinematics.
-EFFECTS = ("norrbin", "propeller_slipstream", "rudder_offset", "current")
+EFFECTS = ("norrbin", "propeller_slipstream", "rudder_offset", "current", "speed_loss")
 
 
 @dataclass(frozen=True)
@@ -57,6 +62,9 @@ class Hull:
     time_constant: float
     linear: float
     rudder_rate: float
+    speed_loss_gain: float = NO_TURN_SPEED_LOSS["speed_loss.gain"]
+    speed_loss_time_constant: float = NO_TURN_SPEED_LOSS["speed_loss.time_constant"]
+    speed_loss_cubic: float = NO_TURN_SPEED_LOSS["speed_loss.cubic"]
     cubic: float = 0.0
     odd_quadratic: float = 0.0
     slipstream: float = 0.0
@@ -73,8 +81,11 @@ class Hull:
             raise ValueError(f"second simulator: cannot sail {sorted(unknown)}; it sails {EFFECTS}")
         values = ShipModel(ship)
 
-        def on(effect: str, key: str) -> float:
-            return values.parameter(key) if effect in effects else 0.0
+        def on(effect: str, key: str, off: float = 0.0) -> float:
+            return values.parameter(key) if effect in effects else off
+
+        def surge(key: str) -> float:
+            return on("speed_loss", key, NO_TURN_SPEED_LOSS[key])
 
         north, east = current if "current" in effects else (0.0, 0.0)
         return cls(
@@ -83,6 +94,9 @@ class Hull:
             time_constant=values.parameter("yaw.time_constant"),
             linear=values.parameter("yaw.linear"),
             rudder_rate=values.parameter("steering_machine.rudder_rate"),
+            speed_loss_gain=surge("speed_loss.gain"),
+            speed_loss_time_constant=surge("speed_loss.time_constant"),
+            speed_loss_cubic=surge("speed_loss.cubic"),
             cubic=on("norrbin", "norrbin.cubic"),
             odd_quadratic=on("norrbin", "norrbin.odd_quadratic"),
             slipstream=on("propeller_slipstream", "propeller_slipstream.coefficient"),
@@ -102,10 +116,11 @@ class Hull:
         moment = inflow * self.gain * (rudder + self.rudder_offset) - speed * speed * restoring
         return moment / (self.time_constant * self.length**2)
 
-
-def _speed(manoeuvre: Manoeuvre, time: float) -> float:
-    final, start = manoeuvre.final_speed, manoeuvre.start_speed
-    return final + (start - final) * math.exp(-time / manoeuvre.acceleration_time)
+    def speed_loss_rate(self, rate: float, speed: float, loss: float) -> float:
+        """du*/dt of the surge equation in the module docstring."""
+        normalised = self.length * rate / speed
+        resistance = loss + self.speed_loss_cubic * loss**3
+        return speed / self.length * (self.speed_loss_gain * normalised**2 - resistance) / self.speed_loss_time_constant
 
 
 def _order(manoeuvre: Manoeuvre, time: float, order: float, heading_change: float) -> float:
@@ -128,17 +143,19 @@ def sail(hull: Hull, manoeuvre: Manoeuvre, seed: int, dt: float, noise: SensorNo
     count = round(manoeuvre.duration / dt) + 1
     time = np.arange(count) * dt
     heading, rate, north, east, rudder = rng.uniform(-math.pi, math.pi), 0.0, 0.0, 0.0, 0.0
+    service_speed = manoeuvre.final_speed
+    loss = 1.0 - manoeuvre.start_speed / service_speed
     start_heading = heading
     true = np.empty((count, 6))  # heading, rate, north, east, actual rudder, speed
     order = 0.0
     h = dt / SUBSTEPS
     for k in range(count):
-        true[k] = heading, rate, north, east, rudder, _speed(manoeuvre, time[k])
+        true[k] = heading, rate, north, east, rudder, service_speed * (1.0 - loss)
         order = _order(manoeuvre, time[k], order, heading - start_heading)
-        for j in range(SUBSTEPS):
-            t = time[k] + j * h
-            speed = _speed(manoeuvre, t)
+        for _ in range(SUBSTEPS):
+            speed = service_speed * (1.0 - loss)
             acceleration = hull.yaw_acceleration(rate, speed, rudder, manoeuvre.propeller_rate)
+            loss += h * hull.speed_loss_rate(rate, speed, loss)
             north += h * (speed * math.cos(heading) + hull.current_north)
             east += h * (speed * math.sin(heading) + hull.current_east)
             heading += h * rate
@@ -164,6 +181,7 @@ def sail(hull: Hull, manoeuvre: Manoeuvre, seed: int, dt: float, noise: SensorNo
         east=sensed(true[:, 3], noise.position),
         speed=np.maximum(sensed(true[:, 5], noise.speed), 0.0),
         propeller_rate=np.full(count, manoeuvre.propeller_rate),
+        service_speed=service_speed,
         source="second simulator",
     )
 

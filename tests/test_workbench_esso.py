@@ -74,8 +74,12 @@ def test_the_base_model_fits_runs_on_their_own_but_generalises_poorly():
     assert held_out.track > 1.5
 
 
-#: The effects the documented error ladder on the zig-zags adds (``ship-env improve .../zigzag``).
+#: The effects the error ladder on the zig-zags added (``ship-env improve .../zigzag``) while the replay imposed the
+#: measured speed, the design notes' physics of these runs; with the speed predicted the ladder takes others
+#: (docs/results/workbench.md), and the tests that expect these fail until it finds them again.
 ZIGZAG_EFFECTS = ("current", "wind_moment", "norrbin", "propeller_slipstream", "asymmetry", "wind_drift")
+#: The effects every fit to these runs has on: the base model, with the speed loss that predicts the measured speed.
+BASE_EFFECTS = (*REQUIRED_EFFECTS, "speed_loss")
 #: Two jackknife standard errors: how far a recomputed figure may lie from the stated one.
 MARGIN_SIGMAS = 2.0
 
@@ -128,77 +132,79 @@ def test_the_workbench_finds_the_effects_the_runs_need_and_the_held_out_error_ha
     rate, the ship is not symmetric; adding them cuts the held-out heading and track errors by half or more."""
     print("\n" + "\n".join(f"{rung['added']}: {rung['held_out']}" for rung in ladder["ladder"]))
     start, final = ladder["ladder"][0]["held_out"], ladder["held_out"]["held out"]
-    assert set(ladder["effects"]) == {*REQUIRED_EFFECTS, *ZIGZAG_EFFECTS}
-    assert final["heading"] <= 0.5 * start["heading"]
-    assert final["track"] <= 0.5 * start["track"]
     base = base_fit["held_out"]["held out"]  # the ladder starts where ``fit`` leaves the base model
     assert (start["heading"], start["track"]) == pytest.approx((base["heading"], base["track"]), rel=1e-9)
+    assert set(ladder["effects"]) == {*BASE_EFFECTS, *ZIGZAG_EFFECTS}
+    assert final["heading"] <= 0.5 * start["heading"]
+    assert final["track"] <= 0.5 * start["track"]
 
 
 @pytest.mark.slow
 def test_the_ladder_gives_the_readmes_held_out_errors(ladder, base_fit):
     """As docs/results/workbench.md states it:
-    held-out heading 20.1 -> 6.4 deg, held-out track 2.15 -> 0.80 m."""
+    held-out heading 20.7 -> 16.5 deg, held-out track 2.14 -> 0.80 m (20.1 -> 6.4 deg, 2.15 -> 0.80 m with
+    the speed imposed)."""
     before, after = per_run(base_fit["held_out"], "held out"), per_run(ladder["held_out"], "held out")
-    check_figure(before, "heading", 20.1)
-    check_figure(after, "heading", 6.4)
-    check_figure(before, "track", 2.15)
+    check_figure(before, "heading", 20.7)
+    check_figure(after, "heading", 16.5)
+    check_figure(before, "track", 2.14)
     check_figure(after, "track", 0.80)
 
 
 @pytest.mark.slow
 def test_the_zigzags_effects_carry_to_the_turning_runs(folder, base_fit):
     """As docs/results/workbench.md states it:
-    fitted on the zig-zags with the ladder's effects and validated on the turning runs, rate of
-    turn 1.23 -> 0.61 deg/s, track 3.68 -> 1.60 m."""
+    fitted on the zig-zags with the effects the ladder added with the speed imposed and validated on the
+    turning runs, rate of turn 0.89 -> 0.76 deg/s, track 3.67 -> 1.59 m (1.23 -> 0.61 deg/s, 3.68 -> 1.60 m
+    with the speed imposed)."""
     turning = ("--validate-on", str(DATA / "turning"))
     fitted = command(folder, "fit", str(DATA / "zigzag"), "--add", ",".join(ZIGZAG_EFFECTS), *turning)
     before, after = per_run(base_fit["validation"], "validation"), per_run(fitted["validation"], "validation")
-    check_figure(before, "rate_of_turn", 1.23)
-    check_figure(after, "rate_of_turn", 0.61)
-    check_figure(before, "track", 3.68)
-    check_figure(after, "track", 1.60)
+    check_figure(before, "rate_of_turn", 0.89)
+    check_figure(after, "rate_of_turn", 0.76)
+    check_figure(before, "track", 3.67)
+    check_figure(after, "track", 1.59)
 
 
 @pytest.mark.slow
 def test_a_ladder_with_the_turning_runs_as_validation_stops_before_the_asymmetry(folder, base_fit):
-    """As docs/results/workbench.md states it:
-    ``improve`` with the turning runs as validation runs adds the wind drift, the wind moment, the
-    Norrbin terms, the slipstream and the current (turning runs' heading 210 -> 76 deg, track 3.68 -> 1.61 m)
-    and stops before the asymmetry."""
+    """As docs/results/workbench.md states it: ``improve`` with the turning runs as validation runs, turning
+    runs' heading 153 -> 102 deg, track 0.86 m. With the speed imposed it added the wind drift, the wind
+    moment, the Norrbin terms, the slipstream and the current and stopped before the asymmetry (210 -> 76 deg,
+    1.61 m); it now adds the wind drift, the rudder offset and the steering machine with sway, which fails here."""
     ladder = command(folder, "improve", str(DATA / "zigzag"), "--validate-on", str(DATA / "turning"))
-    assert set(ladder["effects"]) == {*REQUIRED_EFFECTS, *ZIGZAG_EFFECTS} - {"asymmetry"}
     before, after = per_run(base_fit["validation"], "validation"), per_run(ladder["validation"], "validation")
-    check_figure(before, "heading", 210.0)
-    check_figure(after, "heading", 76.0)
-    check_figure(after, "track", 1.61)
+    check_figure(before, "heading", 153.0)
+    check_figure(after, "heading", 102.0)
+    check_figure(after, "track", 0.86)
+    assert set(ladder["effects"]) == {*BASE_EFFECTS, *ZIGZAG_EFFECTS} - {"asymmetry"}
 
 
 @pytest.mark.slow
 def test_the_berthing_ladder_on_whole_runs(folder):
-    """As docs/results/workbench.md states it:
-    on the berthing runs the ladder on whole runs adds the wind moment, the steering machine, the
-    Norrbin terms and the slipstream with sway (held-out heading 16.4 -> 8.6 deg)."""
+    """As docs/results/workbench.md states it: on the berthing runs the ladder on whole runs, held-out heading
+    19.5 -> 19.5 deg. With the speed imposed it added the wind moment, the steering machine, the Norrbin terms
+    and the slipstream with sway (16.4 -> 8.6 deg); it now adds nothing, which fails here."""
     base = command(folder, "fit", str(DATA / "berthing"))
     ladder = command(folder, "improve", str(DATA / "berthing"))
+    check_figure(per_run(base["held_out"], "held out"), "heading", 19.5)
+    check_figure(per_run(ladder["held_out"], "held out"), "heading", 19.5)
     added = {"wind_moment", "steering_machine", "propeller_slipstream", "sway", "norrbin"}
-    assert set(ladder["effects"]) == {*REQUIRED_EFFECTS, *added}
-    check_figure(per_run(base["held_out"], "held out"), "heading", 16.4)
-    check_figure(per_run(ladder["held_out"], "held out"), "heading", 8.6)
+    assert set(ladder["effects"]) == {*BASE_EFFECTS, *added}
 
 
 @pytest.mark.slow
 def test_the_berthing_ladder_inside_the_envelope(folder):
-    """As docs/results/workbench.md states it:
-    on the berthing segments inside the envelope (``--inside --refit 4``) the Norrbin terms, the
-    slipstream with sway, the asymmetry with the current and the steering machine: held-out heading
-    11.9 -> 2.6 deg, track 0.36 -> 0.14 m."""
+    """As docs/results/workbench.md states it: on the berthing segments inside the envelope (``--inside
+    --refit 4``), held-out heading 14.1 -> 3.1 deg, track 0.36 -> 0.18 m. With the speed imposed it added the
+    Norrbin terms, the slipstream with sway, the asymmetry with the current and the steering machine (11.9 ->
+    2.6 deg, 0.36 -> 0.14 m); it now stops after the slipstream with sway, which fails here."""
     base = command(folder, "fit", str(DATA / "berthing"), "--inside")
     ladder = command(folder, "improve", str(DATA / "berthing"), "--inside", "--refit", "4")
-    added = {"steering_machine", "propeller_slipstream", "sway", "asymmetry", "norrbin", "current"}
-    assert set(ladder["effects"]) == {*REQUIRED_EFFECTS, *added}
     before, after = per_run(base["held_out"], "held out"), per_run(ladder["held_out"], "held out")
-    check_figure(before, "heading", 11.9)
-    check_figure(after, "heading", 2.6)
+    check_figure(before, "heading", 14.1)
+    check_figure(after, "heading", 3.1)
     check_figure(before, "track", 0.36)
-    check_figure(after, "track", 0.14)
+    check_figure(after, "track", 0.18)
+    added = {"steering_machine", "propeller_slipstream", "sway", "asymmetry", "norrbin", "current"}
+    assert set(ladder["effects"]) == {*BASE_EFFECTS, *added}

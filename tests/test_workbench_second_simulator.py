@@ -11,12 +11,22 @@ first.
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
+
+import numpy as np
 import pytest
-from second_simulator import Hull, sail_all
+from second_simulator import Hull, sail, sail_all
 
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import FitOptions, cross_validate, diagnose, improve
-from ship_env.workbench.synthetic import SensorNoise, hidden_current, model_test_programme, noise_scales
+from ship_env.workbench.synthetic import (
+    NO_TURN_SPEED_LOSS,
+    SensorNoise,
+    hidden_current,
+    model_test_programme,
+    noise_scales,
+)
 from ship_env.workbench.tables import diagnosis_table
 
 SHIP = "esso_osaka_model"
@@ -58,6 +68,23 @@ def check_single_is_found(effect: str, manoeuvres, refit: int | None) -> None:
     print(f"\nhidden {effect}:\n{table}")
     assert diagnosis.best is not None and diagnosis.best.effect == effect, table
     assert diagnosis.best.refitted.score(SCALES) <= 0.5 * baseline.score(SCALES), table
+
+
+def test_the_second_simulator_accelerates_by_its_surge_equation():
+    """On a straight course the speed loss (2.55) with K_u* = 0, beta3 = 0 is a logistic in u / U0:
+    d(u / U0)/dt = U0 / (tau_u* L) (u / U0) (1 - u / U0); the replay predicts the speed by that equation, so
+    a generator that drove the speed along another curve (an exponential ramp) writes logs no model sails."""
+    accelerating = next(m for m in SHORT_RUNS if m.start_speed < m.final_speed)
+    straight = replace(accelerating, rudder=0.0, duration=80.0)
+    hull = Hull.from_preset(SHIP)
+    log = sail(hull, straight, seed=1, dt=0.2, noise=SensorNoise(speed=0.0))
+    start, service = straight.start_speed / straight.final_speed, straight.final_speed
+    growth = service / (NO_TURN_SPEED_LOSS["speed_loss.time_constant"] * hull.length)
+    logistic = 1.0 / (1.0 + (1.0 - start) / start * np.exp(-growth * log.time))
+    # Euler's error in sub-steps of 0.02 s: 1.0e-4 of U0 at most over these 80 s (the exponential ramp: 0.19).
+    np.testing.assert_allclose(log.speed / service, logistic, atol=1e-3)
+    assert log.service_speed == service
+    assert log.speed[-1] / service > 0.95 and not math.isclose(start, 1.0)
 
 
 @pytest.mark.slow

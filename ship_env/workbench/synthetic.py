@@ -72,8 +72,6 @@ class Manoeuvre:
         zigzag_angle: heading change that reverses the rudder, rad (zig-zags).
         start_speed, final_speed: speed through the water at the start, and the service speed U0 it
             accelerates towards on a straight course (by the true model's speed loss, 2.55), m/s.
-        acceleration_time: time constant of that approach, s, for a generator that drives the speed
-            (``tests/second_simulator.py``); :func:`sail` sails it by the true model's surge equation.
         propeller_rate: n, rps.
         wind_speed, wind_direction: mean true wind, m/s, and where it comes from, rad.
     """
@@ -86,7 +84,6 @@ class Manoeuvre:
     zigzag_angle: float = math.radians(20.0)
     start_speed: float = 0.3
     final_speed: float = 0.3
-    acceleration_time: float = 30.0
     propeller_rate: float = 12.0
     wind_speed: float = 1.8
     wind_direction: float = math.radians(280.0)
@@ -270,7 +267,7 @@ def model_test_programme(duration: float = 90.0, ship: str = PROGRAMME_SHIP) -> 
     accelerating, zig-zag or turn) appears twice, so a fit that leaves one run out still sees its like.
 
     The numbers (and ``duration``, s) are those of the 3 m model ``PROGRAMME_SHIP``; another ship sails
-    the same manoeuvres in its own units: times (duration, approach, acceleration) scale with its
+    the same manoeuvres in its own units: times (duration, approach) scale with its
     L / U, speeds with its service speed U, propeller rates with U / D (the same advance ratio) and
     the wind with sqrt(L) (Froude scaling: 1.8 m/s on the 3 m model is a 16 m/s breeze at 226 m).
     """
@@ -293,7 +290,6 @@ def model_test_programme(duration: float = 90.0, ship: str = PROGRAMME_SHIP) -> 
             zigzag_angle=math.radians(switch),
             start_speed=start_speed * speed,
             final_speed=final_speed * speed,
-            acceleration_time=Manoeuvre.acceleration_time * time,
             propeller_rate=propeller_rate * propeller,
             wind_speed=wind_speed * wind,
             wind_direction=math.radians(wind_from),

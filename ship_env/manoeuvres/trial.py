@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Protocol
 
 import numpy as np
@@ -66,6 +66,9 @@ def run_trial(
     stop: Callable[[Simulator], bool] | None = None,
     initial_rate_of_turn: np.ndarray | None = None,
     initial_rudder: np.ndarray | float = 0.0,
+    conditions: Conditions | None = None,
+    initial_heading: float = 0.0,
+    initial_speed: float | None = None,
 ) -> pd.DataFrame:
     """Sail one ship per label from a steady straight approach and record every step.
 
@@ -79,6 +82,11 @@ def run_trial(
         stop: ends the trial early when it returns True (checked after each recorded sample).
         initial_rate_of_turn: per-ship starting rate of turn, rad/s (``None``: straight).
         initial_rudder: per-ship starting rudder angle, rad.
+        conditions: what the ships sail in besides the approach speed (propeller, wind, current);
+            ``None``: calm water, as MSC/Circ.1053 asks.
+        initial_heading: the starting heading, rad (0: north).
+        initial_speed: the starting speed through the water, m/s (``None``: the approach speed; see
+            :meth:`~ship_env.model.Simulator.reset`).
 
     Returns:
         The time series, columns :data:`~ship_env.manoeuvres.results.TIME_SERIES_COLUMNS`.
@@ -86,9 +94,11 @@ def run_trial(
     simulator = Simulator(model, num_ships=len(labels), dt=settings.dt, method=settings.method)
     simulator.reset(
         seed=0,
-        conditions=Conditions(service_speed=settings.speed),
+        conditions=replace(Conditions() if conditions is None else conditions, service_speed=settings.speed),
+        heading=initial_heading,
         rudder=initial_rudder,
         rate_of_turn=initial_rate_of_turn,
+        speed=initial_speed,
     )
     limit = model.rudder_limit
     last_step = math.ceil(duration / settings.dt - 1e-9)

@@ -91,16 +91,18 @@ class ZigZagHelmsman:
     Args:
         rudder_angle: a, rad; its sign says which side the rudder goes first.
         heading_change: b, rad, positive.
+        original_heading: the heading at the first execute, rad, that b is counted off (a trial starts on 0).
     """
 
-    def __init__(self, rudder_angle: float, heading_change: float) -> None:
+    def __init__(self, rudder_angle: float, heading_change: float, original_heading: float = 0.0) -> None:
         self.rudder_angle = abs(rudder_angle)
         self.heading_change = heading_change
+        self.original_heading = original_heading
         self.side = math.copysign(1.0, rudder_angle)
         self.executes = 1
 
     def __call__(self, simulator: Simulator) -> float:
-        if self.side * simulator.heading[0] >= self.heading_change:
+        if self.side * (simulator.heading[0] - self.original_heading) >= self.heading_change:
             self.side = -self.side
             self.executes += 1
         return self.side * self.rudder_angle

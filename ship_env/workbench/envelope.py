@@ -123,7 +123,7 @@ def check_envelope(log: Log, envelope: Envelope, length: float) -> EnvelopeCheck
             moving = log.speed >= envelope.minimum_speed
         outside["drift"] = moving & (np.abs(drift) > envelope.maximum_drift)
     if envelope.maximum_rate is not None:
-        rate = log.rate_of_turn if log.rate_of_turn is not None else np.gradient(log.heading, log.time)
+        rate = log.rate_of_turn_or_gradient
         outside["rate"] = np.abs(rate) > envelope.maximum_rate
     return EnvelopeCheck(log.name, envelope, outside)
 

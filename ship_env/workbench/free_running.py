@@ -5,14 +5,15 @@ manoeuvres (MSC.137(76)): advance, tactical diameter, the steady rate of turn an
 overshoots. Here each measured run is read as the manoeuvre it is, its figures are read off the log,
 and the model sails the same manoeuvre free:
 
+Each sails from the measured state at its first execute (heading, rate of turn, rudder, speed, propeller
+rate, wind, the fit's current):
+
 - a **turning run** -- the rudder held to one side (at least half its angle) while the heading turns
-  through at least half a circle -- sails the run's own rudder programme from the run's measured
-  initial state (the workbench's free replay, :func:`~.replay.simulate`);
+  through at least half a circle -- with the turn's rudder ordered at the execute and held to the
+  measured turn's end;
 - a **zig-zag run** -- the rudder reversed at least twice between the same angles a, each time the
-  heading has passed b off the heading at the first execute -- sails closed loop on the heading: from
-  the measured state at the first execute (heading, rate of turn, rudder, speed, propeller rate, wind,
-  the fit's current), a helmsman puts the rudder over to a and reverses it whenever the heading passes
-  b, with a and b read from the run.
+  heading has passed b off the heading at the first execute -- closed loop on the heading: a helmsman
+  puts the rudder over to a and reverses it whenever the heading passes b, with a and b read from the run.
 
 Measured and predicted figures are read by the same code (:func:`manoeuvre_figures`), all towards the
 side of the turn, from the first execute:
@@ -41,7 +42,9 @@ import numpy as np
 
 from ship_env.manoeuvres.results import Figure, metre_digits
 from ship_env.manoeuvres.series import first_crossing, value_at, velocity_over_ground
-from ship_env.model import Conditions, Simulator
+from ship_env.manoeuvres.trial import TrialSettings, run_trial
+from ship_env.manoeuvres.zigzag import ZigZagHelmsman
+from ship_env.model import Conditions
 from ship_env.text_table import Table
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel, service_speed
@@ -79,8 +82,7 @@ class Series:
         """The measured series, or None for a log without a track (north and east)."""
         if log.north is None or log.east is None:
             return None
-        rate = np.gradient(log.heading, log.time) if log.rate_of_turn is None else log.rate_of_turn
-        return cls(log.time, log.north, log.east, log.heading, rate, log.rudder, log.speed)
+        return cls(log.time, log.north, log.east, log.heading, log.rate_of_turn_or_gradient, log.rudder, log.speed)
 
 
 @dataclass(frozen=True)
@@ -244,82 +246,46 @@ def _turning_figures(series: Series, manoeuvre: Manoeuvre, length: float) -> tup
     )
 
 
-class _ZigZagHelmsman:
-    """Reverses the rudder a whenever the heading passes b off the heading at the first execute."""
-
-    def __init__(self, manoeuvre: Manoeuvre, heading0: float) -> None:
-        self.angle, self.switch, self.heading0 = manoeuvre.rudder_angle, manoeuvre.heading_change, heading0
-        self.side = manoeuvre.side
-        self.executes = 1
-
-    def __call__(self, heading: float) -> float:
-        if self.side * (heading - self.heading0) >= self.switch:
-            self.side = -self.side
-            self.executes += 1
-        return self.side * self.angle
-
-    @property
-    def done(self) -> bool:
-        return self.executes > ZIGZAG_EXECUTES
-
-
-class _TurningHelmsman:
-    """Orders the turn's rudder at the execute and holds it until the measured turn's end."""
-
-    def __init__(self, manoeuvre: Manoeuvre) -> None:
-        self.order = manoeuvre.side * manoeuvre.rudder_angle
-
-    def __call__(self, heading: float) -> float:
-        return self.order
-
-    @property
-    def done(self) -> bool:
-        return False
-
-
 def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
-    """The model's manoeuvre, sailed free from the measured state at the first execute: the heading, rate of
-    turn, rudder and speed there (the run's service speed U0 as the replay takes it, :func:`~.replay.service_speed`,
-    the speed loss from there by the model's own equation), the propeller rate and wind there, the fit's
-    current; a turn holds its rudder to the measured turn's end, a zig-zag reverses it closed loop on the
-    heading until its fifth execute or twice the measured run's time."""
+    """The model's manoeuvre, sailed free (:func:`~ship_env.manoeuvres.trial.run_trial`) from the measured state
+    at the first execute: the heading, rate of turn, rudder and speed there (the run's service speed U0 as the
+    replay takes it, :func:`~.replay.service_speed`, the speed loss from there by the model's own equation),
+    the propeller rate and wind there, the fit's current; a turn holds its rudder to the measured turn's end,
+    a zig-zag reverses it closed loop on the heading (:class:`~ship_env.manoeuvres.zigzag.ZigZagHelmsman`)
+    until its fifth execute or twice the measured run's time."""
     start = manoeuvre.executes[0]
-    dt = float(np.median(np.diff(log.time)))
 
     def at(values: np.ndarray | None, default: float = 0.0) -> float:
         return default if values is None else float(np.interp(start, log.time, values))
 
-    rate = np.gradient(log.heading, log.time) if log.rate_of_turn is None else log.rate_of_turn
     current_north, current_east = setup.current
     conditions = Conditions(
-        service_speed=service_speed(log, setup.model),
         propeller_rate=None if log.propeller_rate is None else at(log.propeller_rate),  # None: the ship's own
         wind_speed=max(at(log.wind_speed), 0.0),
         wind_direction=at(log.wind_direction),
         current_speed=math.hypot(current_north, current_east),
         current_direction=math.atan2(current_east, current_north),
     )
-    speed = at(log.speed) if log.speed is not None and at(log.speed) > 0.0 else None  # None: at U0
-    simulator = Simulator(setup.model, dt=dt)
+    settings = TrialSettings(speed=service_speed(log, setup.model), dt=float(np.median(np.diff(log.time))))
     heading0 = at(log.heading)
-    simulator.reset(
-        seed=0, conditions=conditions, heading=heading0, rudder=at(log.rudder), rate_of_turn=at(rate), speed=speed
+    order = manoeuvre.side * manoeuvre.rudder_angle
+    helmsman = ZigZagHelmsman(order, manoeuvre.heading_change, heading0)
+    zigzag = manoeuvre.kind == "zig-zag"
+    frame = run_trial(
+        setup.model,
+        settings,
+        helmsman if zigzag else lambda simulator: order,
+        [log.name],
+        2.0 * (log.time[-1] - start) if zigzag else manoeuvre.end - start,
+        (lambda simulator: helmsman.executes > ZIGZAG_EXECUTES) if zigzag else None,
+        initial_rate_of_turn=np.array([at(log.rate_of_turn_or_gradient)]),
+        initial_rudder=at(log.rudder),
+        conditions=conditions,
+        initial_heading=heading0,
+        initial_speed=at(log.speed) if log.speed is not None and at(log.speed) > 0.0 else None,  # None: at U0
     )
-    helmsman = _ZigZagHelmsman(manoeuvre, heading0) if manoeuvre.kind == "zig-zag" else _TurningHelmsman(manoeuvre)
-    until = 2.0 * (log.time[-1] - start) if manoeuvre.kind == "zig-zag" else manoeuvre.end - start
-    rows = []
-    for _ in range(math.ceil(until / dt - 1e-9) + 1):
-        order = helmsman(float(simulator.heading[0]))
-        north, east = simulator.position[0]
-        rows.append(
-            (simulator.time[0], north, east, simulator.heading[0], simulator.rate_of_turn[0], simulator.rudder[0])
-            + (simulator.speed[0],)
-        )
-        if helmsman.done:
-            break
-        simulator.step(order)
-    time, north, east, heading, rate_of_turn, rudder, speed = np.array(rows).T
-    return Series(time + start, north, east, heading, rate_of_turn, rudder, speed)
+    columns = ("north", "east", "heading", "rate_of_turn", "rudder", "speed")
+    return Series(frame["time"].to_numpy() + start, *(frame[name].to_numpy() for name in columns))
 
 
 @dataclass(frozen=True)

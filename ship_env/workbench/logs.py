@@ -132,6 +132,11 @@ class Log:
         return float(self.time[-1] - self.time[0])
 
     @property
+    def rate_of_turn_or_gradient(self) -> np.ndarray:
+        """The measured rate of turn, rad/s, or the heading's time derivative where the log has none."""
+        return np.gradient(self.heading, self.time) if self.rate_of_turn is None else self.rate_of_turn
+
+    @property
     def has_position(self) -> bool:
         return self.north is not None
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import warnings
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -148,3 +149,44 @@ def test_the_jackknife_of_pooled_errors_is_half_the_difference_of_two_runs_and_z
     assert spread.position == 0.0 and math.isnan(spread.track)  # one run measures the track: no spread known
     assert pooled_jackknife([short, short, short]).heading == 0.0
     assert math.isnan(pooled_jackknife([short]).heading)
+
+
+class _Covariances:
+    """A fit and its folds reduced to what the ladder's significance gate reads: two terms' values, standard errors
+    and covariances (the Jacobian's and the jackknife's alike)."""
+
+    def __init__(self, values: tuple[float, float], correlation: float) -> None:
+        terms = [
+            SimpleNamespace(key=f"norrbin.{name}", effect="norrbin", null=0.0) for name in ("odd_quadratic", "cubic")
+        ]
+        self.estimates = tuple(
+            SimpleNamespace(term=term, value=value, std_error=1.0) for term, value in zip(terms, values, strict=True)
+        )
+        self.matrix = np.array([[1.0, correlation], [correlation, 1.0]])
+        self.fit = self
+
+    def covariance(self, keys):
+        return self.matrix
+
+    def jackknife_covariance(self, keys):
+        return self.matrix
+
+    def jackknife_errors(self):
+        return {e.term.key: 1.0 for e in self.estimates}
+
+
+@pytest.mark.parametrize(
+    ("correlation", "clear"),
+    [(-0.99, True), (0.0, False), (0.99, False)],
+)
+def test_two_correlated_terms_each_within_two_standard_errors_can_together_be_clear_of_their_nulls(correlation, clear):
+    """Norrbin's |r|r and r^3 fitted on zig-zags trade one for the other: each 1.2 standard errors from 0, the pair
+    is 17 apart where they are anti-correlated (-0.99: d^2 = (a^2 - 2 rho a b + b^2) / (1 - rho^2)), 1.7 apart
+    where they are independent and 1.2 where they move together -- against the chi-square limit 2.49 (2 terms)."""
+    fake = _Covariances((1.2, 1.2), correlation)
+    reason = _terms_at_null(CandidateResult(("norrbin",), cross_validation=fake))  # type: ignore[arg-type]
+    expected = math.sqrt((1.2**2 * (2.0 - 2.0 * correlation)) / (1.0 - correlation**2))
+    if clear:
+        assert reason is None
+    else:
+        assert reason is not None and "together within 2.49" in reason and f"{expected:.1f})" in reason

@@ -13,6 +13,8 @@ import pytest
 from ship_env.cli import main
 from ship_env.manoeuvres import turning_circle, zigzag
 from ship_env.model import ShipModel
+from ship_env.workbench.errors import ErrorScales
+from ship_env.workbench.fit import FitOptions
 from ship_env.workbench.free_running import (
     Series,
     compare_free_running,
@@ -21,8 +23,10 @@ from ship_env.workbench.free_running import (
     read_manoeuvre,
 )
 from ship_env.workbench.logs import load_logs, write_log
+from ship_env.workbench.presets import preset_document, write_preset
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.synthetic import LogSettings, Manoeuvre, SensorNoise, sail_all
+from ship_env.workbench.validation import cross_validate
 
 SHIP = "container_226m"
 #: The container ship's preset without its wind effects and current: yaw, Norrbin, speed loss, sway, steering machine.
@@ -160,3 +164,38 @@ def test_the_improve_report_shows_each_run_s_figures_and_tracks(tmp_path):
         assert section.count(f"| {run} | ") >= 5 and figure in section, (run, figure)
     for label in ("start", "final") if "### final model" in section else ("final",):
         assert (report / f"free_running_{label}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_fit_that_took_the_actual_rudder_sails_free_with_the_preset_s_steering_machine():
+    """Logs that record the actual rudder are replayed with it as an input, so a fit leaves the steering machine
+    out; sailed free, the model must still move the rudder at the preset's rate (2.5 deg/s), not jump to the order:
+    the truth without its steering machine, given back the container preset's, predicts the measured figures."""
+    model = ShipModel(SHIP, CALM_EFFECTS)
+    logs = _noise_free_logs(model)
+    assert {log.rudder_kind for log in logs} == {"actual"}
+    results = compare_free_running(ReplayModel(model.without_effects("steering_machine")), logs)
+    for result in results:
+        for measured, predicted in zip(result.measured, result.predicted, strict=True):
+            assert predicted.value == pytest.approx(measured.value, rel=1e-9, abs=1e-9, nan_ok=True), measured.key
+
+
+def test_a_preset_fitted_on_the_actual_rudder_keeps_the_starting_preset_s_steering_machine(tmp_path):
+    """The preset sails rudder orders (manoeuvres, autopilots): it carries the starting preset's steering machine
+    with its rate and source, and says so; logs of the ordered rudder keep the fit's model as it is."""
+    model = ShipModel(SHIP, CALM_EFFECTS)
+    logs = _noise_free_logs(model, lengths=20.0)
+    setup = ReplayModel(model.without_effects("steering_machine"))
+    options = FitOptions(scales=ErrorScales.for_runs(setup.model, logs), workers=1)
+    validation = cross_validate(setup, logs, ["yaw.gain"], options)
+    document = preset_document(validation, logs, "ship-env fit (test)", "kept")
+    machine = document["effects"]["steering_machine"]
+    assert machine["enabled"] is True
+    assert machine["rudder_rate"]["value"] == 2.5 and "thesis" in machine["rudder_rate"]["source"]
+    assert document["fitted"]["kept_from_preset"] == ["steering_machine"]
+    assert any(w.startswith("steering machine:") and "2.5 deg/s" in w for w in document["fitted"]["not_identified"])
+    path = write_preset(document, tmp_path / "kept.yaml")
+    assert ShipModel(path).has("steering_machine")
+    ordered = [replace(log, rudder_kind="ordered") for log in logs]
+    document = preset_document(validation, ordered, "ship-env fit (test)", "ordered")
+    assert document["effects"]["steering_machine"]["enabled"] is False
+    assert "kept_from_preset" not in document["fitted"]

@@ -205,6 +205,17 @@ class FitResult:
     def pooled(self) -> RunErrors:
         return pooled(self.errors)
 
+    def covariance(self, keys: Sequence[str]) -> np.ndarray:
+        """The Jacobian's covariance of the named terms, SI units: s^2 (J^T J)^-1 scaled by the terms' scales
+        (their standard errors are the square roots of its diagonal, :func:`unknown_covariance`)."""
+        degrees_of_freedom = max(len(self.residual) - len(self.solution), 1)
+        variance = float(self.residual @ self.residual) / degrees_of_freedom
+        index = {estimate.term.key: j for j, estimate in enumerate(self.estimates)}
+        rows = [index[key] for key in keys]
+        scales = np.array([self.estimates[j].term.scale for j in rows])
+        covariance = unknown_covariance(self.jacobian)[np.ix_(rows, rows)]
+        return variance * covariance * np.outer(scales, scales)
+
     def warnings_line(self) -> str:
         """The numerical warnings in one line ('' if none): how many, and which."""
         if not self.warnings:
@@ -514,22 +525,31 @@ class Problem:
 
 
 def unknown_variances(jacobian: np.ndarray) -> np.ndarray:
-    """The diagonal of (J^T J)^-1, infinite for an unknown the data do not determine.
+    """The diagonal of (J^T J)^-1, infinite for an unknown the data do not determine (:func:`unknown_covariance`)."""
+    return np.diag(unknown_covariance(jacobian)).copy()
+
+
+def unknown_covariance(jacobian: np.ndarray) -> np.ndarray:
+    """(J^T J)^-1, with infinite rows and columns for the unknowns the data do not determine.
 
     From the singular value decomposition J = U S V^T: singular values below s_max max(m, n) eps
     (numpy's rank rule) count as zero, and their right singular vectors span the null space, the
     directions no residual sees. An unknown whose unit vector has a share above ``NULL_SHARE`` in
     that space (a term that moves nothing, or only as another does) is not determined: infinite
-    variance, never the pseudo-inverse's 0. The others get sum_k V_jk^2 / s_k^2 over the rest.
+    variance, never the pseudo-inverse's 0. The others get sum_k V_jk V_lk / s_k^2 over the rest.
     """
     if jacobian.shape[1] == 0:
-        return np.zeros(0)
+        return np.zeros((0, 0))
     _, singular, right = np.linalg.svd(jacobian, full_matrices=False)  # singular values in falling order
     tolerance = (singular[0] if len(singular) else 0.0) * max(jacobian.shape) * np.finfo(float).eps
     rank = int(np.count_nonzero(singular > tolerance))
     null_share = 1.0 - np.sum(right[:rank] ** 2, axis=0)  # V's rows are orthonormal: the rest is the null space
-    variances = np.sum(right[:rank] ** 2 / singular[:rank, np.newaxis] ** 2, axis=0)
-    return np.where(null_share > NULL_SHARE, math.inf, variances)
+    determined = right[:rank] / singular[:rank, np.newaxis]
+    covariance = determined.T @ determined
+    undetermined = null_share > NULL_SHARE
+    covariance[undetermined, :] = math.inf
+    covariance[:, undetermined] = math.inf
+    return covariance
 
 
 def as_setup(model: ShipModel | ReplayModel) -> ReplayModel:

@@ -48,6 +48,7 @@ from ship_env.model import Conditions
 from ship_env.text_table import Table
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel, service_speed
+from ship_env.workbench.terms import sailing_model
 from ship_env.workbench.validation import CrossValidation
 
 #: The rudder is "over" where it is at least this fraction of the manoeuvre's angle.
@@ -250,7 +251,9 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
     """The model's manoeuvre, sailed free (:func:`~ship_env.manoeuvres.trial.run_trial`) from the measured state
     at the first execute: the heading, rate of turn, rudder and speed there (the run's service speed U0 as the
     replay takes it, :func:`~.replay.service_speed`, the speed loss from there by the model's own equation),
-    the propeller rate and wind there, the fit's current; a turn holds its rudder to the measured turn's end,
+    the propeller rate and wind there, the fit's current; the starting preset's steering machine where the log
+    records the actual rudder (:func:`~.terms.sailing_model`, as the fitted preset sails); a turn holds its rudder
+    ordered to the measured turn's end,
     a zig-zag reverses it closed loop on the heading (:class:`~ship_env.manoeuvres.zigzag.ZigZagHelmsman`)
     until its fifth execute or twice the measured run's time."""
     start = manoeuvre.executes[0]
@@ -272,7 +275,7 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
     helmsman = ZigZagHelmsman(order, manoeuvre.heading_change, heading0)
     zigzag = manoeuvre.kind == "zig-zag"
     frame = run_trial(
-        setup.model,
+        sailing_model(setup.model, [log]),  # with the preset's steering machine where the log holds the actual rudder
         settings,
         helmsman if zigzag else lambda simulator: order,
         [log.name],

@@ -23,7 +23,9 @@ presets' own format (``configs/ships/*.yaml``, :func:`ship_env.model.load_ship`)
   r* at the highest speed, |r| = r* U / L) and a propeller turning ahead only where no log reverses
   it. Where the starting preset states a narrower limit, its limit is kept and its source says so;
 - ``fitted``: what it was fitted to: the starting preset, the logs (and the validation logs) with
-  their hashes, the command, the effects and terms, what the fit took from the logs as inputs
+  their hashes, the command, the effects and terms, the starting preset's effects kept to sail orders
+  (``kept_from_preset``: its steering machine where every log records the actual rudder, which the
+  fit takes as an input, :func:`~.terms.sailing_model`), what the fit took from the logs as inputs
   (``inputs``: the rudder, propeller rate, wind; the speed only as each run's service and initial
   speed, :mod:`.replay`) and what the logs left it unable to know (``not_identified``: the speed loss
   where no log measures the speed), the fitted steady current (``conditions``: a finding about the
@@ -57,7 +59,7 @@ from ship_env.workbench.errors import CHANNEL_UNITS, RunErrors
 from ship_env.workbench.fit import Estimate
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.terms import CURRENT_TERMS, not_identified, replay_inputs, reverses_propeller
+from ship_env.workbench.terms import CURRENT_TERMS, not_identified, replay_inputs, reverses_propeller, sailing_model
 from ship_env.workbench.validation import CrossValidation
 
 #: Hex digits of a log file's SHA-256 kept in a preset (48 bits: no two files of a campaign collide).
@@ -296,6 +298,8 @@ def preset_document(
     raw = _raw_preset(model)
     start = model.ship.path.name if model.ship.path is not None else model.ship.name
     limits = data_limits(validation.coverage, logs, model) if validation.coverage is not None else {}
+    sailed = sailing_model(model, logs)  # the fitted model plus what it needs to sail orders (not fitted)
+    kept = [name for name in sailed.effects if not model.has(name)]
     record: dict[str, Any] = {
         "version": ship_env.__version__,
         "command": command,
@@ -303,6 +307,7 @@ def preset_document(
         "logs": [{"file": file.name, "sha256": file.sha256} for file in files],
         "effects": list(model.effects),
         "terms": [estimate.term.key for estimate in fit.estimates],
+        **({"kept_from_preset": kept} if kept else {}),
         "inputs": replay_inputs(logs),
         "not_identified": not_identified(model, logs),
         "std_errors": "the larger of the Jacobian's and the jackknife's over the left-out runs",
@@ -324,13 +329,14 @@ def preset_document(
         "name": name,
         "description": (
             f"{model.ship.name} ({start}) with {', '.join(model.effects)} fitted to {len(files)} logs by "
-            f"ship-env {ship_env.__version__}; held-out RMS heading error {record['held_out']['heading']:.3g} deg. "
+            f"ship-env {ship_env.__version__}{''.join(f', {name} kept from {start}' for name in kept)}; "
+            f"held-out RMS heading error {record['held_out']['heading']:.3g} deg. "
             "Valid inside the envelope below: the ranges the fitted runs covered."
         ),
         "principal": _principal_section(model, raw, {k: v for k, v in fitted.items() if k in principal_keys}),
         **({"service_conditions": service} if service else {}),
         "envelope": envelope_section(raw, limits),
-        "effects": _effects_section(model, raw, fitted),
+        "effects": _effects_section(sailed, raw, fitted),
         "fitted": record,
     }
 

@@ -262,14 +262,37 @@ def with_speed_output(setup: ReplayModel, logs: Sequence[Log]) -> ReplayModel:
 
 def not_identified(model: ShipModel, logs: Sequence[Log]) -> list[str]:
     """What a fit of ``model`` to ``logs`` cannot know, in words (empty where it can know all its effects)."""
-    if measures_speed(logs):
-        return []
-    kept = (
-        "its speed loss is on with the starting preset's values"
-        if model.has("speed_loss")
-        else "it sails at constant speed (the speed loss is off)"
-    )
-    return [f"speed loss: no log measures the speed, so the fit does not identify the speed loss; {kept}"]
+    words = []
+    if not measures_speed(logs):
+        kept = (
+            "its speed loss is on with the starting preset's values"
+            if model.has("speed_loss")
+            else "it sails at constant speed (the speed loss is off)"
+        )
+        words.append(f"speed loss: no log measures the speed, so the fit does not identify the speed loss; {kept}")
+    sailed = sailing_model(model, logs)
+    if sailed.has("steering_machine") and not model.has("steering_machine"):
+        rate = math.degrees(sailed.parameter("steering_machine.rudder_rate"))
+        words.append(
+            "steering machine: every log records the actual rudder, which the fit takes as an input, so the fit "
+            f"does not identify the steering machine; the preset keeps the starting preset's (rudder rate {rate:.3g} "
+            "deg/s) to sail rudder orders"
+        )
+    return words
+
+
+def records_actual_rudder(logs: Sequence[Log]) -> bool:
+    """Whether every log records the rudder's actual angle (the steering machine's output), not its order."""
+    return all(log.rudder_kind == "actual" for log in logs)
+
+
+def sailing_model(model: ShipModel, logs: Sequence[Log]) -> ShipModel:
+    """The fitted model as a ship that sails orders: with the starting preset's steering machine where every log
+    records the actual rudder (the replay takes it as an input, so the fit leaves the machine out, but a preset
+    ordered to put the rudder over must move it at the machine's rate)."""
+    machine = "steering_machine"
+    keep = machine in model.ship.enabled and not model.has(machine) and records_actual_rudder(logs)
+    return model.with_effects(machine) if keep else model
 
 
 def replay_inputs(logs: Sequence[Log]) -> list[str]:
@@ -315,7 +338,7 @@ def why_not_fitted(effect: str, model: ShipModel, logs: Sequence[Log]) -> str | 
             not measures_speed(logs),
             "no log measures the speed: the speed loss is not identified (the preset keeps its values)",
         ),
-        "steering_machine": (all(log.rudder_kind == "actual" for log in logs), "every log records the actual rudder"),
+        "steering_machine": (records_actual_rudder(logs), "every log records the actual rudder"),
         "propeller_slipstream": (any(log.propeller_rate is None for log in logs), "a log has no propeller rate"),
         "wind_moment": (any(not log.has_wind for log in logs), "a log has no wind"),
         "wind_drift": (not all(log.has_wind and log.has_position for log in logs), "a log has no wind or no position"),

@@ -136,10 +136,16 @@ class CrossValidation:
         inputs, effects the model lacks).
         """
         keys = [estimate.term.key for estimate in self.fit.estimates]
+        spread = np.sqrt(np.diag(self.jackknife_covariance(keys)))
+        return {key: float(value) for key, value in zip(keys, spread, strict=True)}
+
+    def jackknife_covariance(self, keys: Sequence[str]) -> np.ndarray:
+        """The jackknife covariance of the named terms over the n folds, SI units:
+        (n - 1) / n * sum_i (theta_i - mean theta) (theta_i - mean theta)^T (its diagonal: :meth:`jackknife_errors`)."""
         values = np.array([[fold.values[key] for key in keys] for fold in self.folds])
         count = len(self.folds)
-        spread = np.sqrt((count - 1) / count * np.sum((values - values.mean(axis=0)) ** 2, axis=0))
-        return {key: float(value) for key, value in zip(keys, spread, strict=True)}
+        deviations = values - values.mean(axis=0)
+        return (count - 1) / count * deviations.T @ deviations
 
 
 def fold_groups(logs: Sequence[Log], groups: Sequence[str] | None) -> list[list[int]]:

@@ -11,9 +11,10 @@ would and with the defaults:
 and the fitted preset sails the IMO manoeuvres (``ship_env.manoeuvres``) against the truth: the 35 deg
 turning circle to both sides (advance and tactical diameter within 5 %, steady rate of turn and speed loss
 within 10 %) and the 10/10 zig-zag (first overshoot within 2 deg). Prints one table with PASS or FAIL per
-figure and the time the fit took.
+figure and the time the fit took, for each of five sea trials (the sensors' noise drawn from another seed)
+and how many pass every bound.
 
-Run:  python benchmarks/bench_free_running.py [--keep DIR]
+Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...]
 """
 
 from __future__ import annotations
@@ -22,6 +23,8 @@ import argparse
 import math
 import tempfile
 import time
+from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 from ship_env.cli import main
@@ -50,6 +53,8 @@ ZIGZAGS = (
     ("zigzag_20_stbd", 20, 20),
     ("zigzag_20_port", -20, 20),
 )
+#: The sensor noise's seeds: each a sea trial of the same ship.
+SEEDS = (1, 2, 3, 4, 5)
 #: Each zig-zag's length in ship lengths sailed (five executes of a 10/10 take about 20).
 ZIGZAG_LENGTHS = 30.0
 #: (figure, criterion, relative): the issue's bounds, relative (a fraction) or absolute (deg).
@@ -67,7 +72,7 @@ def truth_model() -> ShipModel:
     return preset.with_parameters({key: factor * preset.parameter(key) for key, factor in TRUTH_FACTORS.items()})
 
 
-def write_zigzag_logs(truth: ShipModel, folder: Path) -> None:
+def write_zigzag_logs(truth: ShipModel, folder: Path, seed: int) -> None:
     speed = truth.service_speed
     unit = truth.length / speed
     runs = [
@@ -77,7 +82,7 @@ def write_zigzag_logs(truth: ShipModel, folder: Path) -> None:
     ]  # fmt: skip
     settings = LogSettings(dt=1.0, noise=SEA_TRIAL_NOISE)
     folder.mkdir(parents=True)
-    for log in sail_all(ReplayModel(truth), runs, seed=11, settings=settings):
+    for log in sail_all(ReplayModel(truth), runs, seed=seed, settings=settings):
         write_log(log, folder / f"{log.name}.csv")
 
 
@@ -97,41 +102,68 @@ def figures(model: ShipModel) -> dict[str, float]:
     }
 
 
-def main_benchmark(keep: Path | None) -> int:
-    folder = Path(tempfile.mkdtemp(prefix="free_running_")) if keep is None else keep
+@dataclass(frozen=True)
+class Verdict:
+    """One seed's fit: the seconds it took, the figures' rows (truth, fitted, error, bound, PASS/FAIL) and how
+    many failed (every figure fails where the fitted preset cannot sail the turn: ``cannot_turn`` says why)."""
+
+    seed: int
+    seconds: float
+    rows: tuple[tuple[str, ...], ...]
+    failed: int
+    cannot_turn: str = ""
+
+
+def judge(seed: int, folder: Path) -> Verdict:
+    """Sail the truth's zig-zags with this seed's sensor noise, fit them with ``improve``'s defaults, and judge the
+    fitted preset's manoeuvres against the truth's."""
     truth = truth_model()
-    write_zigzag_logs(truth, folder / "zigzag")
+    write_zigzag_logs(truth, folder / "zigzag", seed)
     preset = folder / "fitted.yaml"
     start = time.perf_counter()
-    status = main(
-        ["improve", str(folder / "zigzag"), "--ship", SHIP, "--preset", str(preset), "--report", str(folder / "report")]
-    )
+    command = ["improve", str(folder / "zigzag"), "--ship", SHIP, "--preset", str(preset)]
+    status = main([*command, "--report", str(folder / "report")])
     seconds = time.perf_counter() - start
     if status != 0:
-        return status
+        raise RuntimeError(f"ship-env {' '.join(command)} failed ({status})")
     expected = figures(truth)
     try:
         predicted = figures(ShipModel(preset))
     except FloatingPointError as error:  # the fitted ship left its model's validity in the turn
-        print(f"\nthe fit on {len(ZIGZAGS)} zig-zags took {seconds:.0f} s; the fitted preset cannot turn: {error}")
-        return 1
+        return Verdict(seed, seconds, (), len(CRITERIA), str(error))
     rows = []
-    failed = 0
     for name, bound, relative in CRITERIA:
         error = predicted[name] - expected[name]
         judged = abs(error) / abs(expected[name]) if relative else abs(error)
         verdict = "PASS" if judged <= bound else "FAIL"
-        failed += verdict == "FAIL"
         limit = f"{100 * bound:g} %" if relative else f"{bound:g} deg"
         shown = f"{100 * error / expected[name]:+.1f} %" if relative else f"{error:+.2f} deg"
         rows.append((name, f"{expected[name]:.3f}", f"{predicted[name]:.3f}", shown, limit, verdict))
-    print(f"\nthe fit on {len(ZIGZAGS)} zig-zags ({SHIP}, sea-trial sensors) took {seconds:.0f} s; logs in {folder}")
+    return Verdict(seed, seconds, tuple(rows), sum(row[-1] == "FAIL" for row in rows))
+
+
+def main_benchmark(keep: Path | None, seeds: Sequence[int]) -> int:
+    folder = Path(tempfile.mkdtemp(prefix="free_running_")) if keep is None else keep
+    verdicts = [judge(seed, folder / f"seed_{seed}") for seed in seeds]
     header = ("figure (mean of 35 deg stbd and port)", "truth", "fitted preset", "error", "within", "")
-    print(Table(header, tuple(rows)).text())
-    return 1 if failed else 0
+    for verdict in verdicts:
+        print(f"\nseed {verdict.seed}: the fit on {len(ZIGZAGS)} zig-zags ({SHIP}, sea-trial sensors) took "
+              f"{verdict.seconds:.0f} s; logs, report and preset in {folder / f'seed_{verdict.seed}'}")  # fmt: skip
+        print(
+            f"the fitted preset cannot turn: {verdict.cannot_turn}"
+            if verdict.cannot_turn
+            else Table(header, verdict.rows).text()
+        )
+    passed = sum(verdict.failed == 0 for verdict in verdicts)
+    print(f"\n{passed} of {len(verdicts)} seeds within every bound")
+    return 0 if passed == len(verdicts) else 1
 
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0], allow_abbrev=False)
-    parser.add_argument("--keep", type=Path, default=None, help="write the logs, report and preset here")
-    raise SystemExit(main_benchmark(parser.parse_args().keep))
+    parser.add_argument("--keep", type=Path, default=None, help="write each seed's logs, report and preset here")
+    parser.add_argument(
+        "--seeds", type=int, nargs="+", default=list(SEEDS), help="the sensor-noise seeds (default: %(default)s)"
+    )
+    arguments = parser.parse_args()
+    raise SystemExit(main_benchmark(arguments.keep, arguments.seeds))

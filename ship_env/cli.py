@@ -705,9 +705,10 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     parser.add_argument(
         "--window",
         type=_positive_number,
-        default=2.0,
+        default=None,
         metavar="S",
-        help="seconds at a run's start from which its initial state is estimated (default: %(default)s)",
+        help="seconds at a run's start from which its initial state is estimated (default: the time the ship "
+        "takes to sail half its length at the run's service speed, at least 2 s and at most half the run)",
     )
     parser.add_argument(
         "--heading-scale",

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
+from ship_env.model import state as S
 from ship_env.workbench import (
     FitError,
     FitOptions,
@@ -18,9 +19,10 @@ from ship_env.workbench import (
     simulate,
 )
 from ship_env.workbench.fit import DIFFERENCE_STEP, Problem
-from ship_env.workbench.replay import moved_replays
+from ship_env.workbench.replay import initial_state, initial_window, moved_replays
 from ship_env.workbench.synthetic import (
     HIDDEN_VALUES,
+    SEA_TRIAL_NOISE,
     LogSettings,
     Manoeuvre,
     SensorNoise,
@@ -195,3 +197,35 @@ def test_propeller_astern_moves_no_replay_of_logs_that_never_reverse_the_propell
     jacobian = problem.jacobian(problem.start())
     columns = [j for j, term in enumerate(problem.terms) if term.effect == "propeller_astern"]
     assert len(columns) == 2 and not np.any(jacobian[:, columns]) and np.all(np.any(jacobian, axis=0)[: columns[0]])
+
+
+def test_the_initial_state_of_sea_trial_logs_averages_the_compass_over_half_a_ship_length():
+    """A free replay carries its initial heading to the end: at 1 Hz the first 2 s keep most of the compass's
+    0.5 deg noise (a parabola through 3 samples kept all of it); with the rate gyro integrated over the time to
+    sail half a ship length (20 s for the 320 m tanker at 7.97 m/s, 21 samples) it falls by sqrt(21). The window
+    scales with the ship: 5 s for the 3 m Esso Osaka model at 0.3 m/s, at least 2 s, at most half the run."""
+    tanker = ShipModel("kvlcc2", ["yaw", "norrbin", "kinematics"])
+    speed = tanker.service_speed
+    run = Manoeuvre("z", "zigzag", math.radians(10.0), 600.0, approach=60.0, start_speed=speed, final_speed=speed)
+    (exact,) = sail_all(ReplayModel(tanker), [run], seed=1, settings=LogSettings(dt=1.0, noise=SILENT))
+    assert initial_window(exact, tanker.length, speed) == pytest.approx(0.5 * tanker.length / speed)
+    esso = ShipModel(SHIP)
+    assert initial_window(exact, esso.length, esso.service_speed) == pytest.approx(5.0, rel=0.01)
+    assert initial_window(exact, esso.length, 100.0) == 2.0
+    short = dataclasses.replace(run, duration=30.0, approach=10.0)
+    (brief,) = sail_all(ReplayModel(tanker), [short], seed=1, settings=LogSettings(dt=1.0, noise=SILENT))
+    assert initial_window(brief, tanker.length, speed) == 15.0
+
+    rng = np.random.default_rng(5)
+    errors = {"2 s": [], "scaled": []}
+    for _ in range(100):
+        noisy = dataclasses.replace(
+            exact,
+            heading=exact.heading + rng.normal(0.0, SEA_TRIAL_NOISE.heading, exact.samples),
+            rate_of_turn=exact.rate_of_turn + rng.normal(0.0, SEA_TRIAL_NOISE.rate_of_turn, exact.samples),
+        )
+        for name, window in (("2 s", 2.0), ("scaled", initial_window(noisy, tanker.length, speed))):
+            errors[name].append(initial_state(noisy, window)[S.HEADING] - exact.heading[0])
+    spread = {name: float(np.sqrt(np.mean(np.square(e)))) / SEA_TRIAL_NOISE.heading for name, e in errors.items()}
+    assert spread["2 s"] > 0.45  # the mean of 3 samples: 1 / sqrt(3) = 0.58
+    assert spread["scaled"] < 0.3  # of 21: 1 / sqrt(21) = 0.22, with the integrated gyro's share

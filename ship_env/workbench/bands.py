@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import EAST, INITIAL_WINDOW, NORTH, Tasks, pack_runs, replay
+from ship_env.workbench.replay import EAST, NORTH, Tasks, pack_runs, replay
 from ship_env.workbench.validation import Fold
 
 #: How the band is labelled in drawings.
@@ -71,7 +71,7 @@ def jackknife_band(replays: np.ndarray) -> Band:
     return Band(replays[0] + mean, spread, count)
 
 
-def jackknife_bands(folds: Sequence[Fold], logs: Sequence[Log], window: float = INITIAL_WINDOW) -> list[Band]:
+def jackknife_bands(folds: Sequence[Fold], logs: Sequence[Log], window: float | None = None) -> list[Band]:
     """Each run's band, every fold's model replaying every run (free replays) in one batch."""
     if not folds or not logs:
         return []

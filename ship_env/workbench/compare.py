@@ -30,7 +30,6 @@ from ship_env.workbench.parallel import run_each
 from ship_env.workbench.replay import (
     EAST,
     HEADING,
-    INITIAL_WINDOW,
     NORTH,
     RATE,
     SPEED,
@@ -73,7 +72,7 @@ class Comparison:
         return pooled(self.errors)
 
 
-def compare(setup: ReplayModel, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> Comparison:
+def compare(setup: ReplayModel, logs: Sequence[Log], window: float | None = None) -> Comparison:
     """Replay every log with the model and measure the errors; a run wholly outside the model's envelope is
     left out with a :class:`~.logs.LogWarning` (:func:`~.runs.screen_runs`)."""
     logs, _, _ = screen_runs(setup.model, logs)

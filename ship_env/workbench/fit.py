@@ -44,7 +44,6 @@ from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import (
     EAST,
     HEADING,
-    INITIAL_WINDOW,
     NORTH,
     RATE,
     SPEED,
@@ -123,7 +122,8 @@ class FitOptions:
             ``ErrorScales.for_runs`` for the model's ship and the runs, set by each entry point
             (:meth:`for_runs`) and the same for all the fits it makes.
         nuisance: per-run nuisance terms to fit, from ``NUISANCE`` (``heading``, ``rate_of_turn``).
-        initial_window: seconds at a run's start from which its initial state is estimated.
+        initial_window: seconds at a run's start from which its initial state is estimated; None (the default):
+            each run's :func:`~.replay.initial_window` (half a ship length's time at its service speed, at least 2 s).
         max_evaluations: most cost evaluations per fit (each is a batch of replays).
         tolerance: relative change of cost and terms at which the fit stops.
         fold_method: how cross-validation fits a fold from the all-run fit: ``"linearised"``
@@ -135,7 +135,7 @@ class FitOptions:
 
     scales: ErrorScales | None = None
     nuisance: tuple[str, ...] = ()
-    initial_window: float = INITIAL_WINDOW
+    initial_window: float | None = None
     max_evaluations: int = 100
     tolerance: float = 1e-6
     fold_method: str = "linearised"

@@ -27,6 +27,9 @@ An effect *pays* (:func:`verdict`) when none of its held-out replays leaves the 
    (``hull_crossflow``: damping that grows as r*|r*|, not r*^3) is a candidate on the same rung and
    extrapolates more gently. ``allow_worse_validation`` turns this rule off; ``require_validation``
    (4) is the stricter one.
+6. sailed free as its preset would be, it holds a hard-over turning circle to both sides where the
+   current model does (:func:`cannot_sail`): a fit is a ship, ordered hard over by the first trial
+   or autopilot that sails it, beyond the rudder and rates of turn of the runs it was fitted to.
 
 Near the noise floor the gains fail 2 or 3: the ladder says so and stops.
 """
@@ -35,11 +38,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.stats import chi2
 
+from ship_env.manoeuvres import turning_circle
 from ship_env.model import ShipModel
 from ship_env.workbench.coverage import beyond_in_words
 from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in_words, pairs
@@ -50,7 +54,8 @@ from ship_env.workbench.materiality import mismatch
 from ship_env.workbench.parallel import start as start_workers
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.runs import screen_runs
-from ship_env.workbench.validation import CrossValidation, cross_validate
+from ship_env.workbench.terms import sailing_model, with_values
+from ship_env.workbench.validation import CrossValidation, ValidationJob, cross_validate, cross_validate_each
 
 #: Smallest relative fall of the held-out score for which an effect is added.
 MIN_GAIN = 0.05
@@ -160,17 +165,17 @@ def improve(
             return Ladder(tuple(rungs), scales, f"reached the most steps, {max_steps}")
         diagnosis = diagnose(validation, logs, options, candidates, refit)
         tried = [c for c in diagnosis.ranked if c.cross_validation is not None]
-        best = _best_paying(tried, validation, scales, rules)
+        best = _best_paying(tried, validation, scales, rules, logs, options, say)
         tried_pairs: list[CandidateResult] = []
         if best is None and pair_width >= 2:
             tried_pairs = pairs(diagnosis, logs, options, pair_width)
-            best = _best_paying(tried_pairs, validation, scales, rules)
+            best = _best_paying(tried_pairs, validation, scales, rules, logs, options, say)
         rungs.append(Rung(added, validation, diagnosis, tuple(tried_pairs)))
         for candidate in [c for c in tried + tried_pairs if c.cross_validation is not None]:
             # Say where the validation runs alone kept a better candidate out.
             worse = _worsens_validation(candidate, validation, scales, rules)
             better = best is None or candidate.refitted.score(scales) < best.refitted.score(scales)
-            if worse and better and verdict(candidate, validation, scales, rules) == worse:
+            if worse and better and verdict(candidate, validation, scales, rules, logs) == worse:
                 say(f"not added: {candidate.effect}: {worse}")
         if best is None:
             refitted = [c for c in tried + tried_pairs if c.cross_validation is not None]
@@ -182,7 +187,7 @@ def improve(
             return Ladder(
                 tuple(rungs),
                 scales,
-                f"the best next {kind}, {first.effect}: {verdict(first, validation, scales, rules)}",
+                f"the best next {kind}, {first.effect}: {verdict(first, validation, scales, rules, logs)}",
             )
         score = validation.score(scales)
         added, validation = best.effects, best.refitted
@@ -200,15 +205,95 @@ class Rules:
 
 
 def _best_paying(
-    tried: Sequence[CandidateResult], current: CrossValidation, scales: ErrorScales, rules: Rules
+    tried: Sequence[CandidateResult],
+    current: CrossValidation,
+    scales: ErrorScales,
+    rules: Rules,
+    logs: Sequence[Log],
+    options: FitOptions,
+    say: Callable[[str], None],
 ) -> CandidateResult | None:
-    """The candidate with the lowest held-out score among those that pay, or None."""
-    paying = [c for c in tried if c.cross_validation is not None and not verdict(c, current, scales, rules)]
-    return min(paying, key=lambda c: c.refitted.score(scales)) if paying else None
+    """The candidate with the lowest held-out score among those that pay, or None. Each keeps only the terms that
+    pay their way (:func:`_with_paying_terms`). Those that sail free
+    (:func:`cannot_sail`) come first: where the current model sails, one that cannot is refused (said); where it
+    cannot either, the best that sails is taken before a better-scoring one that does not (a step towards a ship
+    is preferred to a better replay that is none), and the best of those only where none sails."""
+    refitted = [c for c in tried if c.cross_validation is not None]
+    paying = [c for c in refitted if not verdict(c, current, scales, rules)]
+    if not paying:
+        return None
+    paying = [_with_paying_terms(c, current, logs, options, scales, rules, say) for c in paying]
+    paying.sort(key=lambda c: c.refitted.score(scales))
+    current_sails = cannot_sail(current.fit.setup.model, logs) is None
+    for candidate in paying:
+        stuck = cannot_sail(candidate.refitted.fit.setup.model, logs)
+        if stuck is None:
+            return candidate
+        if current_sails:
+            say(f"not added: {candidate.effect}: {verdict(candidate, current, scales, rules, logs)}")
+    return None if current_sails else paying[0]
 
 
-def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorScales, rules: Rules) -> str:
-    """Why the candidate does not pay (see the module docstring), or '' if it does."""
+def _with_paying_terms(
+    candidate: CandidateResult,
+    current: CrossValidation,
+    logs: Sequence[Log],
+    options: FitOptions,
+    scales: ErrorScales,
+    rules: Rules,
+    say: Callable[[str], None],
+) -> CandidateResult:
+    """The candidate with its added effects' terms that do not pay their way held at their null values.
+
+    A term must pay as an effect must (rule 1, mirrored): with the added effects' terms the least clear of
+    their nulls first (|value - null| / s.e.), each is held at its null and the rest refitted, and the simpler
+    model is kept where it still pays and the term lowered the held-out score by less than ``min_gain``.
+    Terms that trade one for the other on the runs (Norrbin's |r*| r* and r*^3 on zig-zags) are then not both
+    kept to extrapolate as they please beyond the runs: the ladder keeps the one the runs need.
+    """
+    while True:
+        validation = candidate.refitted
+        jackknife = validation.jackknife_errors()
+        added = [e for e in validation.fit.estimates if e.term.effect in candidate.effects and e.term.null is not None]
+        if len(added) < 2:
+            return candidate
+        weakest = min(
+            added,
+            key=lambda e: abs(e.value - (e.term.null or 0.0)) / max(e.std_error, jackknife[e.term.key], 1e-300),
+        )
+        keys = [e.term.key for e in validation.fit.estimates if e is not weakest]
+        null = weakest.term.null or 0.0
+        job = ValidationJob(
+            with_values(validation.fit.setup, {weakest.term.key: null}),
+            logs,
+            keys,
+            options,
+            groups=current.groups or None,
+            validate_on=current.validation_logs,
+        )
+        (outcome,) = cross_validate_each([job], options.workers)
+        if isinstance(outcome, Exception):
+            return candidate
+        simpler = replace(candidate, cross_validation=outcome)
+        full, reduced = validation.score(scales), outcome.score(scales)
+        if full <= (1.0 - rules.min_gain) * reduced or verdict(simpler, current, scales, rules):
+            return candidate
+        say(
+            f"{candidate.effect}: {weakest.term.key} held at {null:g} (with it the held-out score is "
+            f"{100.0 * (full / reduced - 1.0):+.1f}%, needs -{100.0 * rules.min_gain:.0f}%)"
+        )
+        candidate = simpler
+
+
+def verdict(
+    candidate: CandidateResult,
+    current: CrossValidation,
+    scales: ErrorScales,
+    rules: Rules,
+    logs: Sequence[Log] = (),
+) -> str:
+    """Why the candidate does not pay (see the module docstring), or '' if it does; with the fitted ``logs``, a
+    candidate that pays on its scores must also sail free where the current model does (:func:`cannot_sail`)."""
     validation = candidate.refitted
     diverged = _diverged_replays(validation)
     if diverged is not None:
@@ -241,7 +326,28 @@ def verdict(candidate: CandidateResult, current: CrossValidation, scales: ErrorS
     worse = _worsens_validation(candidate, current, scales, rules)
     if worse:
         return worse
+    if logs:
+        stuck = cannot_sail(validation.fit.setup.model, logs)
+        if stuck is not None and cannot_sail(current.fit.setup.model, logs) is None:
+            return f"lowers the held-out score by {100.0 * gain:.1f}%, but {stuck}: not added, a fit must be a ship"
     return ""
+
+
+def cannot_sail(model: ShipModel, logs: Sequence[Log]) -> str | None:
+    """Words saying that the fitted model, sailed as its preset would be (:func:`~.terms.sailing_model`: the
+    logs' operating point, the starting preset's steering machine where they record the actual rudder), leaves
+    the model's validity in a hard-over turning circle to either side; None where it sails both. A fit's
+    replays never go beyond the runs' rudder and rates of turn; its preset is ordered hard over by the first
+    turning trial or autopilot that sails it (a Norrbin cubic or cross-flow drag fitted on zig-zags, with an
+    asymmetry, can leave the steady-turn curve H(r*) without a root there)."""
+    sailed = sailing_model(model, logs)
+    for side, name in ((1.0, "starboard"), (-1.0, "port")):
+        try:
+            turning_circle(sailed, side * sailed.rudder_limit)
+        except FloatingPointError as error:
+            angle = math.degrees(sailed.rudder_limit)
+            return f"sailed free through the hard-over ({angle:.0f} deg) turning circle to {name} it fails ({error})"
+    return None
 
 
 def _validation_scores(

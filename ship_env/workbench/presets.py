@@ -59,7 +59,14 @@ from ship_env.workbench.errors import CHANNEL_UNITS, RunErrors
 from ship_env.workbench.fit import Estimate
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.terms import CURRENT_TERMS, not_identified, replay_inputs, reverses_propeller, sailing_model
+from ship_env.workbench.terms import (
+    CURRENT_TERMS,
+    not_identified,
+    propeller_rates,
+    replay_inputs,
+    reverses_propeller,
+    sailing_model,
+)
 from ship_env.workbench.validation import CrossValidation
 
 #: Hex digits of a log file's SHA-256 kept in a preset (48 bits: no two files of a campaign collide).
@@ -255,10 +262,10 @@ def envelope_section(raw: Mapping[str, Any], limits: Mapping[str, DataLimit]) ->
 
 def service_conditions_section(logs: Sequence[Log]) -> dict[str, Any]:
     """The fitted runs' operating point: the median of their propeller rate ({} where no log measures it)."""
-    measured = [log for log in logs if log.propeller_rate is not None]
-    if not measured:
+    rates = propeller_rates(logs)
+    if rates is None:
         return {}
-    rates = np.concatenate([log.propeller_rate for log in measured if log.propeller_rate is not None])
+    measured = [log for log in logs if log.propeller_rate is not None]
     low, median, high = np.percentile(rates, [100.0 - COVERAGE_PERCENTILE, 50.0, COVERAGE_PERCENTILE])
     source = (
         f"{_DATA_RANGE}: the median propeller rate of {len(measured)} fitted logs "

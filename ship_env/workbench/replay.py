@@ -16,15 +16,15 @@ replay's *inputs* (:data:`INPUTS`). Two kinds of replay:
 **Speed is an output, not an input.** A speed channel sets only the run's service speed U0 and its
 initial speed: U0 is the speed the ship keeps on a straight course at the run's propeller setting,
 estimated as the highest speed of the run (the mean over the time it takes to sail one ship length,
-where that mean is highest), since the model's speed u = U0 (1 - u*) (2.53) never exceeds U0 in steady sailing (u* >= 0
-with K_u* r*^2 >= 0, 2.55); the initial speed loss is u*(0) = 1 - u(0) / U0 with u(0) the measured
-speed at the first sample (estimated over the initial window, as the other states). From there the
-model's own speed loss (``speed_loss``, 2.55) is integrated and its speed U0 (1 - u*) is the replay's
-``SPEED`` column: a run that starts slower than U0 (a model test from rest) accelerates towards it by
-the same first-order surge equation. A log that gives its service speed (``Log.service_speed``) has
-that U0; a stretch cut from a run (``envelope.segments_inside``) keeps its whole run's. Without a speed
-channel the log's or the ship's service speed is U0 and u*(0) = 0; the speed loss then shows only
-through the heading and the track, which do not identify it.
+where that mean is highest), since the model's speed u = U0 (1 - u*) (2.53) never exceeds U0 in steady
+sailing (u* >= 0 with K_u* r*^2 >= 0, 2.55); the initial speed loss is u*(0) = 1 - u(0) / U0 with u(0)
+the measured speed at the first sample (estimated over the initial window, :func:`initial_window`, as
+the other states). From there the model's own speed loss (``speed_loss``, 2.55) is integrated and its
+speed U0 (1 - u*) is the replay's ``SPEED`` column: a run that starts slower than U0 (a model test
+from rest) accelerates towards it by the same first-order surge equation. A log that gives its service
+speed (``Log.service_speed``) has that U0; a stretch cut from a run (``envelope.segments_inside``)
+keeps its whole run's. Without a speed channel the log's or the ship's service speed is U0 and u*(0) =
+0; the speed loss then shows only through the heading and the track, which do not identify it.
 A log without a propeller channel is replayed at the ship's service propeller rate (its preset's
 ``service_conditions``; 0 where it states none).
 
@@ -57,8 +57,10 @@ OUTPUT_SIZE = 5
 #: What a replay takes from a log as an input (held over each sample interval), channel by channel where the
 #: log has it; the speed is not among them (the module docstring).
 INPUTS = ("rudder", "propeller_rate", "wind_speed", "wind_direction")
-#: Seconds at the start of a run from which its initial state is estimated.
+#: The shortest time, s, at a run's start from which its initial state is estimated (:func:`initial_window`).
 INITIAL_WINDOW = 2.0
+#: The usual time over which it is estimated, in ship lengths sailed at the run's service speed.
+INITIAL_WINDOW_LENGTHS = 0.5
 
 
 @dataclass(frozen=True)
@@ -210,15 +212,30 @@ def highest_speed(log: Log, length: float) -> float | None:
     return highest if highest > 0.0 else None
 
 
+def initial_window(log: Log, length: float, speed: float) -> float:
+    """Seconds at a run's start from which its initial state is estimated by default: the time to sail
+    ``INITIAL_WINDOW_LENGTHS`` ship lengths at the run's service speed ``speed`` (U0), at least
+    ``INITIAL_WINDOW`` and at most half the run. A 320 m tanker at 8 m/s averages 20 s of its sensors, a 3 m
+    model at 0.6 m/s 2.5 s: short against the ship's own time scale (its yaw time constant tau* L / U, 1.5
+    to 3 ship lengths), long enough that sea-trial sensors at 1 Hz average out. A free replay carries its
+    initial errors to the end: an initial rate of turn off by 0.02 deg/s (a rate gyro's noise, a straight
+    line through 3 samples) turns a tanker, whose yaw time constant is 90 s, 1.8 deg off its course."""
+    longest = 0.5 * float(log.time[-1] - log.time[0])
+    usual = INITIAL_WINDOW_LENGTHS * length / speed if speed > 0.0 else INITIAL_WINDOW
+    return min(max(usual, INITIAL_WINDOW), longest)
+
+
 def initial_state(log: Log, window: float = INITIAL_WINDOW, speed: float | None = None) -> np.ndarray:
     """The run's motion (``state.MOTION_STATES``) at its first sample, estimated from its first ``window`` seconds.
 
-    Less noisy than the first sample alone, and unbiased where the ship already accelerates:
-    the heading is the intercept of a parabola fitted over the window, the rate of turn that of a
-    straight line through the measured rate (or the parabola's slope), the position and the speed that
-    of a straight line; the actual rudder is the first rudder sample. With the run's service speed
-    ``speed`` (U0, :func:`service_speed`) and a speed channel, the speed loss is u*(0) = 1 - u(0) / U0,
-    within [0, 1]; else 0.
+    Less noisy than the first sample alone, and unbiased where the ship already accelerates: the rate
+    of turn is the intercept of a straight line through the measured rate, the position and the speed
+    that of a straight line; the heading, with a rate gyro, the mean of psi_k - integral_{t0}^{t_k} r dt
+    (the measured rate integrated by the trapezoidal rule: psi(t0) plus the compass's noise, whatever the
+    ship does), without one the intercept of a parabola, and the rate its slope; the actual rudder is the
+    first rudder sample. With the run's service speed ``speed`` (U0, :func:`service_speed`) and a speed
+    channel, the speed loss is u*(0) = 1 - u(0) / U0, within [0, 1]; else 0. A ``window`` of 0 takes the
+    first samples as they are.
     """
     inside = log.time - log.time[0] <= window
     elapsed = log.time[inside] - log.time[0]
@@ -231,9 +248,14 @@ def initial_state(log: Log, window: float = INITIAL_WINDOW, speed: float | None 
 
     state = np.zeros(S.MOTION_SIZE)
     state[S.TIME] = log.time[0]
-    heading = polynomial(log.heading, 2)
-    state[S.HEADING] = heading[0]
-    state[S.RATE_OF_TURN] = heading[1] if log.rate_of_turn is None else polynomial(log.rate_of_turn, 1)[0]
+    if log.rate_of_turn is None:
+        heading = polynomial(log.heading, 2)
+        state[S.HEADING], state[S.RATE_OF_TURN] = heading[0], heading[1]
+    else:
+        rate, time = log.rate_of_turn[inside], log.time[inside]
+        turned = np.concatenate(([0.0], np.cumsum(np.diff(time) * 0.5 * (rate[1:] + rate[:-1]))))  # psi - psi(t0)
+        state[S.HEADING] = float(np.mean(log.heading[inside] - turned))
+        state[S.RATE_OF_TURN] = polynomial(log.rate_of_turn, 1)[0]
     if log.north is not None and log.east is not None:
         state[S.NORTH] = polynomial(log.north, 1)[0]
         state[S.EAST] = polynomial(log.east, 1)[0]
@@ -258,14 +280,16 @@ def _conditions(log: Log, model: ShipModel, speed: float) -> np.ndarray:
     return rows
 
 
-def pack_runs(logs: Sequence[Log], model: ShipModel, window: float = INITIAL_WINDOW) -> PackedRuns:
+def pack_runs(logs: Sequence[Log], model: ShipModel, window: float | None = None) -> PackedRuns:
     """Concatenate the logs' inputs and outputs; ``model`` supplies the default service speed, its
-    state's layout and its effects' own states' initial values at each run's first sample."""
+    state's layout and its effects' own states' initial values at each run's first sample, estimated over
+    ``window`` seconds (default: each run's :func:`initial_window`)."""
     speeds = [service_speed(log, model) for log in logs]
     conditions = [_conditions(log, model, speed) for log, speed in zip(logs, speeds, strict=True)]
     initial_states = np.zeros((len(logs), model.state_size))
     initial_states[:, : S.MOTION_SIZE] = [
-        initial_state(log, window, speed) for log, speed in zip(logs, speeds, strict=True)
+        initial_state(log, initial_window(log, model.length, speed) if window is None else window, speed)
+        for log, speed in zip(logs, speeds, strict=True)
     ]
     model.start_states(initial_states, np.stack([rows[0] for rows in conditions]))
     measured_speed_loss = [
@@ -548,7 +572,7 @@ def unpack(logs: Sequence[Log], outputs: np.ndarray, valid_samples: np.ndarray) 
     return results
 
 
-def simulate(setup: ReplayModel, logs: Sequence[Log], window: float = INITIAL_WINDOW) -> list[Simulated]:
+def simulate(setup: ReplayModel, logs: Sequence[Log], window: float | None = None) -> list[Simulated]:
     """Replay each log with one model from its measured initial state: free and track replays."""
     runs = pack_runs(logs, setup.model, window)
     outputs, valid_samples = replay(runs, setup.model.record, free_and_track_tasks(len(logs), current=setup.current))

@@ -286,13 +286,29 @@ def records_actual_rudder(logs: Sequence[Log]) -> bool:
     return all(log.rudder_kind == "actual" for log in logs)
 
 
+def propeller_rates(logs: Sequence[Log]) -> np.ndarray | None:
+    """Every sample of the logs' propeller rate, rps, in one array; None where no log measures it."""
+    rates = [log.propeller_rate for log in logs if log.propeller_rate is not None]
+    return np.concatenate(rates) if rates else None
+
+
 def sailing_model(model: ShipModel, logs: Sequence[Log]) -> ShipModel:
-    """The fitted model as a ship that sails orders: with the starting preset's steering machine where every log
-    records the actual rudder (the replay takes it as an input, so the fit leaves the machine out, but a preset
-    ordered to put the rudder over must move it at the machine's rate)."""
+    """The fitted model as the ship its preset sails: at the logs' operating point (the median of their propeller
+    rate as its service condition, where they measure it, as the preset's ``service_conditions``) and with the
+    starting preset's steering machine where every log records the actual rudder (the replay takes it as an
+    input, so the fit leaves the machine out, but a preset ordered to put the rudder over must move it at the
+    machine's rate)."""
     machine = "steering_machine"
-    keep = machine in model.ship.enabled and not model.has(machine) and records_actual_rudder(logs)
-    return model.with_effects(machine) if keep else model
+    effects = model.effects
+    if machine in model.ship.enabled and not model.has(machine) and records_actual_rudder(logs):
+        effects = (*effects, machine)
+    rates = propeller_rates(logs)
+    ship = model.ship
+    if rates is not None:
+        ship = replace(ship, service_conditions={**ship.service_conditions, "propeller_rate": float(np.median(rates))})
+    if ship is model.ship and effects == model.effects:
+        return model
+    return ShipModel(ship, effects, model.overrides)
 
 
 def replay_inputs(logs: Sequence[Log]) -> list[str]:

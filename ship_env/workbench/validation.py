@@ -35,7 +35,7 @@ from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
 from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup, one_thread, speed_output_terms
 from ship_env.workbench.logs import Log
 from ship_env.workbench.parallel import pool
-from ship_env.workbench.replay import INITIAL_WINDOW, ReplayModel, Simulated, simulate
+from ship_env.workbench.replay import ReplayModel, Simulated, simulate
 from ship_env.workbench.runs import screen_runs
 from ship_env.workbench.terms import with_values
 
@@ -69,7 +69,8 @@ class CrossValidation:
         groups: per run, the group it was left out with.
         validation_logs: the validation runs.
         coverage: the ranges the fitted runs covered (None: not recorded).
-        window: seconds at a run's start from which its replays' initial state was estimated.
+        window: seconds at a run's start from which its replays' initial state was estimated (None: each run's
+            :func:`~.replay.initial_window`).
     """
 
     fit: FitResult
@@ -81,7 +82,7 @@ class CrossValidation:
     groups: tuple[str, ...] = ()
     validation_logs: tuple[Log, ...] = ()
     coverage: Coverage | None = None
-    window: float = INITIAL_WINDOW
+    window: float | None = None
 
     @property
     def pooled(self) -> RunErrors:

@@ -204,9 +204,9 @@ class ShipBatch:
             unknown = [key for key in task.info_keys if key not in known]
             if unknown:
                 raise ValueError(f"info_keys: unknown keys {unknown} in {task.info_keys!r}; known: {', '.join(known)}")
-        #: The keys :meth:`info` builds, and how many of them are the task's own.
+        #: The keys :meth:`info` gives (it builds none where there are none).
         self.info_keys = frozenset(known if task.info_keys is None else task.info_keys)
-        self._task_keys_wanted = len(self.info_keys.intersection(self.task_info_keys))
+        self._every_info_key = len(self.info_keys) == len(known)
 
     def _update_loop(self) -> Callable[..., None]:
         return batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
@@ -414,7 +414,7 @@ class ShipBatch:
 
     def info(self, ships: int | slice) -> dict[str, Any]:
         """The step's information for one ship (an index: scalars) or all (``slice(None)``: arrays), its
-        keys those of the task's ``info_keys`` (all by default, in this order).
+        keys those of the task's ``info_keys`` (all by default, in this order; none built with ``()``).
 
         ``measurement``: the bridge's instruments (``sensors.MEASUREMENT_NAMES``); ``state``: the
         ship's true state (layout ``ship_env.model.state``; of a ship that diverged in the last
@@ -425,35 +425,31 @@ class ShipBatch:
         ``task_info_keys``). Arrays are copies (the measurements and metrics views of one copy of the
         records); one ship's measurements and metrics are Python floats, each record read in one call.
         """
-        wanted = self.info_keys
-        one = not isinstance(ships, slice)
-        episodes = self.episodes if one else snapshot(self.episodes, ships)
-        info: dict[str, Any] = {}
-        if "measurement" in wanted:
-            if one:  # the lengths agree by construction (MEASUREMENT_SIZE)
-                measured = episodes["measurement"][ships].tolist()
-                info["measurement"] = dict(zip(MEASUREMENT_NAMES, measured, strict=False))
-            else:
-                measurements = episodes["measurement"][ships].T
-                info["measurement"] = {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)}
-        if "state" in wanted:
+        if not self.info_keys:
+            return {}
+        names = self.metrics_dtype.names or ()
+        if isinstance(ships, slice):
+            episodes = snapshot(self.episodes, ships)
+            metrics = snapshot(self.metrics, ships)
+            measurements = episodes["measurement"][ships].T
             state = pick(self.simulator.state, ships)
-            if not one and self.diverged.any():
+            if self.diverged.any():
                 state[self.diverged] = self.diverged_states[self.diverged]
-            info["state"] = state
-        if "metrics" in wanted:
-            names = self.metrics_dtype.names or ()
-            if one:
-                info["metrics"] = dict(zip(names, self.metrics[ships].item(), strict=False))
-            else:
-                metrics = snapshot(self.metrics, ships)
-                info["metrics"] = {name: metrics[name][ships] for name in names}
-        if "envelope" in wanted:
-            info["envelope"] = envelope_info(episodes, ships)
-        if self._task_keys_wanted:
-            task_info = self.task_info(episodes, ships)
-            info.update(task_info if self._task_keys_wanted == len(task_info) else _only(task_info, wanted))
-        return info
+            measurement = {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)}
+            metric = {name: metrics[name][ships] for name in names}
+        else:  # zip without strict=, which costs 0.3 us a call: the lengths agree by construction
+            episodes = self.episodes
+            measurement = dict(zip(MEASUREMENT_NAMES, episodes["measurement"][ships].tolist()))  # noqa: B905
+            state = self.simulator.state[ships].copy()
+            metric = dict(zip(names, self.metrics[ships].item()))  # noqa: B905
+        info = {
+            "measurement": measurement,
+            "state": state,
+            "metrics": metric,
+            "envelope": envelope_info(episodes, ships),
+            **self.task_info(episodes, ships),
+        }
+        return info if self._every_info_key else _only(info, self.info_keys)
 
     def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
         """The task's own keys of a step's information, read from the :func:`snapshot` ``episodes``."""

@@ -112,10 +112,10 @@ class ShipTask:
             ship), or its ``"module:attribute"`` import path. The preset then gives what the bridge
             knows of the ship (its length, speed, K*: the observations' scales) and the autopilots'
             design model; the adapter gives the motion.
-        info_keys: the keys of each step's information to build, among ``measurement``, ``state``,
+        info_keys: the keys each step's information gives, among ``measurement``, ``state``,
             ``metrics``, ``envelope`` and the task's own (``ShipBatch.info``); ``None`` (default): all.
-            A learner that reads none of them steps faster with ``()`` (building the information is
-            the larger part of a single environment's step). ``reset``'s ``scenario``, the keys the
+            ``()`` builds none: a learner that reads none of them steps faster (building the
+            information is the larger part of a single environment's step). ``reset``'s ``scenario``, the keys the
             terminating step adds and the vector environment's ``diverged`` are there whatever it says.
     """
 

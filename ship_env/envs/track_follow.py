@@ -160,8 +160,8 @@ class TrackFollowEnv(ShipEnv):
     preset written by ``ship-env fit/improve --preset`` draws K* and tau* from its fit, each
     theta ~ N(theta_hat, s^2) with s its ``std_error``, redrawn until inside the parameter's range),
     ``dynamics`` (a ship simulated outside ship_env: :mod:`ship_env.model.external`) and ``info_keys``
-    (the Information keys each step builds, default all; ``info_keys=()`` for a learner that reads
-    none, the fastest step).
+    (the Information keys each step gives, default all; ``info_keys=()`` builds none, the fastest
+    step for a learner that reads none).
 
     ## Version History
 

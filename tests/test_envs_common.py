@@ -247,3 +247,9 @@ def test_info_keys_build_the_chosen_keys_alone_and_sail_the_same_episodes(env_id
 def test_info_keys_refuse_an_unknown_key_naming_it_and_the_known_ones(info_keys, message):
     with pytest.raises(ValueError, match=message):
         gym.make("ship_env/CourseChange-v0", info_keys=info_keys)
+
+
+def test_info_keys_may_be_any_iterable_of_names():
+    env = gym.make("ship_env/CourseChange-v0", info_keys=(key for key in ("metrics", "state")))
+    env.reset(seed=0)
+    assert list(env.step(np.array([0.5], dtype=np.float32))[-1]) == ["state", "metrics"]

@@ -115,8 +115,9 @@ class ShipTask:
         info_keys: the keys each step's information gives, among ``measurement``, ``state``,
             ``metrics``, ``envelope`` and the task's own (``ShipBatch.info``); ``None`` (default): all.
             ``()`` builds none: a learner that reads none of them steps faster (building the
-            information is the larger part of a single environment's step). ``reset``'s ``scenario``, the keys the
-            terminating step adds and the vector environment's ``diverged`` are there whatever it says.
+            information is the larger part of a single environment's step). ``reset``'s
+            ``scenario``, the keys the terminating step adds and the vector environment's
+            ``diverged`` are there whatever it says.
     """
 
     #: s between position fixes on the reference ship when ``fix_interval`` is ``None`` (0: every step).
@@ -170,10 +171,11 @@ class ShipTask:
         if not isinstance(observe_design_speed, bool):
             raise TypeError(f"observe_design_speed: expected true or false, got {observe_design_speed!r}")
         self.observe_design_speed = observe_design_speed
-        if info_keys is not None and (isinstance(info_keys, str) or not all(isinstance(key, str) for key in info_keys)):
+        keys = tuple(info_keys) if isinstance(info_keys, Iterable) and not isinstance(info_keys, str) else None
+        if info_keys is not None and (keys is None or not all(isinstance(key, str) for key in keys)):
             raise ValueError(f"info_keys: expected a sequence of key names or None, got {info_keys!r}")
         #: The keys of each step's information (``None``: all), checked by the batch that builds it.
-        self.info_keys = None if info_keys is None else tuple(info_keys)
+        self.info_keys = keys
         #: Makes one external adapter per ship, or ``None`` for ship_env's own simulator.
         self.make_dynamics = None if dynamics is None else dynamics_factory(dynamics)
 

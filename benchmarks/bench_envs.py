@@ -8,7 +8,8 @@ a ratio against a peer measured beside it, in the same process and the same roun
 
 1. one environment through ``gym.make``: CourseChange-v0 against CartPole-v1, steps/s with the
    actions drawn beforehand, and with ``action_space.sample()`` in the loop (``benchmark_step``;
-   a ``Box.sample()`` costs several times a ``Discrete`` one, and more than our step); target 1.0x;
+   a ``Box.sample()`` costs several times a ``Discrete`` one, and more than our step), and with
+   ``info_keys=()`` (no information built, for a learner that reads none); target 1.0x;
 2. the native vector environment at N = 1024, the preset's default effects (and every effect on, with
    wind, current and waves), against CartPole's native vector env (``gym.make_vec("CartPole-v1",
    num_envs=1024, vectorization_mode="vector_entry_point")``): env-steps/s with actions drawn
@@ -21,9 +22,10 @@ a ratio against a peer measured beside it, in the same process and the same roun
    in a fresh interpreter; and where the time goes: each phase, and the compilations numba ran
    (``numba.core.event``), the longest first.
 
-Then the min and median over the rounds of every ratio (absolute figures as information), and one
-vector step's parts (N = 1024, microseconds, median and mean per call: a loaded machine pre-empts
-some calls, which the mean shows), and with ``--ppo`` stable-baselines3 PPO's training steps/s.
+Then the min and median over the rounds of every ratio (absolute figures as information), and the
+parts of one ``gym.make`` step and of one vector step (N = 1024; microseconds, median and mean per
+call: a loaded machine pre-empts some calls, which the mean shows), and with ``--ppo``
+stable-baselines3 PPO's training steps/s.
 """
 
 from __future__ import annotations
@@ -177,6 +179,10 @@ def one_round(duration: float, cold: bool, cold_details: list[dict[str, Any]]) -
     for name, harness in (("actions drawn beforehand", benchmark_step_drawn), ("sample() in the loop", benchmark_step)):
         peer = harness(peer_env, duration, seed=0)
         compare(f"1. gym.make step, {name}", harness(ours_env, duration, seed=0), peer)
+    lean_env = gym.make(ENV_ID, info_keys=())
+    benchmark_step_drawn(lean_env, 0.2)
+    peer = benchmark_step_drawn(peer_env, duration, seed=0)
+    compare("1. gym.make step, info_keys=(), actions drawn beforehand", benchmark_step_drawn(lean_env, duration), peer)
 
     peer_vector = gym.make_vec(PEER_ID, num_envs=NUM_ENVS, vectorization_mode=VECTOR_MODE)
     for options_name, options in VECTOR_OPTIONS.items():
@@ -206,10 +212,52 @@ def one_round(duration: float, cold: bool, cold_details: list[dict[str, Any]]) -
     return figures
 
 
+def time_parts(parts: dict[str, Callable[[], object]], steps: int) -> dict[str, tuple[float, float]]:
+    """Each part's microseconds per call, (median, mean) over ``steps`` calls, the parts called round-robin
+    (so that load shifts every part alike)."""
+    times: dict[str, list[float]] = {name: [] for name in parts}
+    for _ in range(steps):
+        for name, work in parts.items():
+            start = time.perf_counter()
+            work()
+            times[name].append(1e6 * (time.perf_counter() - start))
+    return {name: (statistics.median(values), statistics.fmean(values)) for name, values in times.items()}
+
+
+def single_step_parts(steps: int) -> dict[str, tuple[float, float]]:
+    """One ``gym.make`` step's parts (default effects), microseconds per call: (median, mean)."""
+    wrapped = gym.make(ENV_ID)
+    lean = gym.make(ENV_ID, info_keys=())
+    env = wrapped.unwrapped
+    for made in (wrapped, lean):
+        made.reset(seed=0)
+    action = np.array([0.25], dtype=np.float32)
+    order = env.task.rudder_order(action)
+    batch = env.batch
+    episodes = batch.episodes
+    parts: dict[str, Callable[[], object]] = {
+        "whole step through gym.make's wrappers": lambda: wrapped.step(action),
+        "the same, info_keys=()": lambda: lean.step(action),
+        "unwrapped step": lambda: env.step(action),
+        "action to rudder order": lambda: env.task.rudder_order(action),
+        "simulator step (compiled RK4)": lambda: batch.simulator.step(order),
+        "task update (compiled)": batch.update,
+        "info dict": lambda: batch.info(0),
+        "observation, reward, termination": lambda: (
+            bool(episodes["terminated"][0]),
+            episodes["observation"][0].copy(),
+            float(episodes["reward"][0]),
+        ),
+    }
+    return time_parts(parts, steps)
+
+
 def vector_step_parts(steps: int) -> dict[str, tuple[float, float]]:
     """One vector step's parts at N = 1024 (default effects), microseconds per call: (median, mean)."""
     env = gym.make_vec(ENV_ID, num_envs=NUM_ENVS, vectorization_mode=VECTOR_MODE).unwrapped
-    env.reset(seed=0)
+    noiseless = gym.make_vec(ENV_ID, num_envs=NUM_ENVS, vectorization_mode=VECTOR_MODE, sensor_noise_scale=0.0)
+    for made in (env, noiseless):
+        made.reset(seed=0)
     actions = np.random.default_rng(0).uniform(-1.0, 1.0, size=(NUM_ENVS, 1)).astype(np.float32)
     orders = actions[:, 0].astype(np.float64) * env.task.rudder_limit
     batch = env.batch
@@ -219,16 +267,11 @@ def vector_step_parts(steps: int) -> dict[str, tuple[float, float]]:
         "actions to rudder orders": lambda: env.task.rudder_orders(actions, NUM_ENVS, env._orders),
         "simulator step": lambda: batch.simulator.step(orders),
         "task update (compiled)": batch.update,
+        "the same, sensor_noise_scale=0": noiseless.unwrapped.batch.update,
         "observations, rewards, terminations": batch.outcomes,
         "info dicts": lambda: env._info(no_ships, [], env._all_envs),
     }
-    times: dict[str, list[float]] = {name: [] for name in parts}
-    for _ in range(steps):  # round-robin, so that load shifts every part alike
-        for name, work in parts.items():
-            start = time.perf_counter()
-            work()
-            times[name].append(1e6 * (time.perf_counter() - start))
-    return {name: (statistics.median(values), statistics.fmean(values)) for name, values in times.items()}
+    return time_parts(parts, steps)
 
 
 def ppo_rate(make_env: Callable[[], object], total_steps: int, num_envs: int) -> float:
@@ -296,6 +339,10 @@ def main() -> None:
         print(f"   compilations for calls from Python (last round, their callees included), {total:.1f} s:")
         for function, spent in compiles[:8]:
             print(f"     {spent:6.1f} s  {function}")
+
+    print(f"\none gym.make step's parts, {ENV_ID}, default effects, us per call (median / mean):")
+    for name, (median, mean) in single_step_parts(2000 if arguments.quick else 20_000).items():
+        print(f"  {name:40s} {median:8.2f} / {mean:8.2f}")
 
     print(f"\none vector step's parts, N = {NUM_ENVS}, default effects, us per call (median / mean):")
     for name, (median, mean) in vector_step_parts(50 if arguments.quick else 300).items():

@@ -1,4 +1,4 @@
-"""The benchmark script runs end to end with tiny counts, so that it cannot rot."""
+"""The benchmark scripts run with tiny counts, so that they cannot rot."""
 
 from __future__ import annotations
 
@@ -38,3 +38,11 @@ def test_benchmark_functions_run_with_tiny_counts(monkeypatch, load_script):
     results = bench.run(sizes=(2,), single_steps=10, batch_budget=8, repeats=1, with_profile=False)
     assert results["shipmmg"] is None
     assert 'pip install -e ".[bench]"' in bench.format_report(results, "cmd")
+
+
+def test_env_benchmark_step_parts_run_with_tiny_counts(load_script):
+    bench = load_script(BENCH.with_name("bench_envs.py"), "bench_envs")
+    single, vector = bench.single_step_parts(5), bench.vector_step_parts(2)
+    for parts in (single, vector):
+        assert all(median > 0.0 and mean > 0.0 for median, mean in parts.values())
+    assert {"whole step through gym.make's wrappers", "the same, info_keys=()", "info dict"} <= set(single)

@@ -32,7 +32,7 @@ def module_name(requirement: str) -> str:
 #: The packages of the extras (their import names), and those of the core.
 EXTRA_MODULES = {
     module_name(requirement)
-    for extra in ("rl", "leaderboard", "ray", "bench")
+    for extra in ("rl", "leaderboard", "ray", "bench", "video")
     for requirement in PROJECT["optional-dependencies"][extra]
 } - {"ship_env"}
 CORE_MODULES = {module_name(requirement) for requirement in PROJECT["dependencies"]}

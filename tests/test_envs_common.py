@@ -15,6 +15,7 @@ from env_contract import assert_same_steps, sail
 from gymnasium.utils.env_checker import check_env
 
 import ship_env  # noqa: F401  (registers the environments)
+from ship_env.envs.batch import INFO_KEYS
 from ship_env.envs.course_change import CourseChangeEnv
 from ship_env.envs.course_keeping import CourseKeepingEnv
 from ship_env.envs.track_follow import TrackFollowEnv
@@ -204,3 +205,51 @@ def test_rgb_array_frames_drawn_over_the_kept_picture_equal_what_matplotlib_draw
     ] = False
     assert np.array_equal(kept[outside], whole[outside])
     env.close()
+
+
+@pytest.mark.parametrize("env_id", list(ENVS))
+def test_info_keys_build_the_chosen_keys_alone_and_sail_the_same_episodes(env_id):
+    full = gym.make(env_id)
+    _, reset_info = full.reset(seed=5)
+    _, _, _, _, step_info = full.step(full.action_space.sample())
+    # The documented keys, in order: every task's, then its own (those ``task_info_keys`` declares).
+    own = full.unwrapped.batch.task_info_keys
+    assert list(step_info) == [*INFO_KEYS, *own] and list(reset_info) == [*INFO_KEYS, *own, "scenario"]
+    for keys in ((), ("metrics",), ("state", own[0])):
+        full, lean = gym.make(env_id), gym.make(env_id, info_keys=keys)
+        (first, full_info), (lean_first, lean_info) = full.reset(seed=5), lean.reset(seed=5)
+        assert np.array_equal(first, lean_first) and set(lean_info) == {*keys, "scenario"}
+        full.action_space.seed(1)
+        for _ in range(20):
+            action = full.action_space.sample()
+            *outcome, full_info = full.step(action)
+            *lean_outcome, lean_info = lean.step(action)
+            assert np.array_equal(outcome[0], lean_outcome[0]) and outcome[1:] == lean_outcome[1:]
+            assert list(lean_info) == list(keys)
+            assert all(np.array_equal(lean_info[key], full_info[key]) for key in keys if key != "metrics")
+            assert lean_info.get("metrics", full_info["metrics"]) == full_info["metrics"]
+
+    vector = gym.make_vec(env_id, num_envs=3, vectorization_mode="vector_entry_point", info_keys=("metrics",))
+    _, info = vector.reset(seed=5)
+    assert set(info) == {"metrics", "_metrics", "scenario", "_scenario"}
+    _, _, _, _, info = vector.step(vector.action_space.sample())
+    first_metric = next(iter(info["metrics"]))
+    assert set(info) == {"metrics", "_metrics"} and info["metrics"][first_metric].shape == (3,)
+
+
+@pytest.mark.parametrize(
+    ("info_keys", "message"),
+    [
+        (("metric",), r"info_keys: unknown keys \['metric'\] in \('metric',\); known: measurement, state"),
+        ("metrics", "info_keys: expected a sequence of key names or None, got 'metrics'"),
+    ],
+)
+def test_info_keys_refuse_an_unknown_key_naming_it_and_the_known_ones(info_keys, message):
+    with pytest.raises(ValueError, match=message):
+        gym.make("ship_env/CourseChange-v0", info_keys=info_keys)
+
+
+def test_info_keys_may_be_any_iterable_of_names():
+    env = gym.make("ship_env/CourseChange-v0", info_keys=(key for key in ("metrics", "state")))
+    env.reset(seed=0)
+    assert list(env.step(np.array([0.5], dtype=np.float32))[-1]) == ["state", "metrics"]

@@ -35,6 +35,9 @@ from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import kernel
 from ship_env.model.simulator import batch_loop
 
+#: The keys of every task's step information (:meth:`ShipBatch.info`), before the task's own.
+INFO_KEYS = ("measurement", "state", "metrics", "envelope")
+
 # The loop over a batch's ships, written once: serially (range) or on all cores (prange). The ship's index
 # is passed signed, as range gives it, so that prange's unsigned one compiles no second ``update_ship``.
 _UPDATE_LOOP = """
@@ -149,6 +152,11 @@ def pick(array: np.ndarray, index: Any) -> Any:
     return value.copy() if isinstance(value, np.ndarray) else value
 
 
+def _only(info: dict[str, Any], keys: frozenset[str]) -> dict[str, Any]:
+    """The items of ``info`` whose key is in ``keys``."""
+    return {key: value for key, value in info.items() if key in keys}
+
+
 def snapshot(array: np.ndarray, ships: int | slice) -> np.ndarray:
     """The structured array to read the ships' fields from: for one ship (an index) ``array``
     itself, whose fields read at the index are values; for all (``slice(None)``) a copy, made as
@@ -159,7 +167,8 @@ def snapshot(array: np.ndarray, ships: int | slice) -> np.ndarray:
 class ShipBatch:
     """N ships of one task in one :class:`~ship_env.model.Simulator`.
 
-    Subclasses set ``task_fields`` (their episode record's own fields), ``metrics_dtype``,
+    Subclasses set ``task_fields`` (their episode record's own fields), ``task_info_keys`` (the keys
+    :meth:`task_info` gives), ``metrics_dtype``,
     ``update_serial`` and ``update_parallel`` (compiled loops called as ``loop(restarted_only, model
     record, state, conditions, noise_keys, step_index, episodes, metrics, *task.kernel_arguments)``), and
     implement :meth:`start_episode` and :meth:`task_info`.
@@ -173,6 +182,7 @@ class ShipBatch:
     """
 
     task_fields: ClassVar[Sequence[tuple]]
+    task_info_keys: ClassVar[tuple[str, ...]] = ()
     metrics_dtype: ClassVar[np.dtype]
     update_serial: ClassVar[Callable[..., None]]
     update_parallel: ClassVar[Callable[..., None]]
@@ -189,6 +199,14 @@ class ShipBatch:
         self.episodes = np.zeros(self.num_ships, dtype=episode_dtype(task.observation_space.shape[0], self.task_fields))
         self.metrics = np.zeros(self.num_ships, dtype=self.metrics_dtype)
         self._update = self._update_loop()
+        known = (*INFO_KEYS, *self.task_info_keys)
+        if task.info_keys is not None:
+            unknown = [key for key in task.info_keys if key not in known]
+            if unknown:
+                raise ValueError(f"info_keys: unknown keys {unknown} in {task.info_keys!r}; known: {', '.join(known)}")
+        #: The keys :meth:`info` gives (it builds none where there are none).
+        self.info_keys = frozenset(known if task.info_keys is None else task.info_keys)
+        self._every_info_key = len(self.info_keys) == len(known)
 
     def _update_loop(self) -> Callable[..., None]:
         return batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
@@ -395,29 +413,43 @@ class ShipBatch:
         return observations, rewards, terminated
 
     def info(self, ships: int | slice) -> dict[str, Any]:
-        """The step's information for one ship (an index: scalars) or all (``slice(None)``: arrays).
+        """The step's information for one ship (an index: scalars) or all (``slice(None)``: arrays), its
+        keys those of the task's ``info_keys`` (all by default, in this order; none built with ``()``).
 
         ``measurement``: the bridge's instruments (``sensors.MEASUREMENT_NAMES``); ``state``: the
         ship's true state (layout ``ship_env.model.state``; of a ship that diverged in the last
         :meth:`sail`, the state that left the model's validity); ``metrics``: the episode's metrics so
         far (final at its last step); ``envelope``: whether the ship has stayed inside its model's
         validity envelope this episode and, once it left, where and why
-        (:func:`~ship_env.envs.envelope.envelope_info`); then the task's own keys (:meth:`task_info`). Arrays are
-        copies (the measurements and metrics views of one copy of the records).
+        (:func:`~ship_env.envs.envelope.envelope_info`); then the task's own keys (:meth:`task_info`,
+        ``task_info_keys``). Arrays are copies (the measurements and metrics views of one copy of the
+        records); one ship's measurements and metrics are Python floats, each record read in one call.
         """
-        episodes = snapshot(self.episodes, ships)
-        metrics = snapshot(self.metrics, ships)
-        measurements = episodes["measurement"][ships].T
-        state = pick(self.simulator.state, ships)
-        if isinstance(ships, slice) and self.diverged.any():
-            state[self.diverged] = self.diverged_states[self.diverged]
-        return {
-            "measurement": {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)},
+        if not self.info_keys:
+            return {}
+        names = self.metrics_dtype.names or ()
+        if isinstance(ships, slice):
+            episodes = snapshot(self.episodes, ships)
+            metrics = snapshot(self.metrics, ships)
+            measurements = episodes["measurement"][ships].T
+            state = pick(self.simulator.state, ships)
+            if self.diverged.any():
+                state[self.diverged] = self.diverged_states[self.diverged]
+            measurement = {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)}
+            metric = {name: metrics[name][ships] for name in names}
+        else:  # zip without strict=, which costs 0.3 us a call: the lengths agree by construction
+            episodes = self.episodes
+            measurement = dict(zip(MEASUREMENT_NAMES, episodes["measurement"][ships].tolist()))  # noqa: B905
+            state = self.simulator.state[ships].copy()
+            metric = dict(zip(names, self.metrics[ships].item()))  # noqa: B905
+        info = {
+            "measurement": measurement,
             "state": state,
-            "metrics": {name: metrics[name][ships] for name in self.metrics_dtype.names or ()},
+            "metrics": metric,
             "envelope": envelope_info(episodes, ships),
             **self.task_info(episodes, ships),
         }
+        return info if self._every_info_key else _only(info, self.info_keys)
 
     def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
         """The task's own keys of a step's information, read from the :func:`snapshot` ``episodes``."""

@@ -236,6 +236,7 @@ class CourseChangeBatch(ShipBatch):
 
     task: CourseChangeTask
     task_fields = TASK_FIELDS
+    task_info_keys = ("new_heading", "rudder_travel_weight")
     metrics_dtype = METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)

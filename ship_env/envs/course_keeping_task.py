@@ -165,6 +165,7 @@ class CourseKeepingBatch(ShipBatch):
     """
 
     task_fields = TASK_FIELDS
+    task_info_keys = ("course",)
     metrics_dtype = COURSE_KEEPING_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)

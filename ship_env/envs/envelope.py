@@ -121,9 +121,13 @@ def envelope_info(episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
     info must equal itself, as Gymnasium's checker asks)."""
     codes = episodes["envelope_quantity"][ships]
     if isinstance(ships, slice):
+        inside = codes == INSIDE
+        quantity = np.zeros(codes.shape, dtype=_QUANTITY_NAMES.dtype)  # "", the name inside, for each ship
+        left = np.flatnonzero(~inside)  # the others' names looked up alone (a lookup for each costs 12 ns)
+        quantity[left] = _QUANTITY_NAMES[codes[left]]
         return {
-            "inside": codes == INSIDE,
-            "quantity": _QUANTITY_NAMES[codes],
+            "inside": inside,
+            "quantity": quantity,
             **{key: episodes[f"envelope_{key}"][ships] for key in ("step", "time", "value", "limit")},
         }
     if codes == INSIDE:  # the common case, without reading the record's other fields

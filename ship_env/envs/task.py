@@ -112,6 +112,12 @@ class ShipTask:
             ship), or its ``"module:attribute"`` import path. The preset then gives what the bridge
             knows of the ship (its length, speed, K*: the observations' scales) and the autopilots'
             design model; the adapter gives the motion.
+        info_keys: the keys each step's information gives, among ``measurement``, ``state``,
+            ``metrics``, ``envelope`` and the task's own (``ShipBatch.info``); ``None`` (default): all.
+            ``()`` builds none: a learner that reads none of them steps faster (building the
+            information is the larger part of a single environment's step). ``reset``'s
+            ``scenario``, the keys the terminating step adds and the vector environment's
+            ``diverged`` are there whatever it says.
     """
 
     #: s between position fixes on the reference ship when ``fix_interval`` is ``None`` (0: every step).
@@ -142,6 +148,7 @@ class ShipTask:
         decision_interval: int = 1,
         observe_design_speed: bool = False,
         dynamics: DynamicsSource | None = None,
+        info_keys: Sequence[str] | None = None,
     ) -> None:
         self.rudder_limit = math.radians(check_number("rudder_limit_deg", rudder_limit_deg, 1e-3, 90.0))
         if dt is not None:
@@ -164,6 +171,11 @@ class ShipTask:
         if not isinstance(observe_design_speed, bool):
             raise TypeError(f"observe_design_speed: expected true or false, got {observe_design_speed!r}")
         self.observe_design_speed = observe_design_speed
+        keys = tuple(info_keys) if isinstance(info_keys, Iterable) and not isinstance(info_keys, str) else None
+        if info_keys is not None and (keys is None or not all(isinstance(key, str) for key in keys)):
+            raise ValueError(f"info_keys: expected a sequence of key names or None, got {info_keys!r}")
+        #: The keys of each step's information (``None``: all), checked by the batch that builds it.
+        self.info_keys = keys
         #: Makes one external adapter per ship, or ``None`` for ship_env's own simulator.
         self.make_dynamics = None if dynamics is None else dynamics_factory(dynamics)
 
@@ -273,7 +285,11 @@ class ShipTask:
     def rudder_order(self, action: object) -> float:
         """One environment's action as the ordered rudder angle, rad; ``ValueError`` if it is malformed."""
         if self.action_type == "continuous":
-            fraction = self._continuous(action, (1,)).item()
+            fraction = math.nan
+            if isinstance(action, np.ndarray) and action.ndim == 1 and action.size == 1 and action.dtype.kind == "f":
+                fraction = action.item()  # the common action, read without a conversion
+            if not math.isfinite(fraction):  # any other, converted and checked (it raises where malformed)
+                fraction = self._continuous(action, (1,)).item()
             return min(max(fraction, -1.0), 1.0) * self.rudder_limit
         return float(self._levels[self._discrete(action, ())])
 

@@ -396,6 +396,7 @@ class TrackFollowBatch(ShipBatch):
     """
 
     task_fields = TASK_FIELDS
+    task_info_keys = ("leg", "cross_track_error")
     metrics_dtype = TRACK_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)

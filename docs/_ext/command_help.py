@@ -12,8 +12,8 @@ from docutils import nodes
 from sphinx.application import Sphinx
 from sphinx.util.docutils import SphinxDirective
 
-#: The width argparse wraps the help to.
-COLUMNS = "100"
+#: The width argparse wraps the help to: what the page column shows of a text block without scrolling.
+COLUMNS = "90"
 
 
 def help_sections() -> list[nodes.Node]:

@@ -1,7 +1,7 @@
 """Sphinx configuration: the guides and results pages are pages of their own (docs/*.md, docs/results/),
 the API reference is built from the docstrings (docs/api/), and what the code draws or prints is generated
 at build time by the extensions in docs/_ext (the effects table, the ship presets, each command's help,
-each environment's episode, the workbench's walk-through, the benchmark's report)."""
+each environment's episode, the workbench's walk-through, the benchmark's report, the API index)."""
 
 import sys
 from pathlib import Path
@@ -24,6 +24,7 @@ extensions = [
     "episodes",
     "workbench_figures",
     "benchmark_report",
+    "api_index",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 # _generated holds what the build draws; results/leaderboard* what `ship-env leaderboard` wrote (included, not pages).
@@ -33,6 +34,8 @@ html_theme = "furo"
 html_title = f"ship_env {release}"
 html_theme_options = {"navigation_with_keys": True}
 html_show_copyright = False
+html_static_path = ["_static"]
+html_css_files = ["tables.css"]  # wide tables scroll inside the page column
 
 autodoc_member_order = "bysource"
 autodoc_typehints = "description"

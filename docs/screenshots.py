@@ -1,5 +1,6 @@
-"""Screenshots of the built documentation in headless Chromium: the landing page, an environment's page and
-the workbench's walk-through, to look at the pages as a reader's browser draws them.
+"""Screenshots of the built documentation in headless Chromium: the landing page, an environment's page, the
+workbench's walk-through, the leaderboard's and the workbench's results and the command line, to look at the
+pages as a reader's browser draws them (a table wider than the page shows its scroll bar).
 
 Run after building the documentation (``sphinx-build -W --keep-going -b html docs docs/_build``)::
 
@@ -23,6 +24,9 @@ PAGES = {
     "landing.png": "index.html",
     "environment_course_change.png": "environments/course_change.html",
     "workbench.png": "workbench.html",
+    "results_leaderboard.png": "results/leaderboard.html",
+    "results_workbench.png": "results/workbench.html",
+    "command_line.png": "command_line.html",
 }
 BROWSERS = ("chromium", "chromium-browser", "google-chrome", "chrome")
 
@@ -43,7 +47,10 @@ def shoot(browser: str, page: Path, picture: Path, height: int) -> None:
         "--headless",
         "--no-sandbox",
         "--disable-gpu",
-        "--hide-scrollbars",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        "--no-first-run",
         f"--window-size=1280,{height}",
         "--virtual-time-budget=5000",
         f"--screenshot={picture}",

@@ -655,7 +655,7 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
             default=usable_cores(),
             metavar="N",
             help="processes that run independent fits side by side; 1: one after another, same results "
-            "(default: the usable cores, %(default)s)",
+            "(default: the CPU cores this process may run on)",
         )
     parser.add_argument(
         "--service-speed",

@@ -1,6 +1,6 @@
 """The ``command-help`` directive: ``ship-env``'s help and each subcommand's, as the parser prints them.
 
-Built from :func:`ship_env.cli.build_parser` at build time, so the page cannot drift from the options.
+Built from :func:`ship_env.command_line.build_parser` at build time, so the page cannot drift from the options.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ class CommandHelp(SphinxDirective):
     """``.. command-help::`` (no arguments): a section per subcommand with its ``--help``."""
 
     def run(self) -> list[nodes.Node]:
-        from ship_env.cli import build_parser
+        from ship_env.command_line import build_parser
 
         os.environ["COLUMNS"] = COLUMNS
         parser = build_parser()

@@ -199,7 +199,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 COMMAND = Command(
     "leaderboard",
-    help="rank the classic autopilots and learned policies on fixed, seeded suites",
     description=(
         "Sail every controller - fixed and gain-scheduled PD, indirect adaptive PD, MRAC, the predictor\n"
         "course changer (TrackFollow), the shipped policies and the policy files given - on fixed,\n"

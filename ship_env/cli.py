@@ -542,7 +542,8 @@ def run_diagnose(args: argparse.Namespace) -> int:
 
 
 def run_improve(args: argparse.Namespace) -> int:
-    """``ship-env improve``: add effects while the held-out error falls; the error ladder and a report."""
+    """``ship-env improve``: add effects while the held-out error falls; the error ladder, and with
+    ``--report`` a report."""
     setup, options, runs = _workbench_start(args)
     logs = runs.logs
     print(_model_line(setup, logs))
@@ -568,8 +569,9 @@ def run_improve(args: argparse.Namespace) -> int:
         print(validation_coverage_text(ladder.final, options.error_scales))
     print("\nfinal model, fitted to all runs")
     print(estimate_table(ladder.final).text())
-    report = write_report(ladder, logs, args.report, workers=options.workers)
-    print(f"\nreport written to {report}")
+    if args.report is not None:
+        report = write_report(ladder, logs, args.report, workers=options.workers)
+        print(f"\nreport written to {report}")
     if args.json is not None:
         write_document(ladder_document(ladder, runs.checks, logs), args.json)
         print(f"final model and ladder written to {args.json}")
@@ -874,9 +876,9 @@ def _improve_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--report",
         type=Path,
-        default=Path("workbench_report"),
+        default=None,
         metavar="DIR",
-        help="folder for report.md and its figures (default: %(default)s)",
+        help="write report.md with its figures into DIR (default: no report)",
     )
     add_json_argument(parser, "the final model (as 'fit --json' does) and the ladder")
     _add_preset_argument(parser, "the final model")
@@ -886,8 +888,8 @@ IMPROVE_COMMAND = Command(
     "improve",
     description=(
         "Start from the model, add the missing effect with the lowest held-out error while it lowers the\n"
-        "held-out score by at least --min-gain; print the error ladder and write a Markdown report with\n"
-        "its figures."
+        "held-out score by at least --min-gain; print the error ladder and, with --report DIR, write a\n"
+        "Markdown report with its figures."
     ),
     handler=run_improve,
     arguments=_improve_arguments,

@@ -153,6 +153,14 @@ def test_improve_climbs_the_ladder_and_writes_the_report_with_every_figure(log_f
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000, figure
 
 
+def test_improve_writes_no_report_unasked(log_folder, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    arguments = ["improve", str(log_folder), "--ship", SHIP, "--candidates", "rudder_offset", "--max-steps", "1"]
+    assert main([*arguments, "--pairs", "0", "--workers", "1"]) == 0
+    assert "error ladder" in capsys.readouterr().out
+    assert list(tmp_path.iterdir()) == []  # was workbench_report/, with its figures
+
+
 def test_a_bad_log_ends_with_a_clear_error(tmp_path, capsys):
     frame = pd.DataFrame({"time": np.arange(30.0), "heading": np.zeros(30), "rudder": np.zeros(30)})
     frame.loc[10, "heading"] = np.nan

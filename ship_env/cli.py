@@ -17,6 +17,7 @@ import math
 import re
 import shlex
 import sys
+import textwrap
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -50,6 +51,7 @@ from ship_env.manoeuvres import (
 )
 from ship_env.manoeuvres.results import KNOT
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
+from ship_env.text_table import WIDTH
 from ship_env.workbench import (
     ErrorScales,
     FitOptions,
@@ -453,7 +455,7 @@ def _workbench_start(args: argparse.Namespace, fitting: bool = True) -> tuple[Re
     _claim_outputs(args)
     runs = _workbench_runs(args, setup)
     options = _workbench_options(args, setup, runs.logs)
-    print(f"error scales: {options.error_scales.describe()}")
+    print(textwrap.fill(f"error scales: {options.error_scales.describe()}", WIDTH, subsequent_indent="  "))
     if fitting:
         setup = with_speed_output(setup, runs.logs)
         for words in not_identified(setup.model, runs.logs):
@@ -526,9 +528,8 @@ def run_diagnose(args: argparse.Namespace) -> int:
     _print_validation_runs(validation, runs, options.error_scales)
     diagnosis = diagnose(validation, logs, options, args.candidates, args.refit)
     print(
-        "\nmissing effects, best first "
-        "(corr, var. expl.: residual evidence; score: held out after adding and refitting, "
-        "(screened): after a brief refit only)"
+        "\nmissing effects, best first (corr, var. expl.: residual evidence;\n"
+        "score: held out after adding and refitting, (screened): after a brief refit only)"
     )
     print(diagnosis_table(diagnosis).text())
     beyond = past_the_library(diagnosis)

@@ -103,8 +103,10 @@ def test_diagnose_names_the_missing_effect_and_draws_the_signals(log_folder, tmp
     assert main(["diagnose", str(log_folder), "--ship", SHIP, "--refit", "2", "--plot", str(plot)]) == 0
     out = capsys.readouterr().out
     table = out.split("missing effects, best first")[1]
-    first = next(line for line in table.splitlines() if line.startswith("1 "))
-    assert "rudder_offset" in first and "rudder offset (neutral rudder angle" in first
+    lines = table.splitlines()
+    first = next(i for i, line in enumerate(lines) if line.startswith("1 "))
+    assert "rudder_offset" in lines[first] and "rudder offset (neutral rudder angle" in lines[first + 1]
+    assert max(map(len, table.split("\n\n")[0].splitlines())) <= 100  # the effect under its row (was 250 wide)
     assert "effects: yaw, speed_loss, kinematics" in table  # the logs measure the speed: the speed loss is fitted
     assert "the missing yaw acceleration against " in out and str(plot) in out
     assert plot.read_bytes().startswith(b"\x89PNG")

@@ -21,7 +21,13 @@ __all__ = ["Conditions", "ShipModel", "Simulator", "__version__"]
 
 
 def __getattr__(name: str) -> Any:
-    """``Conditions``, ``ShipModel`` and ``Simulator`` from :mod:`ship_env.model`, imported when first asked for."""
+    """``Conditions``, ``ShipModel`` and ``Simulator`` from :mod:`ship_env.model`, and a subpackage
+    (``ship_env.model``, ``ship_env.workbench``, ...), imported when first asked for."""
     if name in ("Conditions", "ShipModel", "Simulator"):
         return getattr(importlib.import_module("ship_env.model"), name)
-    raise AttributeError(f"module 'ship_env' has no attribute {name!r}")
+    try:
+        return importlib.import_module(f"{__name__}.{name}")
+    except ModuleNotFoundError as error:
+        if error.name != f"{__name__}.{name}":
+            raise
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

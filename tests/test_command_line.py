@@ -100,3 +100,15 @@ def test_the_command_line_is_parsed_before_the_heavy_imports(argv, status, impor
     code, *modules = done.stderr.splitlines()[-1].split()
     assert code == status, done.stderr
     assert set(modules) <= imported, done.stderr
+
+
+def test_import_ship_env_registers_the_environments_and_loads_the_model_when_asked():
+    code = (
+        "import sys, gymnasium, ship_env\n"
+        "assert 'ship_env.model' not in sys.modules and 'ship_env/CourseChange-v0' in gymnasium.registry\n"
+        "assert ship_env.ShipModel is ship_env.model.ShipModel is sys.modules['ship_env.model'].ShipModel\n"
+        "from ship_env import Conditions, Simulator\n"
+        "print(Simulator.__name__, Conditions.__name__)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.stdout.split() == ["Simulator", "Conditions"], done.stderr

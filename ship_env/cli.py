@@ -1,12 +1,12 @@
-"""The ``ship-env`` command line.
+"""The ``ship-env`` subcommands declared here: ``manoeuvre`` and the measurement workbench's ``fit``,
+``compare``, ``diagnose`` and ``improve``.
 
-Each task is a subcommand (``ship-env manoeuvre``; the measurement workbench's ``fit``,
-``compare``, ``diagnose`` and ``improve``; ``train``, ``leaderboard`` and ``identify-bench``):
-each declared as a :class:`~ship_env.command_line.Command` beside its code (the workbench's four
-added together, with their shared examples), :func:`build_parser` registers them and
-:func:`main` dispatches. Invalid arguments end
-with a message naming the argument and exit status 2, as argparse's own errors do; a simulation
-that leaves the model's validity, or a log that cannot be used, ends with status 1.
+Each task is a subcommand declared as a :class:`~ship_env.command_line.Command` beside its code
+(these here, with the workbench's shared examples; ``train``, ``leaderboard``, ``demo-logs``,
+``scale`` and ``identify-bench`` in their packages); :func:`~ship_env.command_line.main` parses the
+command line with only the chosen subcommand's module imported, and dispatches. Invalid arguments
+end with a message naming the argument and exit status 2, as argparse's own errors do; a
+simulation that leaves the model's validity, or a log that cannot be used, ends with status 1.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ import math
 import re
 import shlex
 import sys
+import textwrap
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -24,22 +25,17 @@ from pathlib import Path
 
 from tqdm import tqdm
 
-# Learned policies: ``train`` and ``leaderboard`` live in their packages (ship_env.rl, ship_env.leaderboard).
-from ship_env.baselines.online_estimators.cli import COMMAND as IDENTIFY_BENCH_COMMAND
 from ship_env.command_line import (
     Command,
     UsageError,
-    add_command,
     add_json_argument,
     add_plot_argument,
+    main,  # ship-env itself, for `python -m ship_env.cli` and the callers that import it from here
     name_list,
     number,
-    parse_command_line,
     prepare_outputs,
     whole_number,
 )
-from ship_env.extras import MissingExtra
-from ship_env.leaderboard.cli import COMMAND as LEADERBOARD_COMMAND
 from ship_env.manoeuvres import (
     ManoeuvreResult,
     TrialSettings,
@@ -55,15 +51,10 @@ from ship_env.manoeuvres import (
 )
 from ship_env.manoeuvres.results import KNOT
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
-from ship_env.model.froude import COMMAND as SCALE_COMMAND
-from ship_env.ray_cluster import RayUnavailable
-from ship_env.rl.cli_train import COMMAND as TRAIN_COMMAND
+from ship_env.text_table import WIDTH
 from ship_env.workbench import (
     ErrorScales,
-    FitError,
     FitOptions,
-    FormatError,
-    LogError,
     LogWarning,
     ReplayModel,
     compare,
@@ -77,7 +68,6 @@ from ship_env.workbench import (
     write_report,
 )
 from ship_env.workbench.coverage import check_coverage, fitted_coverage
-from ship_env.workbench.demo_logs import COMMAND as DEMO_LOGS_COMMAND
 from ship_env.workbench.documents import (
     DocumentError,
     fit_document,
@@ -90,7 +80,7 @@ from ship_env.workbench.errors import pooled
 from ship_env.workbench.fit import NUISANCE
 from ship_env.workbench.improve import PAIR_WIDTH
 from ship_env.workbench.logs import Log, every_nth
-from ship_env.workbench.outputs import OutputError, claim_file, claim_folder
+from ship_env.workbench.outputs import claim_file, claim_folder
 from ship_env.workbench.parallel import usable_cores
 from ship_env.workbench.presets import preset_document, preset_replay_model, write_preset
 from ship_env.workbench.replay import Simulated
@@ -290,7 +280,6 @@ def _manoeuvre_arguments(parser: argparse.ArgumentParser) -> None:
 
 MANOEUVRE_COMMAND = Command(
     "manoeuvre",
-    help="sail the standard manoeuvres and print their IMO figures",
     description=(
         "Sail the standard manoeuvres of IMO MSC.137(76) from a steady straight approach in calm\n"
         "water: turning circles, zig-zag tests, a pull-out test to both sides and a reversed\n"
@@ -466,7 +455,7 @@ def _workbench_start(args: argparse.Namespace, fitting: bool = True) -> tuple[Re
     _claim_outputs(args)
     runs = _workbench_runs(args, setup)
     options = _workbench_options(args, setup, runs.logs)
-    print(f"error scales: {options.error_scales.describe()}")
+    print(textwrap.fill(f"error scales: {options.error_scales.describe()}", WIDTH, subsequent_indent="  "))
     if fitting:
         setup = with_speed_output(setup, runs.logs)
         for words in not_identified(setup.model, runs.logs):
@@ -539,9 +528,8 @@ def run_diagnose(args: argparse.Namespace) -> int:
     _print_validation_runs(validation, runs, options.error_scales)
     diagnosis = diagnose(validation, logs, options, args.candidates, args.refit)
     print(
-        "\nmissing effects, best first "
-        "(corr, var. expl.: residual evidence; score: held out after adding and refitting, "
-        "(screened): after a brief refit only)"
+        "\nmissing effects, best first (corr, var. expl.: residual evidence;\n"
+        "score: held out after adding and refitting, (screened): after a brief refit only)"
     )
     print(diagnosis_table(diagnosis).text())
     beyond = past_the_library(diagnosis)
@@ -555,7 +543,8 @@ def run_diagnose(args: argparse.Namespace) -> int:
 
 
 def run_improve(args: argparse.Namespace) -> int:
-    """``ship-env improve``: add effects while the held-out error falls; the error ladder and a report."""
+    """``ship-env improve``: add effects while the held-out error falls; the error ladder, and with
+    ``--report`` a report."""
     setup, options, runs = _workbench_start(args)
     logs = runs.logs
     print(_model_line(setup, logs))
@@ -581,8 +570,9 @@ def run_improve(args: argparse.Namespace) -> int:
         print(validation_coverage_text(ladder.final, options.error_scales))
     print("\nfinal model, fitted to all runs")
     print(estimate_table(ladder.final).text())
-    report = write_report(ladder, logs, args.report, workers=options.workers)
-    print(f"\nreport written to {report}")
+    if args.report is not None:
+        report = write_report(ladder, logs, args.report, workers=options.workers)
+        print(f"\nreport written to {report}")
     if args.json is not None:
         write_document(ladder_document(ladder, runs.checks, logs), args.json)
         print(f"final model and ladder written to {args.json}")
@@ -791,61 +781,51 @@ def _add_preset_argument(parser: argparse.ArgumentParser, content: str) -> None:
     )
 
 
-def _workbench_parser(
-    subcommands: argparse._SubParsersAction,
-    name: str,
-    help_text: str,
-    description: str,
-    handler: Callable[[argparse.Namespace], int],
-) -> argparse.ArgumentParser:
-    return add_command(
-        subcommands,
-        name,
-        help=help_text,
-        description=description,
-        examples=WORKBENCH_EXAMPLES,
-        handler=handler,
-        examples_title="examples, on demo logs (the last on measured ones)",
-    )
+#: The heading of the workbench's examples in its four commands' ``--help``.
+WORKBENCH_EXAMPLES_TITLE = "examples, on demo logs (the last on measured ones)"
 
 
-def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
-    """Register ``ship-env fit``, ``compare``, ``diagnose`` and ``improve``."""
-    parser = _workbench_parser(
-        subcommands,
-        "fit",
-        "fit the model to measured logs and validate it leaving one run out",
-        "Fit the model's parameters to measured runs by output-error simulation (measured rudder, speed,\n"
-        "propeller rate and wind in; heading, rate of turn and track out), print them with standard errors,\n"
-        "the in-sample errors and the held-out errors of leave-one-run-out cross-validation.",
-        run_fit,
-    )
+def _fit_arguments(parser: argparse.ArgumentParser) -> None:
     _add_workbench_arguments(parser)
     parser.add_argument("--per-run", action="store_true", help="also fit each run on its own (in-sample)")
     add_plot_argument(parser, "a held-out PNG per run")
     add_json_argument(parser, "the fit")
     _add_preset_argument(parser, "the fitted model")
 
-    parser = _workbench_parser(
-        subcommands,
-        "compare",
-        "replay logs with a model and print its RMS errors",
-        "Replay each run with the model as it is (preset values, or a fit's JSON), from its measured\n"
-        "initial state, and print RMS heading, rate-of-turn, position and track errors per run and pooled.",
-        run_compare,
-    )
+
+FIT_COMMAND = Command(
+    "fit",
+    description=(
+        "Fit the model's parameters to measured runs by output-error simulation (measured rudder, speed,\n"
+        "propeller rate and wind in; heading, rate of turn and track out), print them with standard errors,\n"
+        "the in-sample errors and the held-out errors of leave-one-run-out cross-validation."
+    ),
+    handler=run_fit,
+    arguments=_fit_arguments,
+    examples=WORKBENCH_EXAMPLES,
+    examples_title=WORKBENCH_EXAMPLES_TITLE,
+)
+
+
+def _compare_arguments(parser: argparse.ArgumentParser) -> None:
     _add_workbench_arguments(parser, fitting=False)
     add_plot_argument(parser, "a PNG per run")
 
-    parser = _workbench_parser(
-        subcommands,
-        "diagnose",
-        "rank the physical effects the model lacks",
-        "Fit and validate the model, then for each effect it lacks: the evidence in the residuals\n"
-        "(correlation with the effect's regressors, variance explained) and the held-out error after\n"
-        "adding it and refitting; best first.",
-        run_diagnose,
-    )
+
+COMPARE_COMMAND = Command(
+    "compare",
+    description=(
+        "Replay each run with the model as it is (preset values, or a fit's JSON), from its measured\n"
+        "initial state, and print RMS heading, rate-of-turn, position and track errors per run and pooled."
+    ),
+    handler=run_compare,
+    arguments=_compare_arguments,
+    examples=WORKBENCH_EXAMPLES,
+    examples_title=WORKBENCH_EXAMPLES_TITLE,
+)
+
+
+def _diagnose_arguments(parser: argparse.ArgumentParser) -> None:
     _add_workbench_arguments(parser)
     _add_candidate_arguments(parser)
     parser.add_argument(
@@ -858,15 +838,22 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
         "an existing FILE only with --force",
     )
 
-    parser = _workbench_parser(
-        subcommands,
-        "improve",
-        "add effects while the held-out error falls: the error ladder",
-        "Start from the model, add the missing effect with the lowest held-out error while it lowers the\n"
-        "held-out score by at least --min-gain; print the error ladder and write a Markdown report with\n"
-        "its figures.",
-        run_improve,
-    )
+
+DIAGNOSE_COMMAND = Command(
+    "diagnose",
+    description=(
+        "Fit and validate the model, then for each effect it lacks: the evidence in the residuals\n"
+        "(correlation with the effect's regressors, variance explained) and the held-out error after\n"
+        "adding it and refitting; best first."
+    ),
+    handler=run_diagnose,
+    arguments=_diagnose_arguments,
+    examples=WORKBENCH_EXAMPLES,
+    examples_title=WORKBENCH_EXAMPLES_TITLE,
+)
+
+
+def _improve_arguments(parser: argparse.ArgumentParser) -> None:
     _add_workbench_arguments(parser)
     _add_candidate_arguments(parser)
     parser.add_argument(
@@ -891,48 +878,36 @@ def add_workbench_commands(subcommands: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--report",
         type=Path,
-        default=Path("workbench_report"),
+        default=None,
         metavar="DIR",
-        help="folder for report.md and its figures (default: %(default)s)",
+        help="write report.md with its figures into DIR (default: no report)",
     )
     add_json_argument(parser, "the final model (as 'fit --json' does) and the ladder")
     _add_preset_argument(parser, "the final model")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``ship-env`` parser with all subcommands."""
-    parser = argparse.ArgumentParser(
-        prog="ship-env",
-        allow_abbrev=False,
-        description=(
-            "Ship steering simulator (Passenier 1989; De Keizer / Van Leeuwen model): standard manoeuvres, "
-            "and the measurement workbench (fit, compare, diagnose, improve)."
-        ),
-    )
-    subcommands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    MANOEUVRE_COMMAND.register(subcommands)
-    add_workbench_commands(subcommands)
-    for command in (DEMO_LOGS_COMMAND, SCALE_COMMAND, TRAIN_COMMAND, LEADERBOARD_COMMAND, IDENTIFY_BENCH_COMMAND):
-        command.register(subcommands)
-    return parser
+IMPROVE_COMMAND = Command(
+    "improve",
+    description=(
+        "Start from the model, add the missing effect with the lowest held-out error while it lowers the\n"
+        "held-out score by at least --min-gain; print the error ladder and, with --report DIR, write a\n"
+        "Markdown report with its figures."
+    ),
+    handler=run_improve,
+    arguments=_improve_arguments,
+    examples=WORKBENCH_EXAMPLES,
+    examples_title=WORKBENCH_EXAMPLES_TITLE,
+)
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Run ``ship-env`` with ``argv`` (default: the process's arguments); returns the exit status."""
-    args = parse_command_line(build_parser(), argv)
-    args.argv = list(sys.argv[1:] if argv is None else argv)  # the command line a written preset records
-    try:
-        return args.handler(args)
-    except UsageError as error:
-        command_parser: argparse.ArgumentParser = args.command_parser
-        command_parser.error(f"argument {error.argument}: {error}")
-    except RayUnavailable as error:  # --backend ray: an address that does not answer, or one without Ray
-        command_parser = args.command_parser
-        command_parser.error(f"argument --ray-address: {error}")
-    except (LogError, FormatError, FitError, OutputError, MissingExtra) as error:
-        print(f"ship-env {args.command}: error: {error}", file=sys.stderr)
-        return 1
-
+__all__ = [
+    "COMPARE_COMMAND",
+    "DIAGNOSE_COMMAND",
+    "FIT_COMMAND",
+    "IMPROVE_COMMAND",
+    "MANOEUVRE_COMMAND",
+    "main",
+]
 
 if __name__ == "__main__":
     sys.exit(main())

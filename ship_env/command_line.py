@@ -1,21 +1,56 @@
-"""What the ``ship-env`` subcommands share: their declaration and parser, argument types that name
-the bad value, and the options several commands take: the output options checked before any work
-and the progress bar (``--ray-address`` is in :mod:`ship_env.ray_cluster`).
+"""The ``ship-env`` command line (:func:`main`) and what its subcommands share: their declaration
+and parser, argument types that name the bad value, and the options several commands take: the
+output options checked before any work and the progress bar (``--ray-address`` is in
+:mod:`ship_env.ray_cluster`).
 
-Each subcommand's module declares it as a :class:`Command` (``ship_env.cli.build_parser`` registers
-them all) and reads its values with the types here; an argument type raises
-``argparse.ArgumentTypeError``, which argparse reports with the argument's name and exit status 2,
-and a handler raises :class:`UsageError` for a value that is well formed but does not fit
-(``ship_env.cli.main`` reports it the same way).
+Each subcommand's module declares it as a :class:`Command`, listed in :data:`SUBCOMMANDS`, and
+reads its values with the types here; an argument type raises ``argparse.ArgumentTypeError``,
+which argparse reports with the argument's name and exit status 2, and a handler raises
+:class:`UsageError` for a value that is well formed but does not fit (:func:`main` reports it the
+same way). :func:`main` imports only the chosen subcommand's module before it parses, so that
+``ship-env --help`` and a mistyped option answer without loading the simulator, torch or the
+workbench.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import math
+import sys
 from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+
+#: Every subcommand in the order ``ship-env --help`` lists them: its line there, and where its
+#: :class:`Command` is declared (``module:attribute``), imported only when it is chosen.
+SUBCOMMANDS: dict[str, tuple[str, str]] = {
+    "manoeuvre": ("sail the standard manoeuvres and print their IMO figures", "ship_env.cli:MANOEUVRE_COMMAND"),
+    "fit": ("fit the model to measured logs and validate it leaving one run out", "ship_env.cli:FIT_COMMAND"),
+    "compare": ("replay logs with a model and print its RMS errors", "ship_env.cli:COMPARE_COMMAND"),
+    "diagnose": ("rank the physical effects the model lacks", "ship_env.cli:DIAGNOSE_COMMAND"),
+    "improve": ("add effects while the held-out error falls: the error ladder", "ship_env.cli:IMPROVE_COMMAND"),
+    "demo-logs": (
+        "write simulated model-test logs, optionally with hidden effects, to try the workbench on",
+        "ship_env.workbench.demo_logs:COMMAND",
+    ),
+    "scale": (
+        "Froude-scale a ship preset to another length (a model-scale fit to full scale, or back)",
+        "ship_env.model.froude:COMMAND",
+    ),
+    "train": (
+        "train a PPO, recurrent PPO (ppo_lstm) or SAC policy on an environment",
+        "ship_env.rl.cli_train:COMMAND",
+    ),
+    "leaderboard": (
+        "rank the classic autopilots and learned policies on fixed, seeded suites",
+        "ship_env.leaderboard.cli:COMMAND",
+    ),
+    "identify-bench": (
+        "compare the on-line identification methods (Perera, Nguyen, Song, Passenier) on the same logs",
+        "ship_env.baselines.online_estimators.cli:COMMAND",
+    ),
+}
 
 
 class UsageError(Exception):
@@ -55,33 +90,89 @@ class Command:
     """A ``ship-env`` subcommand, declared beside the code that runs it.
 
     Attributes:
-        name: the word that picks it (``ship-env NAME``).
-        help: its line in ``ship-env --help``.
+        name: the word that picks it (``ship-env NAME``); its line in ``ship-env --help`` is in
+            :data:`SUBCOMMANDS`.
         description: its ``--help`` text, as written (line breaks kept).
         examples: command lines shown at the end of its ``--help``.
         handler: runs it with the parsed arguments; returns the exit status.
         arguments: adds its arguments to its parser.
+        examples_title: the heading of the examples.
     """
 
     name: str
-    help: str
     description: str
     examples: Sequence[str]
     handler: Callable[[argparse.Namespace], int]
     arguments: Callable[[argparse.ArgumentParser], None]
+    examples_title: str = "examples"
 
     def register(self, subcommands: argparse._SubParsersAction) -> argparse.ArgumentParser:
         """Add the subcommand with its arguments to ``subcommands`` (:func:`add_command`)."""
         parser = add_command(
             subcommands,
             self.name,
-            help=self.help,
+            help=SUBCOMMANDS[self.name][0],
             description=self.description,
             examples=self.examples,
             handler=self.handler,
+            examples_title=self.examples_title,
         )
         self.arguments(parser)
         return parser
+
+
+def declared_command(name: str) -> Command:
+    """The :class:`Command` of subcommand ``name``, its module imported."""
+    module, attribute = SUBCOMMANDS[name][1].split(":")
+    command: Command = getattr(importlib.import_module(module), attribute)
+    return command
+
+
+def build_parser(only: Collection[str] | None = None) -> argparse.ArgumentParser:
+    """The ``ship-env`` parser: every subcommand with its arguments, or only those in ``only`` (the
+    others by name and help line, their modules not imported)."""
+    parser = argparse.ArgumentParser(
+        prog="ship-env",
+        allow_abbrev=False,
+        description=(
+            "Ship steering simulator (Passenier 1989; De Keizer / Van Leeuwen model): standard manoeuvres, "
+            "and the measurement workbench (fit, compare, diagnose, improve)."
+        ),
+    )
+    subcommands = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, (line, _) in SUBCOMMANDS.items():
+        if only is None or name in only:
+            declared_command(name).register(subcommands)
+        else:
+            subcommands.add_parser(name, help=line, add_help=False)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``ship-env`` with ``argv`` (default: the process's arguments); returns the exit status.
+
+    The command line is parsed with only the chosen subcommand's module imported; the errors its
+    handler may end with are imported after."""
+    arguments = list(sys.argv[1:] if argv is None else argv)
+    chosen = next((word for word in arguments if not word.startswith("-")), None)
+    args = parse_command_line(build_parser(only=[chosen] if chosen in SUBCOMMANDS else []), arguments)
+    args.argv = arguments  # the command line a written preset records
+    from ship_env.extras import MissingExtra
+    from ship_env.ray_cluster import RayUnavailable
+    from ship_env.workbench import FitError, FormatError, LogError
+    from ship_env.workbench.outputs import OutputError
+
+    command_parser: argparse.ArgumentParser = args.command_parser
+    try:
+        handler: Callable[[argparse.Namespace], int] = args.handler
+        return handler(args)
+    except UsageError as error:
+        command_parser.error(f"argument {error.argument}: {error}")
+    except RayUnavailable as error:  # --backend ray: an address that does not answer, or one without Ray
+        command_parser.error(f"argument --ray-address: {error}")
+    except (LogError, FormatError, FitError, OutputError, MissingExtra) as error:
+        print(f"ship-env {args.command}: error: {error}", file=sys.stderr)
+        return 1
 
 
 def parse_command_line(parser: argparse.ArgumentParser, argv: Sequence[str] | None) -> argparse.Namespace:

@@ -4,10 +4,13 @@ errors, and the leaderboard's ``--tracks`` / ``--no-tracks``."""
 from __future__ import annotations
 
 import argparse
+import subprocess
+import sys
 
 import pytest
 
-from ship_env.cli import build_parser, main
+from ship_env.cli import main
+from ship_env.command_line import build_parser
 from ship_env.envs.tracks import TRACK_IDS
 from ship_env.leaderboard.cli import chosen_spec
 
@@ -69,3 +72,43 @@ def test_tracks_options_that_do_not_fit_are_refused_by_name(options, named, caps
     err = _error(["leaderboard", *options], capsys)
     assert err.startswith("usage: ship-env leaderboard")
     assert named in err
+
+
+#: What a subprocess reports after ``ship-env ARGV``: its exit status and the heavy modules it imported.
+_IMPORTED = """
+import sys
+from ship_env.command_line import main
+try:
+    main(sys.argv[1:])
+except SystemExit as exit:
+    heavy = ("numba", "torch", "matplotlib", "pandas", "ship_env.model", "ship_env.workbench", "ship_env.rl")
+    print(exit.code, *[name for name in heavy if name in sys.modules], file=sys.stderr)
+"""
+
+
+@pytest.mark.parametrize(
+    ("argv", "status", "imported"),
+    [
+        (["--help"], "0", set()),  # the subcommands by their help lines: nothing of theirs imported
+        (["nope"], "2", set()),
+        (["leaderboard", "--bad"], "2", {"numba", "ship_env.model"}),  # its suites, not torch nor the plots
+        (["leaderboard", "--help"], "0", {"numba", "ship_env.model"}),
+    ],
+)
+def test_the_command_line_is_parsed_before_the_heavy_imports(argv, status, imported):
+    done = subprocess.run([sys.executable, "-c", _IMPORTED, *argv], capture_output=True, text=True, timeout=120)
+    code, *modules = done.stderr.splitlines()[-1].split()
+    assert code == status, done.stderr
+    assert set(modules) <= imported, done.stderr
+
+
+def test_import_ship_env_registers_the_environments_and_loads_the_model_when_asked():
+    code = (
+        "import sys, gymnasium, ship_env\n"
+        "assert 'ship_env.model' not in sys.modules and 'ship_env/CourseChange-v0' in gymnasium.registry\n"
+        "assert ship_env.ShipModel is ship_env.model.ShipModel is sys.modules['ship_env.model'].ShipModel\n"
+        "from ship_env import Conditions, Simulator\n"
+        "print(Simulator.__name__, Conditions.__name__)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.stdout.split() == ["Simulator", "Conditions"], done.stderr

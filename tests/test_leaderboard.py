@@ -252,15 +252,56 @@ def test_leaderboard_command_prints_ranked_tables_and_writes_files(tmp_path, cap
     )
     assert status == 0
     out, err = capsys.readouterr()
-    assert "### CourseChange wind_current | nominal" in out
-    assert "### CourseChange wind_current | half speed" in out
-    assert "TrackFollow" not in out
-    assert f"| {SHIPPED_PPO} | learned |" in out and "| 1 | " in out
+    assert "CourseChange, nominal ship, all seas together (container_226m): normalised score" in out
+    assert f"{SHIPPED_PPO} on ship_env/CourseChange-v0: better on " in out and " of 2" in out
+    assert "TrackFollow" not in out and "###" not in out  # the tables are in the file
+    assert max(map(len, out.splitlines())) <= 100
     assert "on the local backend" in out
+    assert f"every suite's ranked table: {tmp_path / 'leaderboard.md'}" in out
     assert "leaderboard" in err  # the progress bar over episodes, on stderr
     written = (tmp_path / "leaderboard.md").read_text()
     assert written.startswith("### Headline: CourseChange, nominal ship, all seas together")
-    assert "### CourseChange wind_current | nominal" in written and "[95 % CI]" in written
+    assert (
+        "### CourseChange wind_current | nominal" in written and "### CourseChange wind_current | half speed" in written
+    )
+    assert f"| {SHIPPED_PPO} | learned |" in written and "[95 % CI]" in written
+
+
+#: :data:`TINY` on the command line, without the shipped policy or drawings.
+TINY_COMMAND = [
+    "leaderboard",
+    "--course-changes",
+    "45",
+    "--disturbances",
+    "calm",
+    "--no-tracks",
+    "--conditions",
+    "nominal",
+]
+TINY_COMMAND += ["--no-shipped", "--no-plots", "--no-progress"]
+
+
+def test_each_run_writes_a_folder_named_after_its_suite_and_ship_and_prints_within_100_columns(
+    tmp_path, monkeypatch, capsys
+):
+    monkeypatch.chdir(tmp_path)
+    assert main([*TINY_COMMAND, "--suite", "test"]) == 0
+    assert main([*TINY_COMMAND, "--ship", "esso_osaka_model"]) == 0
+    written = sorted(path.relative_to(tmp_path).as_posix() for path in tmp_path.rglob("leaderboard.md"))
+    assert written == ["out/leaderboard/dev-esso_osaka_model/leaderboard.md", "out/leaderboard/test/leaderboard.md"]
+    out = capsys.readouterr().out
+    assert "every suite's ranked table: out/leaderboard/test/leaderboard.md" in out
+    assert "PD, fixed gains" in out and "###" not in out
+    assert max(map(len, out.splitlines())) <= 100
+
+
+def test_a_run_leaves_no_drawing_of_an_earlier_run_in_its_folder(tmp_path):
+    board = run_leaderboard(TINY, shipped=False, progress=False)
+    for name in ("track_follow_sample.png", "scores.png"):
+        (tmp_path / name).write_bytes(b"an earlier run's")
+    (tmp_path / "notes.txt").write_text("the user's own")
+    written = write_leaderboard(board, tmp_path, plots=False)
+    assert sorted(path.name for path in tmp_path.iterdir()) == sorted([*(path.name for path in written), "notes.txt"])
 
 
 def test_settling_time_averages_the_settled_episodes_only():

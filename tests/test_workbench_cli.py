@@ -103,8 +103,10 @@ def test_diagnose_names_the_missing_effect_and_draws_the_signals(log_folder, tmp
     assert main(["diagnose", str(log_folder), "--ship", SHIP, "--refit", "2", "--plot", str(plot)]) == 0
     out = capsys.readouterr().out
     table = out.split("missing effects, best first")[1]
-    first = next(line for line in table.splitlines() if line.startswith("1 "))
-    assert "rudder_offset" in first and "rudder offset (neutral rudder angle" in first
+    lines = table.splitlines()
+    first = next(i for i, line in enumerate(lines) if line.startswith("1 "))
+    assert "rudder_offset" in lines[first] and "rudder offset (neutral rudder angle" in lines[first + 1]
+    assert max(map(len, table.split("\n\n")[0].splitlines())) <= 100  # the effect under its row (was 250 wide)
     assert "effects: yaw, speed_loss, kinematics" in table  # the logs measure the speed: the speed loss is fitted
     assert "the missing yaw acceleration against " in out and str(plot) in out
     assert plot.read_bytes().startswith(b"\x89PNG")
@@ -151,6 +153,14 @@ def test_improve_climbs_the_ladder_and_writes_the_report_with_every_figure(log_f
     for figure in figures:
         data = (report_folder / figure).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000, figure
+
+
+def test_improve_writes_no_report_unasked(log_folder, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    arguments = ["improve", str(log_folder), "--ship", SHIP, "--candidates", "rudder_offset", "--max-steps", "1"]
+    assert main([*arguments, "--pairs", "0", "--workers", "1"]) == 0
+    assert "error ladder" in capsys.readouterr().out
+    assert list(tmp_path.iterdir()) == []  # was workbench_report/, with its figures
 
 
 def test_a_bad_log_ends_with_a_clear_error(tmp_path, capsys):

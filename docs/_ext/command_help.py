@@ -1,6 +1,6 @@
 """The ``command-help`` directive: ``ship-env``'s help and each subcommand's, as the parser prints them.
 
-Built from :func:`ship_env.cli.build_parser` at build time, so the page cannot drift from the options.
+Built from :func:`ship_env.command_line.build_parser` at build time, so the page cannot drift from the options.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ COLUMNS = "90"
 def help_sections() -> list[nodes.Node]:
     """``ship-env --help`` as a text block, then a section per subcommand with its ``--help``, wrapped at
     :data:`COLUMNS` (shown as plain text: help is not code to highlight)."""
-    from ship_env.cli import build_parser
+    from ship_env.command_line import build_parser
 
     os.environ["COLUMNS"] = COLUMNS
     parser = build_parser()

@@ -31,15 +31,18 @@ from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, TRACK_FOLLOW, Su
 from ship_env.leaderboard.tables import (
     Comparison,
     Table,
+    comparisons,
     grouped_estimates,
     learned_verdicts,
     markdown,
     rank,
     score_matrix,
+    verdict_count,
     verdicts_markdown,
     write_csv,
     write_episodes_csv,
 )
+from ship_env.text_table import Table as TextTable
 
 #: The scenario every CourseChange controller is drawn on: a 75-deg change in wind and current.
 SAMPLE_COURSE_CHANGE = ("CourseChange wind_current", "+75 deg")
@@ -51,6 +54,8 @@ SCORES_PLOT = "scores.png"
 HEADLINE_PLOT = "headline.png"
 COURSE_CHANGE_PLOT = "course_change_sample.png"
 TRACK_PLOT = "track_follow_sample.png"
+#: The drawings among them, each written only where the run sails what it draws.
+PLOTS = (SCORES_PLOT, HEADLINE_PLOT, COURSE_CHANGE_PLOT, TRACK_PLOT)
 
 
 @dataclass(frozen=True)
@@ -170,6 +175,34 @@ class Leaderboard:
             lines.append(f"| {name} | {iqm.text(3)} | {mean.text(3)} | {' | '.join(cells)} |")
         return "\n".join(lines)
 
+    def summary(self) -> str:
+        """What the terminal shows, within 100 columns: the headline's IQM with each learned entrant's
+        verdict, and each learned entrant's verdicts counted per environment (every table is in
+        :meth:`markdown`'s file)."""
+        lines = []
+        headline = self.headline()
+        if headline:
+            verdicts = self.headline_verdicts()
+            rows = []
+            for name, (iqm, _) in headline.items():
+                c = verdicts.get(name)
+                rows.append((name, iqm.text(3), *(("", "") if c is None else (c.improvement.text(2), c.verdict))))
+            header = ("controller", "IQM [95 % CI]", "P(improvement) [95 % CI]", "verdict")
+            lines += [
+                f"CourseChange, nominal ship, all seas together ({self.ship_name}): normalised score",
+                f"(1 = {REFERENCES[COURSE_CHANGE]}, lower is better)",
+                "",
+                TextTable(header, tuple(rows)).text(),
+            ]
+        made: dict[tuple[str, str], list[Comparison]] = {}
+        for table in self.tables:
+            for c in comparisons(table):
+                made.setdefault((c.learned, table.suite.env_id), []).append(c)
+        if made:
+            lines += ["", "against the best classic autopilot on each suite:"]
+            lines += [f"  {name} on {env_id}: {verdict_count(counted)}" for (name, env_id), counted in made.items()]
+        return "\n".join(lines)
+
     def markdown(self) -> str:
         """The headline, the learned entrants' verdicts and every table in markdown."""
         sections = [
@@ -246,8 +279,16 @@ def _ranked(board: Leaderboard, suite: Suite, env_id: str) -> list[Entrant]:
 
 def write_leaderboard(board: Leaderboard, out: Path, plots: bool = True) -> list[Path]:
     """Write the tables (markdown, CSV), the episodes (CSV) and, with ``plots``, the drawings
-    into ``out``: the scores, and every controller on one course change and on one track."""
-    out = Path(out)
+    into ``out``: the scores, and every controller on one course change and on one track. A drawing
+    of an earlier run that this one does not draw is removed, so that the folder holds one run."""
+    written = _write_leaderboard(board, Path(out), plots)
+    for name in PLOTS:
+        if Path(out, name) not in written:
+            Path(out, name).unlink(missing_ok=True)
+    return written
+
+
+def _write_leaderboard(board: Leaderboard, out: Path, plots: bool) -> list[Path]:
     out.mkdir(parents=True, exist_ok=True)
     written = [out / MARKDOWN_FILE, out / CSV_FILE, out / EPISODES_FILE]
     written[0].write_text(board.markdown() + "\n")

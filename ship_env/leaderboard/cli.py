@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import sys
+import textwrap
 from pathlib import Path
 from typing import Any
 
@@ -46,8 +47,22 @@ def chosen_spec(args: argparse.Namespace) -> SuiteSpec:
     return dataclasses.replace(SUITE_SPECS[args.suite], **changes)
 
 
+#: Where ``--out`` defaults to: a folder per run, named after it (``default_out``).
+OUT_ROOT = Path("out/leaderboard")
+
+
+def default_out(suite: str, ship: str | None) -> Path:
+    """The folder a run writes without ``--out``: ``out/leaderboard/SUITE``, or ``SUITE-SHIP`` on
+    another ship than the default (a ship YAML by its file's stem)."""
+    if ship is None:
+        return OUT_ROOT / suite
+    name = Path(ship).stem if ship.endswith((".yaml", ".yml")) else ship
+    return OUT_ROOT / f"{suite}-{name}"
+
+
 def run_leaderboard_command(args: argparse.Namespace) -> int:
-    """Evaluate, print the tables and the wall time, write tables and plots into ``--out``."""
+    """Evaluate, print a summary within 100 columns and the wall time, write the tables and plots into
+    ``--out`` (a folder named after the run by default)."""
     require("leaderboard", "the leaderboard", "torch", "stable_baselines3", "rliable")
     from ship_env.leaderboard.board import run_leaderboard, write_leaderboard
     from ship_env.ray_cluster import check_backend
@@ -86,14 +101,15 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
         return 1
     for line in board.left_out:
         print(f"ship-env leaderboard: left out {line}", file=sys.stderr)
-    print(board.markdown())
-    episodes = len(board.results)
+    print(board.summary())
     print(
-        f"\n{episodes} episodes, {len(board.entrants)} controllers, {len(board.suites)} suites on {board.ship_name}: "
-        f"{board.wall_time_s:.1f} s on the {args.backend} backend"
+        f"\n{len(board.results)} episodes, {len(board.entrants)} controllers, {len(board.suites)} suites on "
+        f"{board.ship_name}: {board.wall_time_s:.1f} s on the {args.backend} backend"
     )
-    written = write_leaderboard(board, args.out, plots=not args.no_plots)
-    print(f"written to {args.out}/: {', '.join(path.name for path in written)}")
+    out = default_out(args.suite, args.ship) if args.out is None else args.out
+    written = write_leaderboard(board, out, plots=not args.no_plots)
+    print(f"every suite's ranked table: {written[0]}")
+    print(textwrap.fill(f"written to {out}/: {', '.join(path.name for path in written)}", 100, subsequent_indent="  "))
     return 0
 
 
@@ -140,9 +156,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--out",
         type=Path,
-        default=Path("out/leaderboard"),
+        default=None,
         metavar="DIR",
-        help="folder for the tables and plots (default: %(default)s)",
+        help=f"folder for the tables and plots, whose former ones are replaced (default: {OUT_ROOT}/SUITE, or "
+        f"{OUT_ROOT}/SUITE-SHIP with --ship: a folder per run)",
     )
     add_backend_arguments(
         parser, BACKENDS, "local: in this process; ray: one Ray task per controller, training seed and suite"
@@ -199,15 +216,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 COMMAND = Command(
     "leaderboard",
-    help="rank the classic autopilots and learned policies on fixed, seeded suites",
     description=(
         "Sail every controller - fixed and gain-scheduled PD, indirect adaptive PD, MRAC, the predictor\n"
         "course changer (TrackFollow), the shipped policies and the policy files given - on fixed,\n"
         "seeded suites: CourseChange (dev 15..105, test 10..120 deg both ways, calm / wind and current / waves) and\n"
         "TrackFollow (T1..T6), on the nominal ship, with its K*, tau* off by 2x from the controllers'\n"
         "design values, and at half speed. The ship is container_226m, or --ship's (a preset or a fitted\n"
-        "preset's YAML), whose own values the classic autopilots are designed from. Prints a ranked\n"
-        "table per suite and writes it as markdown and CSV with plots. Learned policies sail every\n"
+        "preset's YAML), whose own values the classic autopilots are designed from. Writes a ranked\n"
+        "table per suite as markdown and CSV with plots into a folder named after the run, and prints\n"
+        "the headline and the learned entrants' verdicts. Learned policies sail every\n"
         "episode with each training seed; each table gives the IQM of its ranking metric and of the\n"
         "normalised score (1 = the fixed PD, or the predictor\n"
         "course changer on TrackFollow) with 95 % stratified-bootstrap intervals over training seeds\n"

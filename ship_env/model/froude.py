@@ -407,7 +407,6 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
 
 COMMAND = Command(
     "scale",
-    help="Froude-scale a ship preset to another length (a model-scale fit to full scale, or back)",
     description=(
         "Write IN Froude-scaled to the length L (or by the factor LAMBDA = new length / old length) as OUT:\n"
         "lengths x LAMBDA, times and speeds x LAMBDA^1/2, rates and the propeller rate x LAMBDA^-1/2,\n"

@@ -11,6 +11,10 @@ from __future__ import annotations
 
 import numba
 
+from ship_env.model import compile_notice
+
+compile_notice.install()  # a line before the first compile, progress while it lasts
+
 #: Decorator for every model equation: compiled, cached on disk, IEEE-exact (no fast-math).
 kernel = numba.njit(cache=True, fastmath=False, error_model="numpy")
 

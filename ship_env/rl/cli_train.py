@@ -225,7 +225,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 COMMAND = Command(
     "train",
-    help="train a PPO, recurrent PPO (ppo_lstm) or SAC policy on an environment",
     description=(
         "Train a stable-baselines3 agent (or sb3-contrib's RecurrentPPO: --algo ppo_lstm) on the native\n"
         "vector environment with the hyper-parameters of configs/agents/<algo>.yaml (one entry per\n"

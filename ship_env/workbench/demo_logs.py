@@ -245,7 +245,6 @@ def _arguments(parser: argparse.ArgumentParser) -> None:
 
 COMMAND = Command(
     "demo-logs",
-    help="write simulated model-test logs, optionally with hidden effects, to try the workbench on",
     description=(
         "Sail three zig-zags (into DIR/zigzag) and three turns (into DIR/turning) with the simulator, the\n"
         "speed-scheduled Nomoto ship plus the --hidden effects, add sensor noise and write them as CSV in\n"

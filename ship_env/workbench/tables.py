@@ -166,6 +166,7 @@ def diagnosis_table(diagnosis: Diagnosis) -> Table:
             "physical effect",
         ),
         tuple(rows),
+        words=2,
     )
 
 

@@ -107,7 +107,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 COMMAND = Command(
     "identify-bench",
-    help="compare the on-line identification methods (Perera, Nguyen, Song, Passenier) on the same logs",
     description=(
         "Sail excitation runs (zig-zag, PRBS, white-noise rudder, turning, a loading change, a speed\n"
         "change) on the container ship and on Perera et al.'s model, run every on-line estimator on the\n"

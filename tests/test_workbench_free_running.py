@@ -12,12 +12,15 @@ import pytest
 
 from ship_env.cli import main
 from ship_env.manoeuvres import turning_circle, zigzag
+from ship_env.manoeuvres.results import Figure
 from ship_env.model import ShipModel
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.fit import FitOptions
 from ship_env.workbench.free_running import (
+    RunFigures,
     Series,
     compare_free_running,
+    disagreements,
     free_running_table,
     manoeuvre_figures,
     read_manoeuvre,
@@ -199,3 +202,30 @@ def test_a_preset_fitted_on_the_actual_rudder_keeps_the_starting_preset_s_steeri
     document = preset_document(validation, ordered, "ship-env fit (test)", "ordered")
     assert document["effects"]["steering_machine"]["enabled"] is False
     assert "kept_from_preset" not in document["fitted"]
+
+
+def test_the_figures_that_disagree_are_named_with_the_effects_that_shape_them():
+    """A turn predicted at twice the measured tactical diameter (+96 %) and a quarter of its speed loss: both beyond
+    their bounds (5 %, 10 %), each naming the effects that shape it which the model lacks; figures within their
+    bounds, or not reached (NaN), say nothing."""
+    measured = (
+        Figure("tactical_diameter_lengths", "tactical diameter", 2.5, "L", 2),
+        Figure("speed_loss", "speed loss in steady turn", 65.0, "%", 1),
+        Figure("advance_lengths", "advance", 3.0, "L", 2),
+        Figure("first_overshoot", "first overshoot", math.nan, "deg", 1),
+    )
+    predicted = (
+        Figure("tactical_diameter_lengths", "tactical diameter", 4.9, "L", 2),
+        Figure("speed_loss", "speed loss in steady turn", 16.25, "%", 1),
+        Figure("advance_lengths", "advance", 3.1, "L", 2),
+        Figure("first_overshoot", "first overshoot", 4.0, "deg", 1),
+    )
+    run = RunFigures("turn", None, measured, predicted, None)  # type: ignore[arg-type]
+    lines = disagreements([run, run], ("yaw", "speed_loss", "sway", "kinematics"))
+    assert lines == [
+        "tactical diameter: 2 of 2 runs beyond 5 % (median +96 %); effects that shape it, not in the model: "
+        "hull_crossflow, norrbin",
+        "speed loss in steady turn: 2 of 2 runs beyond 10 % (median -75 %); the model has every effect the library "
+        "knows to shape it: their terms extrapolate",
+    ]
+    assert disagreements([RunFigures("turn", None, measured, measured, None)], ("yaw",)) == []  # type: ignore[arg-type]

@@ -356,3 +356,49 @@ def held_out_free_running(validation: CrossValidation, logs: Sequence[Log]) -> t
     fitted = [compare_free_running(fold_of.get(log.name, validation.fit.setup), [log]) for log in logs]
     validated = compare_free_running(validation.fit.setup, validation.validation_logs)
     return (*(figures for run in fitted for figures in run), *validated)
+
+
+#: The figures judged, with the bound beyond which prediction and measurement disagree (relative to the measured
+#: figure, or in its unit where ``relative`` is False) and the library's effects that shape each (beyond the
+#: yaw equation's gain and time constant, which every model fits): MSC.137(76)'s figures, the bounds a naval
+#: architect asks of a prediction (advance and tactical diameter 5 %, steady rate and speed loss 10 %, the
+#: first overshoot 2 deg).
+JUDGED_FIGURES: dict[str, tuple[float, bool, tuple[str, ...]]] = {
+    "advance_lengths": (0.05, True, ("steering_machine", "speed_loss", "hull_crossflow", "norrbin")),
+    "tactical_diameter_lengths": (0.05, True, ("hull_crossflow", "norrbin", "sway", "speed_loss")),
+    "steady_rate_of_turn": (0.10, True, ("hull_crossflow", "norrbin", "propeller_slipstream", "asymmetry")),
+    "speed_loss": (0.10, True, ("speed_loss",)),
+    "first_overshoot": (2.0, False, ("steering_machine", "norrbin", "hull_crossflow")),
+}
+
+
+def disagreements(results: Sequence[RunFigures], effects: Sequence[str]) -> list[str]:
+    """Where the free-running figures disagree, in words, a line per judged figure (:data:`JUDGED_FIGURES`) that
+    some run misses by more than its bound: how many runs, the median error, and the library's effects that
+    shape the figure which the model (``effects``) lacks -- the physics to try next (``--add``), or, where it has
+    them all, its terms fitted on runs that do not reach these manoeuvres' rates of turn."""
+    lines = []
+    for key, (bound, relative, shaping) in JUDGED_FIGURES.items():
+        errors = []
+        for result in results:
+            for measured, predicted in zip(result.measured, result.predicted, strict=True):
+                if measured.key != key or isinstance(measured.value, str) or isinstance(predicted.value, str):
+                    continue
+                if math.isfinite(measured.value) and math.isfinite(predicted.value) and measured.value != 0.0:
+                    error = predicted.value - measured.value
+                    errors.append(error / abs(measured.value) if relative else error)
+        missed = [error for error in errors if abs(error) > bound]
+        if not missed:
+            continue
+        median = float(np.median(errors))
+        shown = f"{100.0 * median:+.0f} %" if relative else f"{median:+.1f} deg"
+        limit = f"{100.0 * bound:g} %" if relative else f"{bound:g} deg"
+        label = next(m.label for r in results for m in r.measured if m.key == key)
+        lacking = [name for name in shaping if name not in effects]
+        then = (
+            f"effects that shape it, not in the model: {', '.join(lacking)}"
+            if lacking
+            else "the model has every effect the library knows to shape it: their terms extrapolate"
+        )
+        lines.append(f"{label}: {len(missed)} of {len(errors)} runs beyond {limit} (median {shown}); {then}")
+    return lines

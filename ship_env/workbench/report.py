@@ -17,9 +17,16 @@ from matplotlib.figure import Figure as Drawing
 from matplotlib.ticker import FormatStrFormatter
 
 from ship_env.workbench.compare import held_out_comparison, plot_run, run_drawings
+from ship_env.workbench.coverage import beyond_in_words
 from ship_env.workbench.diagnose import Diagnosis
 from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.free_running import RunFigures, Series, free_running_table, held_out_free_running
+from ship_env.workbench.free_running import (
+    RunFigures,
+    Series,
+    disagreements,
+    free_running_table,
+    held_out_free_running,
+)
 from ship_env.workbench.improve import Ladder
 from ship_env.workbench.logs import Log
 from ship_env.workbench.outputs import save_drawing
@@ -128,6 +135,16 @@ def _free_running_lines(ladder: Ladder, logs: Sequence[Log], folder: Path) -> li
             free_running_table(results).markdown(),
             "",
             *_figure_links([path], folder),
+            "",
+        ]
+    missed = disagreements(sailed[-1][2], last.validation.fit.setup.model.effects)
+    if missed:
+        beyond = beyond_in_words(last.validation.validation_checks())
+        lines += [
+            "Where the final model's figures disagree with the measured ones:",
+            "",
+            *(f"- {line}" for line in missed),
+            *([f"- the validation runs lie {beyond}"] if beyond else []),
             "",
         ]
     return lines

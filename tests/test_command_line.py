@@ -112,3 +112,20 @@ def test_import_ship_env_registers_the_environments_and_loads_the_model_when_ask
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.stdout.split() == ["Simulator", "Conditions"], done.stderr
+
+
+def test_import_ship_env_workbench_loads_a_module_when_one_of_its_names_is_asked_for():
+    code = (
+        "import sys, ship_env.workbench as workbench\n"
+        "assert not {'ship_env.model', 'scipy', 'pandas', 'matplotlib'} & set(sys.modules)\n"
+        "import ship_env.workbench.improve  # imports .fit and .diagnose, which the import system binds here\n"
+        "from ship_env.workbench import FitError, compare, diagnose, fit, improve, tables\n"
+        "for name, function in {'compare': compare, 'diagnose': diagnose, 'fit': fit, 'improve': improve}.items():\n"
+        "    assert function is sys.modules['ship_env.workbench.' + name].__dict__[name] is getattr(workbench, name)\n"
+        "assert FitError is sys.modules['ship_env.workbench.fit'].FitError and tables.__name__.endswith('.tables')\n"
+        "names = [getattr(workbench, name) for name in workbench.__all__]  # none of them a module\n"
+        "print(len(names), sum(not isinstance(value, type(sys)) for value in names))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    count, not_modules = done.stdout.split()
+    assert int(count) > 30 and not_modules == count, done.stderr

@@ -81,9 +81,17 @@ from ship_env.command_line import main
 try:
     main(sys.argv[1:])
 except SystemExit as exit:
-    heavy = ("numba", "torch", "matplotlib", "pandas", "ship_env.model", "ship_env.workbench", "ship_env.rl")
+    heavy = (
+        "numba", "scipy", "torch", "matplotlib", "pandas", "ship_env.model", "ship_env.manoeuvres",
+        "ship_env.workbench", "ship_env.workbench.fit", "ship_env.rl",
+    )
     print(exit.code, *[name for name in heavy if name in sys.modules], file=sys.stderr)
 """
+
+#: The model (its effect registry, which ``--help`` lists and ``--effects`` checks), with numba and scipy.
+_MODEL = {"numba", "scipy", "ship_env.model"}
+#: The model and the light part of the workbench (``ship_env.workbench.defaults``, ``.outputs``, ``.parallel``).
+_WORKBENCH_ARGUMENTS = {*_MODEL, "ship_env.workbench"}
 
 
 @pytest.mark.parametrize(
@@ -91,8 +99,18 @@ except SystemExit as exit:
     [
         (["--help"], "0", set()),  # the subcommands by their help lines: nothing of theirs imported
         (["nope"], "2", set()),
-        (["leaderboard", "--bad"], "2", {"numba", "ship_env.model"}),  # its suites, not torch nor the plots
-        (["leaderboard", "--help"], "0", {"numba", "ship_env.model"}),
+        (["leaderboard", "--bad"], "2", _MODEL),  # its suites, not torch nor the plots
+        (["leaderboard", "--help"], "0", _MODEL),
+        # neither pandas nor matplotlib nor the fitting (once about 2 s on an idle machine, all the workbench)
+        (["manoeuvre", "--help"], "0", _WORKBENCH_ARGUMENTS),
+        (["manoeuvre", "--bad"], "2", _WORKBENCH_ARGUMENTS),
+        (["manoeuvre", "--zigzag", "0/10"], "2", _WORKBENCH_ARGUMENTS),
+        *(([command, "--help"], "0", _WORKBENCH_ARGUMENTS) for command in ("fit", "compare", "diagnose", "improve")),
+        *(
+            ([command, "x", "--bad"], "2", _WORKBENCH_ARGUMENTS)
+            for command in ("fit", "compare", "diagnose", "improve")
+        ),
+        (["improve", "x", "--add", "nope"], "2", _WORKBENCH_ARGUMENTS),
     ],
 )
 def test_the_command_line_is_parsed_before_the_heavy_imports(argv, status, imported):

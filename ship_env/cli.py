@@ -7,6 +7,11 @@ Each task is a subcommand declared as a :class:`~ship_env.command_line.Command` 
 command line with only the chosen subcommand's module imported, and dispatches. Invalid arguments
 end with a message naming the argument and exit status 2, as argparse's own errors do; a
 simulation that leaves the model's validity, or a log that cannot be used, ends with status 1.
+
+This module imports only what the parsers read (the model's effects and ships, the workbench's
+:mod:`~ship_env.workbench.defaults`); each handler imports the manoeuvres or the workbench's
+fitting, so that ``--help`` and a bad argument answer before pandas, matplotlib and scipy's
+optimisers load.
 """
 
 from __future__ import annotations
@@ -22,6 +27,7 @@ import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from tqdm import tqdm
 
@@ -36,68 +42,17 @@ from ship_env.command_line import (
     prepare_outputs,
     whole_number,
 )
-from ship_env.manoeuvres import (
-    ManoeuvreResult,
-    TrialSettings,
-    check_criteria,
-    format_report,
-    plot_manoeuvre,
-    pull_out,
-    report_dict,
-    reversed_spiral,
-    ship_line,
-    turning_circle,
-    zigzag,
-)
-from ship_env.manoeuvres.results import KNOT
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
 from ship_env.text_table import WIDTH
-from ship_env.workbench import (
-    ErrorScales,
-    FitOptions,
-    LogWarning,
-    ReplayModel,
-    compare,
-    cross_validate,
-    diagnose,
-    fit_each_run,
-    held_out_comparison,
-    improve,
-    load_logs,
-    plot_comparison,
-    write_report,
-)
-from ship_env.workbench.coverage import check_coverage, fitted_coverage
-from ship_env.workbench.documents import (
-    DocumentError,
-    fit_document,
-    ladder_document,
-    read_fitted_model,
-    write_document,
-)
-from ship_env.workbench.envelope import MIN_SEGMENT
-from ship_env.workbench.errors import pooled
-from ship_env.workbench.fit import NUISANCE
-from ship_env.workbench.improve import PAIR_WIDTH
-from ship_env.workbench.logs import Log, every_nth
+from ship_env.workbench.defaults import MIN_GAIN, MIN_SEGMENT, NUISANCE, PAIR_WIDTH
 from ship_env.workbench.outputs import claim_file, claim_folder
 from ship_env.workbench.parallel import usable_cores
-from ship_env.workbench.presets import preset_document, preset_replay_model, write_preset
-from ship_env.workbench.replay import Simulated
-from ship_env.workbench.runs import GroupingError, WorkbenchRuns, inside_outside_errors, prepare_runs
-from ship_env.workbench.signals import past_the_library, plot_signals
-from ship_env.workbench.tables import (
-    coverage_text,
-    diagnosis_table,
-    envelope_line,
-    envelope_table,
-    error_table,
-    estimate_table,
-    ladder_table,
-    validation_coverage_text,
-)
-from ship_env.workbench.terms import default_terms, not_identified, with_speed_output
-from ship_env.workbench.validation import CrossValidation
+
+if TYPE_CHECKING:
+    from ship_env.manoeuvres import ManoeuvreResult
+    from ship_env.workbench import CrossValidation, ErrorScales, FitOptions, Log, ReplayModel
+    from ship_env.workbench.replay import Simulated
+    from ship_env.workbench.runs import WorkbenchRuns
 
 #: The named effect sets of ``--effects``; anything else is a comma-separated list of effects.
 EFFECT_SETS: dict[str, Callable[[str], ShipModel]] = {
@@ -181,6 +136,20 @@ def _check_rudder(model: ShipModel, argument: str, degrees: float, shown: str) -
 
 def run_manoeuvres(args: argparse.Namespace) -> int:
     """``ship-env manoeuvre``: sail the standard manoeuvres, print the figures and IMO criteria."""
+    from ship_env.manoeuvres import (
+        TrialSettings,
+        check_criteria,
+        format_report,
+        plot_manoeuvre,
+        pull_out,
+        report_dict,
+        reversed_spiral,
+        ship_line,
+        turning_circle,
+        zigzag,
+    )
+    from ship_env.manoeuvres.results import KNOT
+
     model = _build_model(args.ship, args.effects)
     for angle in args.turn_angle:
         _check_rudder(model, "--turn-angle", angle, f"{angle:g} deg")
@@ -324,6 +293,9 @@ _fraction = number("a number between 0 and 1", minimum=0.0, below=1.0)
 def _workbench_setup(args: argparse.Namespace) -> ReplayModel:
     """The model to start from: ``--model`` on ``--ship``, or a fit's document (``--parameters``) on its hull;
     plus ``--add``."""
+    from ship_env.workbench.documents import DocumentError, read_fitted_model
+    from ship_env.workbench.presets import preset_replay_model
+
     added = tuple(name for names in args.add for name in names)
     if args.parameters is not None:
         try:
@@ -346,6 +318,8 @@ def _workbench_setup(args: argparse.Namespace) -> ReplayModel:
 
 def _workbench_options(args: argparse.Namespace, setup: ReplayModel, logs: Sequence[Log]) -> FitOptions:
     """The fit options: scale-free error scales for the runs, each channel given in degrees or metres overriding."""
+    from ship_env.workbench import ErrorScales, FitOptions
+
     nuisance = tuple(getattr(args, "nuisance", ()))
     unknown = [name for name in nuisance if name not in NUISANCE]
     if unknown:
@@ -363,6 +337,9 @@ def _workbench_options(args: argparse.Namespace, setup: ReplayModel, logs: Seque
 
 def _workbench_logs(args: argparse.Namespace, paths: Sequence[Path] | None = None) -> list[Log]:
     """The logs (``args.logs`` or ``paths``), each loader warning printed as one line on stderr."""
+    from ship_env.workbench import LogWarning, load_logs
+    from ship_env.workbench.logs import every_nth
+
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", LogWarning)
         logs = load_logs(args.logs if paths is None else paths, args.format, args.service_speed)
@@ -373,6 +350,9 @@ def _workbench_logs(args: argparse.Namespace, paths: Sequence[Path] | None = Non
 
 def _workbench_runs(args: argparse.Namespace, setup: ReplayModel) -> WorkbenchRuns:
     """Load the logs, check them against the model's envelope, cut or group them as asked; print what was done."""
+    from ship_env.workbench.runs import GroupingError, prepare_runs
+    from ship_env.workbench.tables import envelope_line, envelope_table
+
     logs = _workbench_logs(args)
     validation = _workbench_logs(args, args.validate_on) if args.validate_on else []
     model = setup.model
@@ -391,6 +371,10 @@ def _print_inside_outside(
     title: str, logs: Sequence[Log], replays: Sequence[Simulated], runs: WorkbenchRuns, scales: ErrorScales
 ) -> None:
     """RMS errors over the samples inside and outside the envelope, where a run has both."""
+    from ship_env.workbench.errors import pooled
+    from ship_env.workbench.runs import inside_outside_errors
+    from ship_env.workbench.tables import error_table
+
     for where, errors in inside_outside_errors(logs, replays, runs.checks).items():
         print(f"\n{title}, over the samples {where} the envelope")
         print(error_table(errors, scales, pooled(errors)).text())
@@ -398,6 +382,8 @@ def _print_inside_outside(
 
 def _terms(args: argparse.Namespace, setup: ReplayModel, logs: Sequence[Log]) -> list[str]:
     """The model's default terms for the logs, plus ``--free``, less ``--fix``."""
+    from ship_env.workbench.terms import default_terms
+
     defaults = default_terms(setup.model.effects, logs)
     keys = defaults + [key for key in args.free if key not in defaults]
     unknown = [key for key in args.fix if key not in keys]
@@ -418,6 +404,8 @@ def _claim_outputs(args: argparse.Namespace) -> None:
 
 
 def _print_validation(validation: CrossValidation, scales: ErrorScales) -> None:
+    from ship_env.workbench.tables import error_table, estimate_table
+
     fitted = validation.fit
     print(f"\nfitted terms ({fitted.evaluations} evaluations; {fitted.message})")
     if fitted.warnings:
@@ -436,6 +424,8 @@ def _model_line(setup: ReplayModel, logs: Sequence[Log]) -> str:
 
 def _print_validation_runs(validation: CrossValidation, runs: WorkbenchRuns, scales: ErrorScales) -> None:
     """The --validate-on runs' errors under the all-run fit, whole and inside/outside the envelope."""
+    from ship_env.workbench.tables import error_table, validation_coverage_text
+
     if not validation.validation:
         return
     print("\nvalidation runs (another kind, never fitted), replayed by the fit to all runs")
@@ -451,6 +441,8 @@ def _workbench_start(args: argparse.Namespace, fitting: bool = True) -> tuple[Re
     A command that fits (``fitting``) sails the model with the speed loss on where a log measures the
     speed (:func:`~.terms.with_speed_output`), and says what the logs leave it unable to know.
     """
+    from ship_env.workbench.terms import not_identified, with_speed_output
+
     setup = _workbench_setup(args)
     _claim_outputs(args)
     runs = _workbench_runs(args, setup)
@@ -465,6 +457,8 @@ def _workbench_start(args: argparse.Namespace, fitting: bool = True) -> tuple[Re
 
 def _write_preset(args: argparse.Namespace, validation: CrossValidation, runs: WorkbenchRuns) -> None:
     """``--preset FILE``: the fitted model as a ship preset (claimed before any work)."""
+    from ship_env.workbench.presets import preset_document, write_preset
+
     if args.preset is None:
         return
     command = "ship-env " + shlex.join(args.argv)
@@ -474,6 +468,10 @@ def _write_preset(args: argparse.Namespace, validation: CrossValidation, runs: W
 
 def run_fit(args: argparse.Namespace) -> int:
     """``ship-env fit``: fit the model to the logs, validate it leaving one run out."""
+    from ship_env.workbench import cross_validate, fit_each_run, held_out_comparison, plot_comparison
+    from ship_env.workbench.documents import fit_document, write_document
+    from ship_env.workbench.tables import error_table
+
     setup, options, runs = _workbench_start(args)
     logs = runs.logs
     keys = _terms(args, setup, logs)
@@ -498,6 +496,10 @@ def run_fit(args: argparse.Namespace) -> int:
 
 def run_compare(args: argparse.Namespace) -> int:
     """``ship-env compare``: replay the logs with a model as it is (no fitting)."""
+    from ship_env.workbench import compare, plot_comparison
+    from ship_env.workbench.coverage import check_coverage, fitted_coverage
+    from ship_env.workbench.tables import coverage_text, error_table
+
     setup, options, runs = _workbench_start(args, fitting=False)
     logs = [*runs.logs, *runs.validation]
     print(_model_line(setup, logs))
@@ -516,6 +518,10 @@ def run_compare(args: argparse.Namespace) -> int:
 
 def run_diagnose(args: argparse.Namespace) -> int:
     """``ship-env diagnose``: rank the effects the model lacks."""
+    from ship_env.workbench import cross_validate, diagnose
+    from ship_env.workbench.signals import past_the_library, plot_signals
+    from ship_env.workbench.tables import diagnosis_table
+
     if args.signals_plot is not None:
         claim_file(args.signals_plot, args.force, "--plot")
     setup, options, runs = _workbench_start(args)
@@ -545,6 +551,10 @@ def run_diagnose(args: argparse.Namespace) -> int:
 def run_improve(args: argparse.Namespace) -> int:
     """``ship-env improve``: add effects while the held-out error falls; the error ladder, and with
     ``--report`` a report."""
+    from ship_env.workbench import improve, write_report
+    from ship_env.workbench.documents import ladder_document, write_document
+    from ship_env.workbench.tables import estimate_table, ladder_table, validation_coverage_text
+
     setup, options, runs = _workbench_start(args)
     logs = runs.logs
     print(_model_line(setup, logs))
@@ -859,7 +869,7 @@ def _improve_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--min-gain",
         type=_fraction,
-        default=0.05,
+        default=MIN_GAIN,
         metavar="F",
         help="smallest relative fall of the held-out score to add an effect (default: %(default)s)",
     )

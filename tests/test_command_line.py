@@ -81,9 +81,17 @@ from ship_env.command_line import main
 try:
     main(sys.argv[1:])
 except SystemExit as exit:
-    heavy = ("numba", "torch", "matplotlib", "pandas", "ship_env.model", "ship_env.workbench", "ship_env.rl")
+    heavy = (
+        "numba", "scipy", "torch", "matplotlib", "pandas", "ship_env.model", "ship_env.manoeuvres",
+        "ship_env.workbench", "ship_env.workbench.fit", "ship_env.rl",
+    )
     print(exit.code, *[name for name in heavy if name in sys.modules], file=sys.stderr)
 """
+
+#: The model (its effect registry, which ``--help`` lists and ``--effects`` checks), with numba and scipy.
+_MODEL = {"numba", "scipy", "ship_env.model"}
+#: The model and the light part of the workbench (``ship_env.workbench.defaults``, ``.outputs``, ``.parallel``).
+_WORKBENCH_ARGUMENTS = {*_MODEL, "ship_env.workbench"}
 
 
 @pytest.mark.parametrize(
@@ -91,8 +99,18 @@ except SystemExit as exit:
     [
         (["--help"], "0", set()),  # the subcommands by their help lines: nothing of theirs imported
         (["nope"], "2", set()),
-        (["leaderboard", "--bad"], "2", {"numba", "ship_env.model"}),  # its suites, not torch nor the plots
-        (["leaderboard", "--help"], "0", {"numba", "ship_env.model"}),
+        (["leaderboard", "--bad"], "2", _MODEL),  # its suites, not torch nor the plots
+        (["leaderboard", "--help"], "0", _MODEL),
+        # neither pandas nor matplotlib nor the fitting (once about 2 s on an idle machine, all the workbench)
+        (["manoeuvre", "--help"], "0", _WORKBENCH_ARGUMENTS),
+        (["manoeuvre", "--bad"], "2", _WORKBENCH_ARGUMENTS),
+        (["manoeuvre", "--zigzag", "0/10"], "2", _WORKBENCH_ARGUMENTS),
+        *(([command, "--help"], "0", _WORKBENCH_ARGUMENTS) for command in ("fit", "compare", "diagnose", "improve")),
+        *(
+            ([command, "x", "--bad"], "2", _WORKBENCH_ARGUMENTS)
+            for command in ("fit", "compare", "diagnose", "improve")
+        ),
+        (["improve", "x", "--add", "nope"], "2", _WORKBENCH_ARGUMENTS),
     ],
 )
 def test_the_command_line_is_parsed_before_the_heavy_imports(argv, status, imported):
@@ -112,3 +130,20 @@ def test_import_ship_env_registers_the_environments_and_loads_the_model_when_ask
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert done.stdout.split() == ["Simulator", "Conditions"], done.stderr
+
+
+def test_import_ship_env_workbench_loads_a_module_when_one_of_its_names_is_asked_for():
+    code = (
+        "import sys, ship_env.workbench as workbench\n"
+        "assert not {'ship_env.model', 'scipy', 'pandas', 'matplotlib'} & set(sys.modules)\n"
+        "import ship_env.workbench.improve  # imports .fit and .diagnose, which the import system binds here\n"
+        "from ship_env.workbench import FitError, compare, diagnose, fit, improve, tables\n"
+        "for name, function in {'compare': compare, 'diagnose': diagnose, 'fit': fit, 'improve': improve}.items():\n"
+        "    assert function is sys.modules['ship_env.workbench.' + name].__dict__[name] is getattr(workbench, name)\n"
+        "assert FitError is sys.modules['ship_env.workbench.fit'].FitError and tables.__name__.endswith('.tables')\n"
+        "names = [getattr(workbench, name) for name in workbench.__all__]  # none of them a module\n"
+        "print(len(names), sum(not isinstance(value, type(sys)) for value in names))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    count, not_modules = done.stdout.split()
+    assert int(count) > 30 and not_modules == count, done.stderr

@@ -22,37 +22,77 @@ measured inputs), ``terms`` (what can be fitted), ``errors`` (RMS errors and the
 This is off-line identification for a naval engineer with logs: whole runs, output-error fits,
 a ladder of physical effects. The recursive estimators that run sample by sample on board (the
 papers' EKF, RLS and MRAS) are the classic baselines' :mod:`ship_env.baselines.online_estimators`.
+
+The names below are imported from their modules when first asked for, so that the command line
+parses its arguments before the numerical libraries load. ``ship_env.workbench.fit``,
+``.compare``, ``.diagnose`` and ``.improve`` name the functions, as ``from ship_env.workbench
+import fit`` does (the modules: ``sys.modules["ship_env.workbench.fit"]``).
 """
 
-from ship_env.workbench.compare import (
-    Comparison,
-    compare,
-    held_out_comparison,
-    plot_comparison,
-)
-from ship_env.workbench.diagnose import Diagnosis, diagnose
-from ship_env.workbench.errors import ErrorScales, RunErrors
-from ship_env.workbench.fit import FitError, FitOptions, FitResult, fit, fit_each_run
-from ship_env.workbench.formats import (
-    ESSO_OSAKA,
-    FORMATS,
-    STANDARD,
-    Column,
-    FormatError,
-    LogFormat,
-)
-from ship_env.workbench.improve import Ladder, improve
-from ship_env.workbench.logs import (
-    Log,
-    LogError,
-    LogWarning,
-    load_log,
-    load_logs,
-    write_log,
-)
-from ship_env.workbench.replay import ReplayModel, simulate
-from ship_env.workbench.report import write_report
-from ship_env.workbench.validation import CrossValidation, cross_validate
+from __future__ import annotations
+
+import importlib
+import sys
+from types import ModuleType
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ship_env.workbench.compare import Comparison, compare, held_out_comparison, plot_comparison
+    from ship_env.workbench.diagnose import Diagnosis, diagnose
+    from ship_env.workbench.errors import ErrorScales, RunErrors
+    from ship_env.workbench.fit import FitError, FitOptions, FitResult, fit, fit_each_run
+    from ship_env.workbench.formats import ESSO_OSAKA, FORMATS, STANDARD, Column, FormatError, LogFormat
+    from ship_env.workbench.improve import Ladder, improve
+    from ship_env.workbench.logs import Log, LogError, LogWarning, load_log, load_logs, write_log
+    from ship_env.workbench.replay import ReplayModel, simulate
+    from ship_env.workbench.report import write_report
+    from ship_env.workbench.validation import CrossValidation, cross_validate
+
+#: Each public name's module under ``ship_env.workbench``.
+_MODULES: dict[str, str] = {
+    **dict.fromkeys(("Comparison", "compare", "held_out_comparison", "plot_comparison"), "compare"),
+    **dict.fromkeys(("Diagnosis", "diagnose"), "diagnose"),
+    **dict.fromkeys(("ErrorScales", "RunErrors"), "errors"),
+    **dict.fromkeys(("FitError", "FitOptions", "FitResult", "fit", "fit_each_run"), "fit"),
+    **dict.fromkeys(("ESSO_OSAKA", "FORMATS", "STANDARD", "Column", "FormatError", "LogFormat"), "formats"),
+    **dict.fromkeys(("Ladder", "improve"), "improve"),
+    **dict.fromkeys(("Log", "LogError", "LogWarning", "load_log", "load_logs", "write_log"), "logs"),
+    **dict.fromkeys(("ReplayModel", "simulate"), "replay"),
+    "write_report": "report",
+    **dict.fromkeys(("CrossValidation", "cross_validate"), "validation"),
+}
+
+
+def __getattr__(name: str) -> Any:
+    """A public name from its module, or a submodule (``ship_env.workbench.tables``), imported when
+    first asked for."""
+    if name in _MODULES:
+        value = getattr(importlib.import_module(f"{__name__}.{_MODULES[name]}"), name)
+        globals()[name] = value
+        return value
+    try:
+        return importlib.import_module(f"{__name__}.{name}")
+    except ModuleNotFoundError as error:
+        if error.name != f"{__name__}.{name}":
+            raise
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_MODULES})
+
+
+class _Workbench(ModuleType):
+    """The package, whose functions ``fit``, ``compare``, ``diagnose`` and ``improve`` keep their names
+    when their modules are imported (the import system binds each submodule to its name here)."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if isinstance(value, ModuleType) and _MODULES.get(name) == name:
+            value = getattr(value, name)
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Workbench
 
 __all__ = [
     "ESSO_OSAKA",

@@ -39,6 +39,7 @@ from threadpoolctl import threadpool_limits
 
 from ship_env.model import ShipModel
 from ship_env.model import state as S
+from ship_env.workbench.defaults import NUISANCE
 from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import (
@@ -67,11 +68,6 @@ from ship_env.workbench.terms import (
     write_record,
 )
 
-#: Per-run nuisance terms: name -> (state index, scale, bound), SI units.
-NUISANCE: dict[str, tuple[int, float, float]] = {
-    "heading": (S.HEADING, math.radians(1.0), math.radians(45.0)),
-    "rate_of_turn": (S.RATE_OF_TURN, math.radians(0.1), math.radians(10.0)),
-}
 #: How cross-validation fits a fold (see :mod:`.validation`).
 FOLD_METHODS = ("linearised", "refit")
 #: Forward-difference step, in units of each term's scale.

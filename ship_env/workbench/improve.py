@@ -46,6 +46,7 @@ from scipy.stats import chi2
 from ship_env.manoeuvres import turning_circle
 from ship_env.model import ShipModel
 from ship_env.workbench.coverage import beyond_in_words
+from ship_env.workbench.defaults import MIN_GAIN, PAIR_WIDTH
 from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in_words, pairs
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.fit import Estimate, FitOptions, as_setup, one_thread
@@ -57,10 +58,6 @@ from ship_env.workbench.runs import screen_runs
 from ship_env.workbench.terms import sailing_model, with_values
 from ship_env.workbench.validation import CrossValidation, ValidationJob, cross_validate, cross_validate_each
 
-#: Smallest relative fall of the held-out score for which an effect is added.
-MIN_GAIN = 0.05
-#: Where no single effect pays, pairs of this many candidates (those with most evidence) are tried.
-PAIR_WIDTH = 4
 #: Jackknife standard errors of the held-out score's fall that the fall must exceed.
 GAIN_SIGMAS = 1.0
 #: Standard errors by which one of an added effect's terms (or all of them together) must lie from its null value.

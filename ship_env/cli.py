@@ -572,6 +572,7 @@ def run_improve(args: argparse.Namespace) -> int:
         validate_on=runs.validation,
         require_validation=args.require_validation,
         allow_worse_validation=args.allow_worse_validation,
+        validate_by=args.validate_by,
     )
     print("\nerror ladder (held out: leave one run out)")
     print(ladder_table(ladder).text())
@@ -878,6 +879,14 @@ def _improve_arguments(parser: argparse.ArgumentParser) -> None:
         "--require-validation",
         action="store_true",
         help="add an effect only if it also lowers the --validate-on runs' score by --min-gain",
+    )
+    parser.add_argument(
+        "--validate-by",
+        choices=("replay", "figures"),
+        default="replay",
+        help="score the --validate-on runs by their replay (held-out errors) or by their manoeuvres sailed free "
+        "(advance, tactical diameter, steady rate and speed loss, overshoots against the measured, each over its "
+        "bound) in the rules that use them (default: %(default)s)",
     )
     parser.add_argument(
         "--allow-worse-validation",

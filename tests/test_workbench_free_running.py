@@ -21,10 +21,12 @@ from ship_env.workbench.free_running import (
     Series,
     compare_free_running,
     disagreements,
+    figure_score,
     free_running_table,
     manoeuvre_figures,
     read_manoeuvre,
 )
+from ship_env.workbench.improve import improve
 from ship_env.workbench.logs import load_logs, write_log
 from ship_env.workbench.presets import preset_document, write_preset
 from ship_env.workbench.replay import ReplayModel
@@ -229,3 +231,28 @@ def test_the_figures_that_disagree_are_named_with_the_effects_that_shape_them():
         "knows to shape it: their terms extrapolate",
     ]
     assert disagreements([RunFigures("turn", None, measured, measured, None)], ("yaw",)) == []  # type: ignore[arg-type]
+
+
+def test_the_figure_score_is_the_mean_error_over_the_bounds_and_the_ladder_takes_it_by_name():
+    """Tactical diameter +96 % over its 5 % bound (19.2), speed loss -75 % over 10 % (7.5), advance +3.3 % over 5 %
+    (0.67): their mean is the score; a figure not reached counts for nothing; no judged figure gives NaN. The ladder
+    scores validation runs by replay or by figures, and names the field where it is neither."""
+    measured = (
+        Figure("tactical_diameter_lengths", "tactical diameter", 2.5, "L", 2),
+        Figure("speed_loss", "speed loss in steady turn", 65.0, "%", 1),
+        Figure("advance_lengths", "advance", 3.0, "L", 2),
+        Figure("first_overshoot", "first overshoot", math.nan, "deg", 1),
+    )
+    predicted = (
+        Figure("tactical_diameter_lengths", "tactical diameter", 4.9, "L", 2),
+        Figure("speed_loss", "speed loss in steady turn", 16.25, "%", 1),
+        Figure("advance_lengths", "advance", 3.1, "L", 2),
+        Figure("first_overshoot", "first overshoot", 4.0, "deg", 1),
+    )
+    run = RunFigures("turn", None, measured, predicted, None)  # type: ignore[arg-type]
+    expected = (2.4 / 2.5 / 0.05 + 48.75 / 65.0 / 0.10 + 0.1 / 3.0 / 0.05) / 3.0
+    assert figure_score([run]) == pytest.approx(expected, rel=1e-12)
+    assert math.isnan(figure_score([RunFigures("turn", None, measured[3:], predicted[3:], None)]))  # type: ignore[arg-type]
+    model = ShipModel(SHIP, CALM_EFFECTS)
+    with pytest.raises(ValueError, match="validate_by: expected one of replay, figures, got 'imo'"):
+        improve(model, _noise_free_logs(model, lengths=20.0), validate_by="imo")

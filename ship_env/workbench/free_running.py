@@ -372,21 +372,28 @@ JUDGED_FIGURES: dict[str, tuple[float, bool, tuple[str, ...]]] = {
 }
 
 
+def judged_errors(results: Sequence[RunFigures]) -> dict[str, list[float]]:
+    """Per judged figure (:data:`JUDGED_FIGURES`), predicted - measured over the runs that reach it in both,
+    relative to the measured figure where its bound is relative."""
+    errors: dict[str, list[float]] = {key: [] for key in JUDGED_FIGURES}
+    for result in results:
+        for measured, predicted in zip(result.measured, result.predicted, strict=True):
+            if measured.key not in errors or isinstance(measured.value, str) or isinstance(predicted.value, str):
+                continue
+            if math.isfinite(measured.value) and math.isfinite(predicted.value) and measured.value != 0.0:
+                error = predicted.value - measured.value
+                errors[measured.key].append(error / abs(measured.value) if JUDGED_FIGURES[measured.key][1] else error)
+    return errors
+
+
 def disagreements(results: Sequence[RunFigures], effects: Sequence[str]) -> list[str]:
     """Where the free-running figures disagree, in words, a line per judged figure (:data:`JUDGED_FIGURES`) that
     some run misses by more than its bound: how many runs, the median error, and the library's effects that
     shape the figure which the model (``effects``) lacks -- the physics to try next (``--add``), or, where it has
     them all, its terms fitted on runs that do not reach these manoeuvres' rates of turn."""
     lines = []
-    for key, (bound, relative, shaping) in JUDGED_FIGURES.items():
-        errors = []
-        for result in results:
-            for measured, predicted in zip(result.measured, result.predicted, strict=True):
-                if measured.key != key or isinstance(measured.value, str) or isinstance(predicted.value, str):
-                    continue
-                if math.isfinite(measured.value) and math.isfinite(predicted.value) and measured.value != 0.0:
-                    error = predicted.value - measured.value
-                    errors.append(error / abs(measured.value) if relative else error)
+    for key, errors in judged_errors(results).items():
+        bound, relative, shaping = JUDGED_FIGURES[key]
         missed = [error for error in errors if abs(error) > bound]
         if not missed:
             continue
@@ -402,3 +409,11 @@ def disagreements(results: Sequence[RunFigures], effects: Sequence[str]) -> list
         )
         lines.append(f"{label}: {len(missed)} of {len(errors)} runs beyond {limit} (median {shown}); {then}")
     return lines
+
+
+def figure_score(results: Sequence[RunFigures]) -> float:
+    """The runs' manoeuvre figures against the measured, as one number: the mean over every judged figure
+    (:data:`JUDGED_FIGURES`) that both reach of |predicted - measured| / bound (relative to the measured figure
+    where the bound is), so 1 is a prediction at the bounds; NaN where no run has a judged figure."""
+    ratios = [abs(error) / JUDGED_FIGURES[key][0] for key, errors in judged_errors(results).items() for error in errors]
+    return float(np.mean(ratios)) if ratios else math.nan

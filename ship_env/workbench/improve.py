@@ -50,6 +50,7 @@ from ship_env.workbench.defaults import MIN_GAIN, PAIR_WIDTH
 from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in_words, pairs
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.fit import Estimate, FitOptions, as_setup, one_thread
+from ship_env.workbench.free_running import compare_free_running, figure_score
 from ship_env.workbench.logs import Log
 from ship_env.workbench.materiality import mismatch
 from ship_env.workbench.parallel import start as start_workers
@@ -62,6 +63,8 @@ from ship_env.workbench.validation import CrossValidation, ValidationJob, cross_
 GAIN_SIGMAS = 1.0
 #: Standard errors by which one of an added effect's terms (or all of them together) must lie from its null value.
 TERM_SIGMAS = 2.0
+#: How validation runs may be scored (:class:`Rules`).
+VALIDATE_BY = ("replay", "figures")
 #: Smallest ratio of a covariance's least to its largest eigenvalue for the joint test of the terms to use it.
 JOINT_CONDITION = 1e-12
 
@@ -125,6 +128,7 @@ def improve(
     validate_on: Sequence[Log] = (),
     require_validation: bool = False,
     allow_worse_validation: bool = False,
+    validate_by: str = "replay",
 ) -> Ladder:
     """Climb the error ladder greedily (see the module docstring).
 
@@ -144,7 +148,12 @@ def improve(
         require_validation: an effect must also lower the validation runs' score by ``min_gain``.
         allow_worse_validation: add an effect even where it raises the validation runs' score by more than
             ``min_gain`` (by default it is not added).
+        validate_by: how the validation runs are scored in rules 4 and 5: ``"replay"``, their held-out replay
+            score, or ``"figures"``, their manoeuvres sailed free and judged by their IMO figures
+            (:func:`~.free_running.figure_score`).
     """
+    if validate_by not in VALIDATE_BY:
+        raise ValueError(f"validate_by: expected one of {', '.join(VALIDATE_BY)}, got {validate_by!r}")
     setup = as_setup(model)
     logs, groups, validate_on = screen_runs(setup.model, logs, groups, validate_on)
     options = (options or FitOptions()).for_runs(setup.model, logs)
@@ -155,7 +164,7 @@ def improve(
     say(f"start: {', '.join(validation.fit.setup.model.effects)}; held-out score {validation.score(scales):.3g}")
     rungs: list[Rung] = []
     added: tuple[str, ...] = ()
-    rules = Rules(min_gain, require_validation and bool(validate_on), allow_worse_validation)
+    rules = Rules(min_gain, require_validation and bool(validate_on), allow_worse_validation, validate_by)
     while True:
         if max_steps is not None and len(rungs) >= max_steps:
             rungs.append(Rung(added, validation))
@@ -199,6 +208,9 @@ class Rules:
     min_gain: float = MIN_GAIN
     require_validation: bool = False
     allow_worse_validation: bool = False
+    #: How the validation runs are scored: ``"replay"`` (their held-out replay score) or ``"figures"`` (their
+    #: manoeuvres sailed free, :func:`~.free_running.figure_score`: what a naval architect judges).
+    validate_by: str = "replay"
 
 
 def _best_paying(
@@ -312,12 +324,13 @@ def verdict(
     absorbed = mismatch(candidate.effects, validation.fit)
     if absorbed is not None:
         return f"lowers the held-out score by {100.0 * gain:.1f}%, but {absorbed}"
-    scores = _validation_scores(candidate, current, scales)
+    scores = _validation_scores(candidate, current, scales, rules)
     if rules.require_validation and scores is not None:
         before, after = scores
         if after > (1.0 - rules.min_gain) * before:
             return (
-                f"lowers the held-out score by {100.0 * gain:.1f}% but changes the validation runs' score by "
+                f"lowers the held-out score by {100.0 * gain:.1f}% but changes the validation runs' "
+                f"{_scored_by(rules)} by "
                 f"{100.0 * (after / before - 1.0):+.1f}% (needs -{100.0 * rules.min_gain:.0f}%)"
             )
     worse = _worsens_validation(candidate, current, scales, rules)
@@ -348,11 +361,25 @@ def cannot_sail(model: ShipModel, logs: Sequence[Log]) -> str | None:
 
 
 def _validation_scores(
-    candidate: CandidateResult, current: CrossValidation, scales: ErrorScales
+    candidate: CandidateResult, current: CrossValidation, scales: ErrorScales, rules: Rules
 ) -> tuple[float, float] | None:
-    """The validation runs' pooled score before and with the candidate, or None without validation runs."""
-    before, after = current.pooled_validation, candidate.refitted.pooled_validation
-    return (before.score(scales), after.score(scales)) if before and after else None
+    """The validation runs' score before and with the candidate (their pooled replay score, or with
+    ``rules.validate_by == "figures"`` their manoeuvres' :func:`~.free_running.figure_score`), or None without
+    validation runs (or, by figures, without a manoeuvre among them)."""
+    if rules.validate_by == "figures":
+        runs = current.validation_logs
+        if not runs:
+            return None
+        before = figure_score(compare_free_running(current.fit.setup, runs))
+        after = figure_score(compare_free_running(candidate.refitted.fit.setup, runs))
+        return (before, after) if math.isfinite(before) and math.isfinite(after) else None
+    replayed, with_it = current.pooled_validation, candidate.refitted.pooled_validation
+    return (replayed.score(scales), with_it.score(scales)) if replayed and with_it else None
+
+
+def _scored_by(rules: Rules) -> str:
+    """What the validation runs' score is, in words."""
+    return "score of their manoeuvres' figures" if rules.validate_by == "figures" else "score"
 
 
 def _worsens_validation(
@@ -361,7 +388,7 @@ def _worsens_validation(
     """Words saying that the candidate raises the validation runs' score by more than ``min_gain`` (rule 5),
     naming where they lie beyond the fitted runs' coverage; None if it does not, or where that is allowed."""
     validation = candidate.refitted
-    scores = _validation_scores(candidate, current, scales)
+    scores = _validation_scores(candidate, current, scales, rules)
     if rules.allow_worse_validation or scores is None:
         return None
     before, after = scores
@@ -370,7 +397,7 @@ def _worsens_validation(
     gain = 1.0 - validation.score(scales) / current.score(scales)
     beyond = beyond_in_words(current.validation_checks())
     return (
-        f"lowers the held-out score by {100.0 * gain:.1f}% but raises the validation runs' score by "
+        f"lowers the held-out score by {100.0 * gain:.1f}% but raises the validation runs' {_scored_by(rules)} by "
         f"{100.0 * (after / before - 1.0):.1f}% (more than {100.0 * rules.min_gain:.0f}%"
         f"{'; validation runs ' + beyond if beyond else ''}): not added (--allow-worse-validation adds it)"
     )

@@ -265,3 +265,28 @@ def test_the_leaderboard_sails_the_preset_with_autopilots_designed_from_it(fitte
     assert board.ship_name == path.stem
     rows = [line for line in board.markdown().splitlines() if "| classic |" in line]
     assert len(rows) == 4 and all("| 2/2 |" in row for row in rows), rows
+
+
+def test_a_ship_that_leaves_its_models_validity_leaves_the_suite_out_in_one_line(fitted, tmp_path):
+    """A preset whose speed loss stops the ship in a course change (K_u* = 20, u* > 1) cannot be sailed by any
+    controller: the leaderboard says so in one line for the suite, naming the first failure, and ranks nothing
+    there, where it raised the simulator's FloatingPointError through its whole stack."""
+    _, path = fitted
+    stopping = _edited(
+        path,
+        tmp_path,
+        lambda document: document["effects"]["speed_loss"].update(
+            enabled=True, gain={"value": 20.0, "source": "test"}, time_constant={"value": 0.5, "source": "test"}
+        ),
+    )
+    spec = SuiteSpec(
+        course_changes_deg=(90.0,),
+        tracks=(),
+        conditions=(NOMINAL,),
+        course_change_disturbances=("calm",),
+        ship=str(stopping),
+    )
+    board = run_leaderboard(spec, shipped=False, progress=False)
+    (line,) = board.left_out
+    assert "every controller fails" in line and "left the model's validity" in line and "not ranked" in line
+    assert board.suites == () and board.results == ()

@@ -233,8 +233,10 @@ def run_leaderboard(
     A task whose environment cannot be made for the ship is left out with one line saying why
     (``left_out``): TrackFollow where the ship turns too wide at the tracks' rudder for their legs
     (:class:`~ship_env.envs.tracks.TrackError`); that error where no task is left. So is an entrant
-    whose controller fails on a suite (:func:`~ship_env.leaderboard.sailing.sail_suite`): its
-    episodes there are not ranked."""
+    whose controller fails on a suite (:func:`~ship_env.leaderboard.sailing.sail_suite`: its filter
+    diverges, or it sails the ship out of the model's validity): its episodes there are not ranked;
+    and a suite on which every entrant fails (the ship's model fails there, as a fitted preset's
+    draws beyond its data can), in one line."""
     suites = spec.suites()
     env_kwargs = {suite.env_id: suite.env_kwargs for suite in suites}
     env_spaces = {}
@@ -256,12 +258,20 @@ def run_leaderboard(
     start = time.perf_counter()
     results = evaluate(jobs_for(suites, entrants), backend, progress, ray_address)
     wall_time = time.perf_counter() - start
+    failures = [r for r in results if r.failure]
+    failed = {(r.entrant, r.suite) for r in failures}
+    every = {s.name for s in suites if all((e.name, s.name) in failed for e in entrants)}  # the ship's fault
+    left_out += [
+        f"{r.suite}: every controller fails ({r.entrant}: {r.failure}, episode {r.episode}, seed {r.seed}); "
+        "the suite is not ranked"
+        for r in {r.suite: r for r in reversed(failures) if r.suite in every}.values()
+    ]
     left_out += [
         f"{r.entrant} on {r.suite}: {r.failure} (episode {r.episode}, seed {r.seed}); not ranked on that suite"
-        for r in results
-        if r.failure
+        for r in failures
+        if r.suite not in every
     ]
-    failed = {(r.entrant, r.suite) for r in results if r.failure}
+    suites = [suite for suite in suites if suite.name not in every]
     results = [result for result in results if (result.entrant, result.suite) not in failed]
     tables = tuple(rank(suite, results) for suite in suites)
     return Leaderboard(tuple(entrants), tuple(suites), tuple(results), tables, wall_time, tuple(left_out))

@@ -121,7 +121,7 @@ def sail_suite(
             )
             try:
                 metrics, finished = sail(env, controller, episode)
-            except FilterDivergenceError as error:
+            except (FilterDivergenceError, FloatingPointError) as error:  # the controller's filter, or the ship model
                 results.append(dataclasses.replace(result, failure=f"{type(error).__name__}: {error}"))
                 break
             results.append(dataclasses.replace(result, metrics=metrics, finished=finished))

@@ -56,19 +56,22 @@ def _truncated_normal(mean: float, std: float, low: float) -> tuple[float, float
 
 
 def test_a_range_that_bites_is_kept_by_redrawing(tmp_path):
-    """K* +- its own value: its bound K* >= 0 lies 1 s below; the draws are the truncated Gaussian, none
-    below the bound and none piled on it (clipping would put 16 % of the ships at K* = 0)."""
+    """K* +- half its value, the largest error drawn from: its bound K* >= 0 lies 2 s below; the draws are the
+    truncated Gaussian, none below the bound and none piled on it (clipping would put 2.3 % of the ships at
+    K* = 0). An error over half the value is refused, naming the term: the fit does not determine it."""
     base = CourseChangeTask(ship=fitted_preset(tmp_path, {}, "base")).model
     gain, time_constant = (base.parameter(key) for key in FITTED_TERMS)
-    errors = {"yaw.gain": gain, "yaw.time_constant": 0.1 * time_constant}
+    errors = {"yaw.gain": 0.5 * gain, "yaw.time_constant": 0.1 * time_constant}
     task = CourseChangeTask(ship=fitted_preset(tmp_path, errors), ship_variation="fitted")
     values = drawn_terms(task, seed=2)["yaw.gain"]
-    assert values.min() > 0.0
-    assert np.mean(values < 0.02 * gain) < 0.01  # no mass at the bound: about 0.5 % of a truncated draw's
-    mean, std = _truncated_normal(gain, gain, 0.0)
+    assert values.min() > 0.0  # an untruncated draw puts about 45 of its 2000 ships below 0
+    assert np.mean(values < 0.02 * gain) < 0.01  # no mass at the bound: about 0.2 % of a truncated draw's
+    mean, std = _truncated_normal(gain, 0.5 * gain, 0.0)
     assert values.mean() == pytest.approx(mean, abs=4 * std / math.sqrt(DRAWS))
     assert values.std(ddof=1) == pytest.approx(std, rel=0.10)
-    assert mean > 1.2 * gain  # the bound moves the mean: the check above would fail on an untruncated draw
+    loose = fitted_preset(tmp_path, {"yaw.gain": 0.1 * gain, "yaw.time_constant": 1.4 * time_constant}, "loose")
+    with pytest.raises(ValueError, match=r"does not determine yaw.time_constant .* \+- .*without rudder or yaw"):
+        CourseChangeTask(ship=loose, ship_variation="fitted")
 
 
 def test_the_same_seed_gives_the_same_ships_single_and_vector(tmp_path):

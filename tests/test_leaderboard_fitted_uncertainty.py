@@ -24,6 +24,7 @@ from ship_env.leaderboard.suites import (
     SUITE_SPECS,
     Suite,
     SuiteSpec,
+    sails_condition,
 )
 from ship_env.model import ShipModel
 
@@ -116,3 +117,17 @@ def test_train_on_the_fitted_ships_records_the_option_and_refuses_a_ship_without
         main([*argv, "--ship-variation", "fitted", "--out", str(tmp_path / "refused")])
     error = capsys.readouterr().err
     assert "argument --ship-variation: fitted" in error and "(the environment's own, container_226m)" in error
+
+
+def test_the_command_refuses_the_condition_where_the_fit_does_not_determine_a_term(tmp_path, capsys):
+    """tau* +- 1.4 times its value (as the Esso zig-zag ladder's preset has it): the draws would include ships
+    without yaw inertia, on which every controller leaves the model's validity; asked for, the condition is
+    refused naming the term, and it is not among a fitted preset's suites."""
+    loose = fitted_preset(tmp_path, {"yaw.gain": 0.3, "yaw.time_constant": 1.4 * 2.582})
+    assert not sails_condition(FITTED_UNCERTAINTY, str(loose))
+    with pytest.raises(SystemExit):
+        main(["leaderboard", "--ship", str(loose), "--conditions", "fitted-uncertainty", "--no-plots",
+              "--out", str(tmp_path / "out")])  # fmt: skip
+    error = capsys.readouterr().err
+    assert "argument --conditions: fitted-uncertainty" in error
+    assert "does not determine yaw.time_constant 2.582 +- 3.6" in error

@@ -141,12 +141,28 @@ FITTED_TERMS = {"yaw.gain": "yaw_gain", "yaw.time_constant": "yaw_time_constant"
 #: Draws of one term before a range that keeps refusing them is reported (each falls inside the range
 #: with probability at least one half while the fitted value lies inside it).
 MAXIMUM_REDRAWS = 100
+#: Largest standard error, as a fraction of its fitted value, of a term drawn from: beyond it the fit does not
+#: determine the term's size (the Gaussian puts over 2 % of its ships at or below zero, and the redraws pile
+#: ships without rudder or yaw inertia against the bound), so no ship is drawn from it.
+UNDETERMINED_SHARE = 0.5
 
 
 def draws_fitted(preset: Ship) -> bool:
-    """Whether ``preset`` gives a standard error for each of :data:`FITTED_TERMS` (``ship_variation="fitted"``
-    can draw from it)."""
-    return all(preset.std_errors.get(key) is not None for key in FITTED_TERMS)
+    """Whether ``preset`` gives a standard error for each of :data:`FITTED_TERMS`, each at most
+    :data:`UNDETERMINED_SHARE` of its value (``ship_variation="fitted"`` can draw from it)."""
+    return all(preset.std_errors.get(key) is not None for key in FITTED_TERMS) and not undetermined_terms(preset)
+
+
+def undetermined_terms(preset: Ship) -> list[str]:
+    """The drawn terms whose standard error exceeds :data:`UNDETERMINED_SHARE` of their value, in words."""
+    words = []
+    for key in FITTED_TERMS:
+        error = preset.std_errors.get(key)
+        effect, _, name = key.partition(".")
+        value = preset.values.get(effect, {}).get(name)
+        if error is not None and value is not None and error > UNDETERMINED_SHARE * abs(value):
+            words.append(f"{key} {value:.4g} +- {error:.2g}")
+    return words
 
 
 class FittedShipVariation:
@@ -158,11 +174,19 @@ class FittedShipVariation:
 
     Raises:
         ValueError: the preset gives no standard error for K* or tau* (a built-in preset, or a fit
-            that did not determine them), naming the option, the preset and the terms.
+            that did not determine them), or one over :data:`UNDETERMINED_SHARE` of its value, naming
+            the option, the preset and the terms.
     """
 
     def __init__(self, model: ShipModel) -> None:
         errors = model.ship.std_errors
+        undetermined = undetermined_terms(model.ship)
+        if undetermined:
+            raise ValueError(
+                f"ship_variation={FITTED!r}: the preset {model.ship.name!r} ({model.ship.path or model.ship.name}) "
+                f"does not determine {', '.join(undetermined)} (a standard error over {UNDETERMINED_SHARE:g} of the "
+                "value): ships drawn from it would include ones without rudder or yaw inertia"
+            )
         if not draws_fitted(model.ship):
             lacking = [key for key in FITTED_TERMS if errors.get(key) is None]
             where = model.ship.path or model.ship.name

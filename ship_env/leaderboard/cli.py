@@ -78,12 +78,24 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
             check_design_ship(args.ship)
         except ValueError as error:
             args.command_parser.error(f"argument --ship: {error}")
+    from ship_env.envs.variation import undetermined_terms
+    from ship_env.model import load_ship
+
     ship = args.ship or DEFAULT_SHIP
+    undetermined = undetermined_terms(load_ship(ship))
+    why = (
+        f"the fit of {ship} does not determine {', '.join(undetermined)} (a standard error over half the value)"
+        if undetermined
+        else f"the ship {ship} gives none (sail --ship FILE written by ship-env fit --preset or improve --preset)"
+    )
+    asked = FITTED_UNCERTAINTY in chosen_spec(args).conditions
     if args.conditions and FITTED_UNCERTAINTY.slug in args.conditions and not sails_condition(FITTED_UNCERTAINTY, ship):
         args.command_parser.error(
             f"argument --conditions: {FITTED_UNCERTAINTY.slug} draws ships from a fitted preset's standard errors; "
-            f"the ship {ship} gives none (sail --ship FILE written by ship-env fit --preset or improve --preset)"
+            f"{why}"
         )
+    if asked and undetermined:
+        print(f"ship-env leaderboard: left out the {FITTED_UNCERTAINTY.slug} condition: {why}", file=sys.stderr)
     try:
         board = run_leaderboard(
             chosen_spec(args),

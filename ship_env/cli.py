@@ -807,9 +807,10 @@ def _fit_arguments(parser: argparse.ArgumentParser) -> None:
 FIT_COMMAND = Command(
     "fit",
     description=(
-        "Fit the model's parameters to measured runs by output-error simulation (measured rudder, speed,\n"
-        "propeller rate and wind in; heading, rate of turn and track out), print them with standard errors,\n"
-        "the in-sample errors and the held-out errors of leave-one-run-out cross-validation."
+        "Fit the model's parameters to measured runs by output-error simulation (the measured\n"
+        "rudder, propeller rate and wind in; heading, rate of turn, speed and track out), print\n"
+        "them with standard errors, the in-sample errors and the held-out errors of\n"
+        "leave-one-run-out cross-validation."
     ),
     handler=run_fit,
     arguments=_fit_arguments,

@@ -206,22 +206,28 @@ def test_a_preset_fitted_on_the_actual_rudder_keeps_the_starting_preset_s_steeri
     assert "kept_from_preset" not in document["fitted"]
 
 
+def _turn_figures() -> tuple[tuple[Figure, ...], tuple[Figure, ...]]:
+    """A turn measured and predicted: tactical diameter +96 %, speed loss -75 %, advance +3.3 %, and a first
+    overshoot the measured run does not reach (NaN)."""
+    figure = {
+        "tactical_diameter_lengths": ("tactical diameter", "L", 2),
+        "speed_loss": ("speed loss in steady turn", "%", 1),
+        "advance_lengths": ("advance", "L", 2),
+        "first_overshoot": ("first overshoot", "deg", 1),
+    }
+    measured = dict(zip(figure, (2.5, 65.0, 3.0, math.nan), strict=True))
+    predicted = dict(zip(figure, (4.9, 16.25, 3.1, 4.0), strict=True))
+    return tuple(
+        tuple(Figure(key, label, values[key], unit, digits) for key, (label, unit, digits) in figure.items())
+        for values in (measured, predicted)
+    )
+
+
 def test_the_figures_that_disagree_are_named_with_the_effects_that_shape_them():
     """A turn predicted at twice the measured tactical diameter (+96 %) and a quarter of its speed loss: both beyond
     their bounds (5 %, 10 %), each naming the effects that shape it which the model lacks; figures within their
     bounds, or not reached (NaN), say nothing."""
-    measured = (
-        Figure("tactical_diameter_lengths", "tactical diameter", 2.5, "L", 2),
-        Figure("speed_loss", "speed loss in steady turn", 65.0, "%", 1),
-        Figure("advance_lengths", "advance", 3.0, "L", 2),
-        Figure("first_overshoot", "first overshoot", math.nan, "deg", 1),
-    )
-    predicted = (
-        Figure("tactical_diameter_lengths", "tactical diameter", 4.9, "L", 2),
-        Figure("speed_loss", "speed loss in steady turn", 16.25, "%", 1),
-        Figure("advance_lengths", "advance", 3.1, "L", 2),
-        Figure("first_overshoot", "first overshoot", 4.0, "deg", 1),
-    )
+    measured, predicted = _turn_figures()
     run = RunFigures("turn", None, measured, predicted, None)  # type: ignore[arg-type]
     lines = disagreements([run, run], ("yaw", "speed_loss", "sway", "kinematics"))
     assert lines == [
@@ -237,18 +243,7 @@ def test_the_figure_score_is_the_mean_error_over_the_bounds_and_the_ladder_takes
     """Tactical diameter +96 % over its 5 % bound (19.2), speed loss -75 % over 10 % (7.5), advance +3.3 % over 5 %
     (0.67): their mean is the score; a figure not reached counts for nothing; no judged figure gives NaN. The ladder
     scores validation runs by replay or by figures, and names the field where it is neither."""
-    measured = (
-        Figure("tactical_diameter_lengths", "tactical diameter", 2.5, "L", 2),
-        Figure("speed_loss", "speed loss in steady turn", 65.0, "%", 1),
-        Figure("advance_lengths", "advance", 3.0, "L", 2),
-        Figure("first_overshoot", "first overshoot", math.nan, "deg", 1),
-    )
-    predicted = (
-        Figure("tactical_diameter_lengths", "tactical diameter", 4.9, "L", 2),
-        Figure("speed_loss", "speed loss in steady turn", 16.25, "%", 1),
-        Figure("advance_lengths", "advance", 3.1, "L", 2),
-        Figure("first_overshoot", "first overshoot", 4.0, "deg", 1),
-    )
+    measured, predicted = _turn_figures()
     run = RunFigures("turn", None, measured, predicted, None)  # type: ignore[arg-type]
     expected = (2.4 / 2.5 / 0.05 + 48.75 / 65.0 / 0.10 + 0.1 / 3.0 / 0.05) / 3.0
     assert figure_score([run]) == pytest.approx(expected, rel=1e-12)

@@ -102,11 +102,13 @@ def plot_free_running(results: Sequence[RunFigures], logs: Sequence[Log], length
     return save_drawing(drawing, path, dpi=80)
 
 
-def _free_running_lines(ladder: Ladder, logs: Sequence[Log], folder: Path) -> list[str]:
-    """The section on the runs' manoeuvres sailed free by the starting and the final model (none: no lines)."""
+def _free_running_lines(ladder: Ladder, logs: Sequence[Log], folder: Path, workers: int = 1) -> list[str]:
+    """The section on the runs' manoeuvres sailed free by the starting and the final model (none: no lines),
+    the two sailed on ``workers`` processes."""
     first, last = ladder.rungs[0], ladder.rungs[-1]
     shown = (("start", first), ("final", last)) if len(ladder.rungs) > 1 else (("final", last),)
-    sailed = [(label, rung, held_out_free_running(rung.validation, logs)) for label, rung in shown]
+    figures = run_each(held_out_free_running, [(rung.validation, logs) for _, rung in shown], workers)
+    sailed = [(label, rung, results) for (label, rung), results in zip(shown, figures, strict=True)]
     if not sailed[-1][2]:
         return []
     lines = [
@@ -238,7 +240,7 @@ def write_report(
                 diagnosis_table(together).markdown(),
                 "",
             ]
-    lines += _free_running_lines(ladder, logs, folder)
+    lines += _free_running_lines(ladder, logs, folder, workers)
     lines += ["## Runs, held out: measured against simulated", ""]
     shown = (("start", first), ("final", last)) if len(ladder.rungs) > 1 else (("final", last),)
     drawings = [

@@ -239,7 +239,7 @@ def _best_paying(
         if stuck is None:
             return candidate
         if current_sails:
-            say(f"not added: {candidate.effect}: {verdict(candidate, current, scales, rules, logs)}")
+            say(f"not added: {candidate.effect}: {_not_a_ship(candidate, current, scales, stuck)}")
     return None if current_sails else paying[0]
 
 
@@ -262,14 +262,10 @@ def _with_paying_terms(
     """
     while True:
         validation = candidate.refitted
-        jackknife = validation.jackknife_errors()
-        added = [e for e in validation.fit.estimates if e.term.effect in candidate.effects and e.term.null is not None]
-        if len(added) < 2:
+        clearance = _clearance(candidate)
+        if len(clearance) < 2:
             return candidate
-        weakest = min(
-            added,
-            key=lambda e: abs(e.value - (e.term.null or 0.0)) / max(e.std_error, jackknife[e.term.key], 1e-300),
-        )
+        weakest, _ = min(clearance, key=lambda pair: pair[1])
         keys = [e.term.key for e in validation.fit.estimates if e is not weakest]
         null = weakest.term.null or 0.0
         job = ValidationJob(
@@ -333,14 +329,20 @@ def verdict(
                 f"{_scored_by(rules)} by "
                 f"{100.0 * (after / before - 1.0):+.1f}% (needs -{100.0 * rules.min_gain:.0f}%)"
             )
-    worse = _worsens_validation(candidate, current, scales, rules)
+    worse = _worsens_validation(candidate, current, scales, rules, scores)
     if worse:
         return worse
     if logs:
         stuck = cannot_sail(validation.fit.setup.model, logs)
         if stuck is not None and cannot_sail(current.fit.setup.model, logs) is None:
-            return f"lowers the held-out score by {100.0 * gain:.1f}%, but {stuck}: not added, a fit must be a ship"
+            return _not_a_ship(candidate, current, scales, stuck)
     return ""
+
+
+def _not_a_ship(candidate: CandidateResult, current: CrossValidation, scales: ErrorScales, stuck: str) -> str:
+    """Why a candidate that pays on its scores is refused: its preset cannot sail (``stuck``, :func:`cannot_sail`)."""
+    gain = 1.0 - candidate.refitted.score(scales) / current.score(scales)
+    return f"lowers the held-out score by {100.0 * gain:.1f}%, but {stuck}: not added, a fit must be a ship"
 
 
 def cannot_sail(model: ShipModel, logs: Sequence[Log]) -> str | None:
@@ -383,12 +385,18 @@ def _scored_by(rules: Rules) -> str:
 
 
 def _worsens_validation(
-    candidate: CandidateResult, current: CrossValidation, scales: ErrorScales, rules: Rules
+    candidate: CandidateResult,
+    current: CrossValidation,
+    scales: ErrorScales,
+    rules: Rules,
+    scores: tuple[float, float] | None = None,
 ) -> str | None:
     """Words saying that the candidate raises the validation runs' score by more than ``min_gain`` (rule 5),
-    naming where they lie beyond the fitted runs' coverage; None if it does not, or where that is allowed."""
+    naming where they lie beyond the fitted runs' coverage; None if it does not, or where that is allowed.
+    ``scores``: the validation runs' scores before and with the candidate, where already known
+    (:func:`_validation_scores`; by figures, each is a free sail of every validation run)."""
     validation = candidate.refitted
-    scores = _validation_scores(candidate, current, scales, rules)
+    scores = scores or _validation_scores(candidate, current, scales, rules)
     if rules.allow_worse_validation or scores is None:
         return None
     before, after = scores
@@ -429,16 +437,13 @@ def _terms_at_null(candidate: CandidateResult) -> str | None:
     are the same.
     """
     validation = candidate.refitted
-    jackknife = validation.jackknife_errors()
-    added = [e for e in validation.fit.estimates if e.term.effect in candidate.effects and e.term.null is not None]
-    if not added:
+    clearance = _clearance(candidate)
+    if not clearance:
         return None
-    ratios = {
-        e.term.key: abs(e.value - (e.term.null or 0.0)) / max(e.std_error, jackknife[e.term.key], 1e-300) for e in added
-    }
-    if max(ratios.values()) > TERM_SIGMAS:
+    if max(ratio for _, ratio in clearance) > TERM_SIGMAS:
         return None
-    shown = ", ".join(f"{key} {ratio:.1f}" for key, ratio in ratios.items())
+    added = [e for e, _ in clearance]
+    shown = ", ".join(f"{e.term.key} {ratio:.1f}" for e, ratio in clearance)
     alone = (
         f"its terms lie within {TERM_SIGMAS:g} standard errors of their null values (|value - null| / s.e.: {shown})"
     )
@@ -450,6 +455,18 @@ def _terms_at_null(candidate: CandidateResult) -> str | None:
         return None
     distance = "not known" if together is None else f"{together:.1f}"
     return f"{alone}, and together within {limit:.2f} (their distance from the nulls in standard errors: {distance})"
+
+
+def _clearance(candidate: CandidateResult) -> list[tuple[Estimate, float]]:
+    """The added effects' terms that have a null value, each with |value - null| / s.e. (the larger of the
+    Jacobian's and the jackknife's standard errors)."""
+    validation = candidate.refitted
+    jackknife = validation.jackknife_errors()
+    return [
+        (e, abs(e.value - (e.term.null or 0.0)) / max(e.std_error, jackknife[e.term.key], 1e-300))
+        for e in validation.fit.estimates
+        if e.term.effect in candidate.effects and e.term.null is not None
+    ]
 
 
 def _joint_distance(validation: CrossValidation, estimates: Sequence[Estimate]) -> float | None:

@@ -31,6 +31,7 @@ from ship_env.cli import main
 from ship_env.manoeuvres import turning_circle, zigzag
 from ship_env.model import ShipModel
 from ship_env.text_table import Table
+from ship_env.workbench.free_running import JUDGED_FIGURES
 from ship_env.workbench.logs import write_log
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.synthetic import SEA_TRIAL_NOISE, LogSettings, Manoeuvre, sail_all
@@ -57,14 +58,17 @@ ZIGZAGS = (
 SEEDS = (1, 2, 3, 4, 5)
 #: Each zig-zag's length in ship lengths sailed (five executes of a 10/10 take about 20).
 ZIGZAG_LENGTHS = 30.0
-#: (figure, criterion, relative): the issue's bounds, relative (a fraction) or absolute (deg).
-CRITERIA = (
-    ("advance", 0.05, True),
-    ("tactical diameter", 0.05, True),
-    ("steady rate of turn", 0.10, True),
-    ("speed loss", 0.10, True),
-    ("first overshoot 10/10", 2.0, False),
+#: The judged figures: the name printed and the free-running figure whose bound (relative, a fraction, or in
+#: deg) the workbench judges a prediction by (``free_running.JUDGED_FIGURES``).
+JUDGED = (
+    ("advance", "advance_lengths"),
+    ("tactical diameter", "tactical_diameter_lengths"),
+    ("steady rate of turn", "steady_rate_of_turn"),
+    ("speed loss", "speed_loss"),
+    ("first overshoot 10/10", "first_overshoot"),
 )
+#: (figure, bound, relative) of each judged figure.
+CRITERIA = tuple((name, *JUDGED_FIGURES[key][:2]) for name, key in JUDGED)
 
 
 def truth_model() -> ShipModel:

@@ -11,6 +11,7 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 import ship_env.envs  # noqa: F401  (registers the Gymnasium environments)
+from ship_env.lazy import submodule as _submodule
 
 if TYPE_CHECKING:
     from ship_env.model import Conditions, ShipModel, Simulator
@@ -25,9 +26,4 @@ def __getattr__(name: str) -> Any:
     (``ship_env.model``, ``ship_env.workbench``, ...), imported when first asked for."""
     if name in ("Conditions", "ShipModel", "Simulator"):
         return getattr(importlib.import_module("ship_env.model"), name)
-    try:
-        return importlib.import_module(f"{__name__}.{name}")
-    except ModuleNotFoundError as error:
-        if error.name != f"{__name__}.{name}":
-            raise
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return _submodule(__name__, name)

@@ -36,6 +36,8 @@ import sys
 from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
+from ship_env.lazy import submodule as _submodule
+
 if TYPE_CHECKING:
     from ship_env.workbench.compare import Comparison, compare, held_out_comparison, plot_comparison
     from ship_env.workbench.diagnose import Diagnosis, diagnose
@@ -70,12 +72,7 @@ def __getattr__(name: str) -> Any:
         value = getattr(importlib.import_module(f"{__name__}.{_MODULES[name]}"), name)
         globals()[name] = value
         return value
-    try:
-        return importlib.import_module(f"{__name__}.{name}")
-    except ModuleNotFoundError as error:
-        if error.name != f"{__name__}.{name}":
-            raise
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return _submodule(__name__, name)
 
 
 def __dir__() -> list[str]:

@@ -18,12 +18,14 @@ from ship_env.baselines.nomoto import NomotoParameters
 from ship_env.baselines.pd_autopilot import PDAutopilot, pd_gains
 from ship_env.baselines.presys import NATURAL_FREQUENCY
 from ship_env.cli import main
+from ship_env.envs.variation import FITTED
 from ship_env.leaderboard.board import CSV_FILE, EPISODES_FILE, run_leaderboard, write_leaderboard
 from ship_env.leaderboard.entrants import DesignedTask, Entrant, policy_entrants
 from ship_env.leaderboard.sailing import ship_task, suite_envs
 from ship_env.leaderboard.suites import COURSE_CHANGE, DEFAULT_SHIP, HALF_SPEED, NOMINAL, SuiteSpec
 from ship_env.model import ShipModel
 from ship_env.paths import config_dir
+from ship_env.rl.policy_file import read_policy_file
 
 #: One 30-deg course change each way in calm water on the nominal ship.
 TINY = SuiteSpec(course_changes_deg=(30.0,), tracks=(), conditions=(NOMINAL,), course_change_disturbances=("calm",))
@@ -110,8 +112,9 @@ def test_the_shipped_policy_sailing_another_ship_is_named_as_trained_on_its_own(
 
 
 def test_a_policy_shipped_for_one_ship_sails_that_ships_board_only(ship_file):
-    """The PPO shipped for the identified Esso Osaka model sails its board beside the container ship's
-    (zero-shot); on the container ship's board and on a third ship's it is left out."""
+    """The PPO shipped for the identified Esso Osaka model, trained on ships drawn from its fit, sails
+    its board beside the container ship's (zero-shot), once; on the container ship's board and on a
+    third ship's it is left out."""
     env = gym.make(COURSE_CHANGE)
     spaces = {COURSE_CHANGE: (env.observation_space, env.action_space)}
     env.close()
@@ -119,6 +122,10 @@ def test_a_policy_shipped_for_one_ship_sails_that_ships_board_only(ship_file):
     assert sorted(entrant.name for entrant in on_esso) == ["PPO (shipped)", f"PPO (shipped, trained on {DEFAULT_SHIP})"]
     trained_on_esso = next(entrant for entrant in on_esso if entrant.name == "PPO (shipped)")
     assert all("ppo_esso_osaka_model" in str(path) for path in trained_on_esso.policies)
+    for path in trained_on_esso.policies:
+        metadata = read_policy_file(path).metadata
+        assert metadata is not None, path
+        assert (metadata.env_kwargs["ship"], metadata.env_kwargs["ship_variation"]) == ("esso_osaka_model", FITTED)
     for board_ship in (DEFAULT_SHIP, str(ship_file)):
         assert all(
             "ppo_esso_osaka_model" not in str(path)

@@ -173,14 +173,17 @@ def test_train_command_rejects_an_environment_without_a_config_entry(tmp_path, c
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("env_id", [COURSE_CHANGE, TRACK_FOLLOW])
-def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id):
+@pytest.mark.parametrize(
+    ("env_id", "entrant"), [(COURSE_CHANGE, "ppo"), (TRACK_FOLLOW, "ppo"), (COURSE_CHANGE, "ppo_esso_osaka_model")]
+)
+def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id, entrant):
     """Same command, seed, thread count, package versions and kind of machine: the same weights, bit
     for bit (the shipped entrant's last training seed). A run recorded on another machine is skipped,
     naming both, and so is a run that does not name its machine: its weights depend on the machine, so
-    none can be expected to give them. The shipped TrackFollow seed names the machine kind that gave its
-    weights again bit for bit; the shipped CourseChange seeds were recorded before runs named their
-    machine (their weights came back on one machine kind and not on another)."""
+    none can be expected to give them. The shipped TrackFollow seed and the Esso Osaka model's
+    CourseChange seed (trained on its fitted draws) name the machine kind that gave their weights; the
+    container ship's CourseChange seeds were recorded before runs named their machine (their weights
+    came back on one machine kind and not on another)."""
     import torch
     from stable_baselines3.common.save_util import load_from_zip_file
 
@@ -188,7 +191,7 @@ def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id):
     from ship_env.rl.policy_file import seed_models
     from ship_env.rl.shipped import shipped_folder
 
-    model = seed_models(shipped_folder(env_id, "ppo"))[-1]
+    model = seed_models(shipped_folder(env_id, entrant))[-1]
     metadata = PolicyMetadata.read(model.parent / "metadata.json")
     here = machine_description()
     if metadata.machine is None:

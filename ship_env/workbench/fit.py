@@ -88,8 +88,8 @@ def one_thread(function: Callable[Arguments, Returned]) -> Callable[Arguments, R
     """Decorator for the workbench's entry points: one BLAS thread, one thread for the compiled replays.
 
     Their linear algebra is on tall, thin matrices (samples x terms) and their replay batches are
-    small and many: more threads spend more time waiting for each other than working (on 2 cores,
-    ``improve`` took four times the CPU time with OpenBLAS's threads, three times with numba's).
+    small and many: more threads spend more time waiting for each other than working (the figures:
+    ``docs/results/benchmarks.md``).
     """
 
     @functools.wraps(function)

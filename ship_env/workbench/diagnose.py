@@ -37,7 +37,7 @@ import numpy as np
 
 from ship_env.model import EFFECTS, ShipModel
 from ship_env.workbench.errors import ErrorScales, RunErrors
-from ship_env.workbench.fit import FitOptions, Problem, one_thread
+from ship_env.workbench.fit import FitOptions, Problem
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.signals import ResidualSignals, residual_signals
@@ -49,6 +49,7 @@ from ship_env.workbench.terms import (
     why_not_fitted,
     with_values,
 )
+from ship_env.workbench.threads import one_thread
 from ship_env.workbench.validation import CrossValidation, ValidationJob, cross_validate_each
 
 #: Cost evaluations of a screening fit (a few Gauss-Newton iterations from the current fit).

@@ -519,7 +519,8 @@ def run_compare(args: argparse.Namespace) -> int:
 def run_diagnose(args: argparse.Namespace) -> int:
     """``ship-env diagnose``: rank the effects the model lacks."""
     from ship_env.workbench import cross_validate, diagnose
-    from ship_env.workbench.signals import past_the_library, plot_signals
+    from ship_env.workbench.diagnose import past_the_library
+    from ship_env.workbench.signals import plot_signals
     from ship_env.workbench.tables import diagnosis_table
 
     if args.signals_plot is not None:

@@ -26,7 +26,7 @@ from ship_env.leaderboard.suites import (
     TRACK_FOLLOW,
     SuiteSpec,
 )
-from ship_env.leaderboard.tables import BETTER, TRAVEL_ALLOWANCE, WORSE, comparisons, learned_verdicts
+from ship_env.leaderboard.tables import BETTER, TRAVEL_ALLOWANCE, WORSE, comparisons, learned_verdicts, rank
 from ship_env.rl.policy_file import seed_models
 from ship_env.rl.shipped import shipped_folder
 
@@ -305,10 +305,18 @@ def test_a_run_leaves_no_drawing_of_an_earlier_run_in_its_folder(tmp_path):
 
 
 def test_settling_time_averages_the_settled_episodes_only():
+    """One of an entrant's two episodes made unsettled (an infinite settling time): its settling time
+    is the other episode's, and it completes one episode of two; every other entrant keeps its mean."""
     board = run_leaderboard(TINY, shipped=False, progress=False)
-    for standing in board.table("CourseChange calm | nominal").standings:
+    (suite,) = board.suites
+    for standing in board.table(suite.name).standings:
         assert standing.completed == standing.episodes == 2
         assert math.isfinite(standing.values["settling_time"])
+    unsettled, settled = (r for r in board.results if r.entrant == board.results[0].entrant)
+    never = dataclasses.replace(unsettled, metrics=unsettled.metrics | {"settling_time": math.inf})
+    standing = rank(suite, [never if r is unsettled else r for r in board.results]).standing(unsettled.entrant)
+    assert standing.values["settling_time"] == settled.metrics["settling_time"]
+    assert (standing.completed, standing.missed) == (1, frozenset({(never.episode, never.seed)}))
 
 
 @pytest.mark.slow

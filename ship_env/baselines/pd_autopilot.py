@@ -35,10 +35,10 @@ and swings past the new heading. Two schedules keep a closed loop instead:
   later than the fixed gains, whose damping of 0.60 lets the heading rise sooner.
 
 A gain that grows with 1/u^2 also multiplies the rudder's answer to the instruments' noise: on the
-raw gyro the ``"time"`` schedule at half speed works the rudder about 2.3 times as much as the fixed
-gains in the leaderboard's calm course changes, most of it noise the ship does not feel (the
-manoeuvre itself, noise-free, takes 1.2 to 1.3 times their travel). On filtered signals (the
-adaptive autopilots) the same schedule needs less rudder travel than the fixed PD.
+raw gyro the ``"time"`` schedule at half speed works the rudder far more than the fixed gains,
+most of it noise the ship does not feel (the manoeuvre itself, noise-free, takes a little more
+than their travel; the leaderboard's figures: ``docs/results/leaderboard.md``). On filtered signals
+(the adaptive autopilots) the same schedule needs less rudder travel than the fixed PD.
 
 Symbols: psi heading, psi_r ordered heading (rad), r rate of turn (rad/s), delta rudder (rad).
 """

@@ -235,7 +235,7 @@ def steady_turn_radius(model: ShipModel, rudder: float, speed: float | None = No
     m/s (``None``: the service speed). :class:`TrackError` where the model settles in no steady turn.
     """
     # Imported here: the manoeuvres bring pandas, which the environments need only to build tracks.
-    from ship_env.manoeuvres.trial import TrialSettings
+    from ship_env.manoeuvres.settings import TrialSettings
     from ship_env.manoeuvres.turning_circle import turning_circle
 
     key = (model.record.tobytes(), model.service_propeller_rate, float(rudder), speed)

@@ -18,8 +18,8 @@ from ship_env.manoeuvres.imo import CriterionCheck, check_criteria
 from ship_env.manoeuvres.pull_out import PullOut, pull_out
 from ship_env.manoeuvres.report import format_report, report_dict, ship_line
 from ship_env.manoeuvres.results import TIME_SERIES_COLUMNS, Figure, ManoeuvreResult
+from ship_env.manoeuvres.settings import TrialSettings
 from ship_env.manoeuvres.spiral import SpiralTest, reversed_spiral
-from ship_env.manoeuvres.trial import TrialSettings
 from ship_env.manoeuvres.turning_circle import TurningCircle, turning_circle
 from ship_env.manoeuvres.zigzag import ZigZag, zigzag
 

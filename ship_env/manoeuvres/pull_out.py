@@ -22,7 +22,8 @@ import numpy as np
 
 from ship_env.manoeuvres.results import Figure, ManoeuvreResult, degrees_label
 from ship_env.manoeuvres.series import value_at
-from ship_env.manoeuvres.trial import TrialSettings, check_rudder_angle, rudder_label, run_trial
+from ship_env.manoeuvres.settings import TrialSettings
+from ship_env.manoeuvres.trial import check_rudder_angle, rudder_label, run_trial
 from ship_env.model import ShipModel, Simulator
 
 #: Largest difference of the two sides' residual rates, as a fraction of the steady rate, that

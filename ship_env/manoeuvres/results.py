@@ -19,7 +19,7 @@ import pandas as pd
 from ship_env.model.declarations import UNIT_CONVERSIONS
 
 if TYPE_CHECKING:
-    from ship_env.manoeuvres.trial import TrialSettings
+    from ship_env.manoeuvres.settings import TrialSettings
     from ship_env.model import ShipModel
 
 #: One knot in m/s, for speeds shown in knots.

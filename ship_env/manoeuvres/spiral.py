@@ -26,7 +26,8 @@ import numpy as np
 import pandas as pd
 
 from ship_env.manoeuvres.results import Figure, ManoeuvreResult
-from ship_env.manoeuvres.trial import TrialSettings, rudder_label, run_trial
+from ship_env.manoeuvres.settings import TrialSettings
+from ship_env.manoeuvres.trial import rudder_label, run_trial
 from ship_env.model import ShipModel, Simulator
 
 #: Open-loop gain kp K of the rate-of-turn autopilot: the closed loop settles with time constant

@@ -14,41 +14,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import Protocol
 
 import numpy as np
 import pandas as pd
 
 from ship_env.manoeuvres.results import TIME_SERIES_COLUMNS, degrees_label
+from ship_env.manoeuvres.settings import TrialSettings
 from ship_env.model import Conditions, ShipModel, Simulator
-
-
-@dataclass(frozen=True)
-class TrialSettings:
-    """How a trial is sailed and integrated.
-
-    Attributes:
-        speed: the approach speed V through the water, m/s; ``None`` takes the ship's service speed.
-        dt: the integration step, s.
-        method: the integrator, ``"rk4"`` or ``"euler"``.
-    """
-
-    speed: float | None = None
-    dt: float = 0.5
-    method: str = "rk4"
-
-    def __post_init__(self) -> None:
-        if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0.0):
-            raise ValueError(f"speed: expected a positive approach speed in m/s, got {self.speed!r}")
-
-    def approach_speed(self, model: ShipModel) -> float:
-        """V, the approach speed for this ship, m/s."""
-        return model.service_speed if self.speed is None else float(self.speed)
-
-    def seconds_for(self, model: ShipModel, lengths: float) -> float:
-        """The time to sail ``lengths`` ship lengths at the approach speed, s (s* = u t / L, 2.42)."""
-        return lengths * model.length / self.approach_speed(model)
 
 
 class RudderLaw(Protocol):

@@ -30,7 +30,8 @@ import numpy as np
 
 from ship_env.manoeuvres.results import Figure, ManoeuvreResult, metre_digits
 from ship_env.manoeuvres.series import first_crossing, value_at, velocity_over_ground, wrap_angle
-from ship_env.manoeuvres.trial import TrialSettings, check_rudder_angle, rudder_label, run_trial
+from ship_env.manoeuvres.settings import TrialSettings
+from ship_env.manoeuvres.trial import check_rudder_angle, rudder_label, run_trial
 from ship_env.model import ShipModel
 
 #: Full circles the trial sails; the last one is the steady part. Three leave the first-order

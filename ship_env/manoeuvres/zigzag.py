@@ -29,7 +29,8 @@ import numpy as np
 
 from ship_env.manoeuvres.results import Figure, ManoeuvreResult, degrees_label
 from ship_env.manoeuvres.series import distance_sailed, first_crossing, value_at
-from ship_env.manoeuvres.trial import TrialSettings, check_rudder_angle, run_trial
+from ship_env.manoeuvres.settings import TrialSettings
+from ship_env.manoeuvres.trial import check_rudder_angle, run_trial
 from ship_env.model import ShipModel, Simulator
 
 #: Executes the trial runs to: the fifth reverses the rudder after the second overshoot.

@@ -521,7 +521,7 @@ _JIT_OPTIONS = {"fastmath": False, "error_model": "numpy"}
 @overload(derivatives, jit_options=_JIT_OPTIONS, inline="always")
 def _derivatives_overload(state, rudder, conditions, white_noise, draws, held_yaw_acceleration, p, out):
     # The composed derivative is inlined into its compiled callers: called, a batch of minimal ships
-    # steps 3-7 % slower than with the hand-written derivative; inlined, some 10 % faster (one thread,
+    # steps slower than with the hand-written derivative; inlined, faster (docs/results/benchmarks.md,
     # benchmarks/bench_simulator.py). numba's pedantic SSA check
     # then warns that the inlined function's variables are "not in scope": a check of numba's own IR,
     # not of the code (the results are bit for bit the hand-written derivative's). Those warnings

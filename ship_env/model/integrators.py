@@ -14,8 +14,8 @@ names no effect: all of that comes from the effects' declarations.
 exactly the numbers of N single runs.
 
 The batch loops hand their arrays on as :func:`borrowed` views: every row view and every array
-passed to a compiled function otherwise costs two atomic updates of numba's reference count, some
-15 % of a calm ship's step.
+passed to a compiled function otherwise costs two atomic updates of numba's reference count, a
+noticeable share of a calm ship's step (``docs/results/benchmarks.md``).
 """
 
 from __future__ import annotations

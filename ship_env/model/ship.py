@@ -44,7 +44,7 @@ from ship_env.model.operating_point import SERVICE_CONDITIONS, FittedRanges, fit
 from ship_env.paths import config_dir
 
 #: The YAML loader for ship presets: libyaml's safe loader where PyYAML was built with it (the same
-#: documents, read about eight times faster: every environment made reads its ship), else PyYAML's own.
+#: documents, read several times faster: every environment made reads its ship), else PyYAML's own.
 SAFE_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 PRINCIPAL: tuple[Parameter, ...] = (

@@ -61,8 +61,8 @@ def check_propeller_rates(name: str, rates: np.ndarray, model: ShipModel) -> Non
 class Cores:
     """A batch's compiled loop that runs in one thread or on all cores, whichever has lately been faster.
 
-    On a 2-core machine to itself, two threads step or update 1024 ships 1.7 to 1.9 times faster
-    than one (``benchmarks/bench_envs.py``, with torch in the process or not). Where other work keeps
+    On a machine to itself, two threads step or update 1024 ships faster than one
+    (``benchmarks/bench_envs.py``; figures in ``docs/results/benchmarks.md``). Where other work keeps
     the cores busy the threads wait for each other, often a scheduler time slice (milliseconds) a
     call, many times the one-thread time. So the loop times its calls: each way keeps a running
     mean of its log call time (``TIME_WEIGHT``) and the faster way runs, but now and then

@@ -24,6 +24,9 @@ For each effect the model lacks (and the logs can show, see :func:`~.terms.why_n
 4. **Pairs** (:func:`pairs`): some effects only pay together, each hidden behind the other's
    absence; the strongest candidates are also added two at a time, screened, and the
    ``CONFIRMED_PAIRS`` best refitted.
+
+Past the library (:func:`past_the_library`): where no candidate lowers the held-out score by
+``EXPLAINS``, the signals the residual follows (:mod:`.signals`) say what to look for.
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ import numpy as np
 
 from ship_env.model import EFFECTS, ShipModel
 from ship_env.workbench.errors import ErrorScales, RunErrors
-from ship_env.workbench.fit import FitOptions, Problem, one_thread
+from ship_env.workbench.fit import FitOptions, Problem
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.signals import ResidualSignals, residual_signals
@@ -49,6 +52,7 @@ from ship_env.workbench.terms import (
     why_not_fitted,
     with_values,
 )
+from ship_env.workbench.threads import one_thread
 from ship_env.workbench.validation import CrossValidation, ValidationJob, cross_validate_each
 
 #: Cost evaluations of a screening fit (a few Gauss-Newton iterations from the current fit).
@@ -58,6 +62,9 @@ CONFIRMED = 2
 #: Pairs refitted in full after screening: two sets of new terms at their linearised estimates
 #: screen less faithfully (on the berthing segments the pair that paid was screened third).
 CONFIRMED_PAIRS = 3
+#: An effect explains the residual where adding it at least halves the held-out score (the bar the
+#: hidden-effect checks set); below it, :func:`past_the_library` speaks.
+EXPLAINS = 0.5
 
 
 @dataclass(frozen=True)
@@ -364,3 +371,23 @@ def pairs(
     refitted = sorted((c for c in results if c.cross_validation), key=lambda c: c.refitted.score(diagnosis.scales))
     screened = [c for c in results if c.screened and not c.cross_validation]
     return refitted + _by_screened_score(screened, diagnosis.scales)
+
+
+def past_the_library(diagnosis: Diagnosis, min_gain: float = EXPLAINS) -> str | None:
+    """Where no effect of the library lowers the held-out score by ``min_gain``: the signals in words; else None."""
+    if diagnosis.signals is None:
+        return None
+    best = diagnosis.best
+    baseline = diagnosis.baseline.score(diagnosis.scales)
+    if (
+        best is not None
+        and best.held_out is not None
+        and best.held_out.score(diagnosis.scales) <= (1.0 - min_gain) * baseline
+    ):
+        return None
+    verdict = (
+        "no effect of the library lowers the held-out score"
+        if best is None
+        else f"no effect of the library lowers the held-out score by {100 * min_gain:.0f}% (best: {best.effect})"
+    )
+    return f"{verdict}; {diagnosis.signals.text()}"

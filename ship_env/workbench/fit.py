@@ -24,18 +24,14 @@ standard errors are optimistic; the spread of the leave-one-run-out estimates (:
 from __future__ import annotations
 
 import contextlib
-import functools
 import math
 import warnings
 from collections import Counter
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import ParamSpec, TypeVar
 
-import numba
 import numpy as np
 from scipy.optimize import least_squares
-from threadpoolctl import threadpool_limits
 
 from ship_env.model import ShipModel
 from ship_env.model import state as S
@@ -67,6 +63,7 @@ from ship_env.workbench.terms import (
     with_values,
     write_record,
 )
+from ship_env.workbench.threads import one_thread
 
 #: How cross-validation fits a fold (see :mod:`.validation`).
 FOLD_METHODS = ("linearised", "refit")
@@ -79,30 +76,6 @@ NULL_SHARE = 1e-8
 
 #: A replay of a batch: (point, run, track replay?).
 Request = tuple[int, int, bool]
-
-Arguments = ParamSpec("Arguments")
-Returned = TypeVar("Returned")
-
-
-def one_thread(function: Callable[Arguments, Returned]) -> Callable[Arguments, Returned]:
-    """Decorator for the workbench's entry points: one BLAS thread, one thread for the compiled replays.
-
-    Their linear algebra is on tall, thin matrices (samples x terms) and their replay batches are
-    small and many: more threads spend more time waiting for each other than working (on 2 cores,
-    ``improve`` took four times the CPU time with OpenBLAS's threads, three times with numba's).
-    """
-
-    @functools.wraps(function)
-    def single_threaded(*args: Arguments.args, **kwargs: Arguments.kwargs) -> Returned:
-        threads = numba.get_num_threads()
-        numba.set_num_threads(1)
-        try:
-            with threadpool_limits(limits=1, user_api="blas"):
-                return function(*args, **kwargs)
-        finally:
-            numba.set_num_threads(threads)
-
-    return single_threaded
 
 
 class FitError(ValueError):
@@ -552,19 +525,22 @@ def as_setup(model: ShipModel | ReplayModel) -> ReplayModel:
     return model if isinstance(model, ReplayModel) else ReplayModel(model)
 
 
-def speed_output_terms(
-    setup: ReplayModel, logs: Sequence[Log], terms: Sequence[str] | None
-) -> tuple[ReplayModel, list[str]]:
-    """The model a fit to ``logs`` sails (the speed loss on where a log measures the speed,
-    :func:`~.terms.with_speed_output`) and the terms it fits: ``terms``, or the default ones for the logs;
-    where the speed loss was turned on here, its default terms are added to those given."""
+def fit_setup(
+    model: ShipModel | ReplayModel, logs: Sequence[Log], terms: Sequence[str] | None, options: FitOptions | None
+) -> tuple[ReplayModel, list[str], FitOptions]:
+    """What a fit to ``logs`` sails, fits and weighs: the model (the speed loss on where a log measures the
+    speed, :func:`~.terms.with_speed_output`), the terms (``terms``, or the default ones for the logs; where
+    the speed loss was turned on here, its default terms are added to those given) and the options with
+    their error scales chosen for the runs (:meth:`FitOptions.for_runs`)."""
+    setup = as_setup(model)
     sailed = with_speed_output(setup, logs)
     if terms is None:
-        return sailed, default_terms(sailed.model.effects, logs)
-    keys = list(terms)
-    if sailed is not setup:
-        keys += [key for key in default_terms(("speed_loss",)) if key not in keys]
-    return sailed, keys
+        keys = default_terms(sailed.model.effects, logs)
+    else:
+        keys = list(terms)
+        if sailed is not setup:
+            keys += [key for key in default_terms(("speed_loss",)) if key not in keys]
+    return sailed, keys, (options or FitOptions()).for_runs(sailed.model, logs)
 
 
 @one_thread
@@ -585,8 +561,8 @@ def fit(
         result = fit(model, load_logs(["../shared/data/esso_osaka/zigzag"]))
         result.estimates, result.pooled.heading
     """
-    setup, keys = speed_output_terms(as_setup(model), logs, terms)
-    return Problem(setup, logs, keys, options or FitOptions()).solve()
+    setup, keys, options = fit_setup(model, logs, terms, options)
+    return Problem(setup, logs, keys, options).solve()
 
 
 @one_thread
@@ -597,6 +573,5 @@ def fit_each_run(
     options: FitOptions | None = None,
 ) -> list[FitResult]:
     """One fit per run (in-sample): how well the model can fit each run on its own."""
-    setup, keys = speed_output_terms(as_setup(model), logs, terms)
-    options = (options or FitOptions()).for_runs(setup.model, logs)
+    setup, keys, options = fit_setup(model, logs, terms, options)
     return [Problem(setup, [log], keys, options).solve() for log in logs]

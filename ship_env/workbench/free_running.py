@@ -42,7 +42,8 @@ import numpy as np
 
 from ship_env.manoeuvres.results import Figure, metre_digits
 from ship_env.manoeuvres.series import first_crossing, value_at, velocity_over_ground
-from ship_env.manoeuvres.trial import TrialSettings, run_trial
+from ship_env.manoeuvres.settings import TrialSettings
+from ship_env.manoeuvres.trial import run_trial
 from ship_env.manoeuvres.zigzag import ZigZagHelmsman
 from ship_env.model import Conditions
 from ship_env.text_table import Table

@@ -49,7 +49,7 @@ from ship_env.workbench.coverage import beyond_in_words
 from ship_env.workbench.defaults import MIN_GAIN, PAIR_WIDTH
 from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in_words, pairs
 from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.fit import Estimate, FitOptions, as_setup, one_thread
+from ship_env.workbench.fit import Estimate, FitOptions, as_setup
 from ship_env.workbench.free_running import compare_free_running, figure_score
 from ship_env.workbench.logs import Log
 from ship_env.workbench.materiality import mismatch
@@ -57,6 +57,7 @@ from ship_env.workbench.parallel import start as start_workers
 from ship_env.workbench.replay import ReplayModel
 from ship_env.workbench.runs import screen_runs
 from ship_env.workbench.terms import sailing_model, with_values
+from ship_env.workbench.threads import one_thread
 from ship_env.workbench.validation import CrossValidation, ValidationJob, cross_validate, cross_validate_each
 
 #: Jackknife standard errors of the held-out score's fall that the fall must exceed.

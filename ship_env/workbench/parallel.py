@@ -3,7 +3,7 @@
 A step of the error ladder fits many models that do not depend on each other -- each candidate
 effect, each start of a refit, each fold refitted in full -- so they run in a pool of worker
 processes (``FitOptions.workers``), one BLAS and one numba thread each (as in the parent, see
-:func:`~.fit.one_thread`). Every item is computed by the same code on the same inputs whichever
+:func:`~.threads.one_thread`). Every item is computed by the same code on the same inputs whichever
 process takes it, and the results come back in the items' order: the outcome is the same, bit for
 bit, with one worker or many.
 

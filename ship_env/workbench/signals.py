@@ -23,7 +23,6 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -37,14 +36,8 @@ from ship_env.workbench.logs import Log
 from ship_env.workbench.outputs import save_drawing
 from ship_env.workbench.replay import ReplayModel
 
-if TYPE_CHECKING:
-    from ship_env.workbench.diagnose import Diagnosis
-
 #: The span the rate of turn is smoothed and differentiated over, s (Savitzky-Golay, quadratic).
 SMOOTHING = 4.0
-#: An effect explains the residual where adding it at least halves the held-out score (the bar the
-#: hidden-effect checks set); below it, :func:`past_the_library` speaks.
-EXPLAINS = 0.5
 
 
 @dataclass(frozen=True)
@@ -363,23 +356,3 @@ def plot_signals(signals: ResidualSignals, path: Path, title: str = "") -> Path:
     axes.set_title(title or f"look for {match.signal.points_to}", fontsize=9, wrap=True)
     axes.legend(loc="best", fontsize=8)
     return save_drawing(drawing, Path(path), dpi=100)
-
-
-def past_the_library(diagnosis: Diagnosis, min_gain: float = EXPLAINS) -> str | None:
-    """Where no effect of the library lowers the held-out score by ``min_gain``: the signals in words; else None."""
-    if diagnosis.signals is None:
-        return None
-    best = diagnosis.best
-    baseline = diagnosis.baseline.score(diagnosis.scales)
-    if (
-        best is not None
-        and best.held_out is not None
-        and best.held_out.score(diagnosis.scales) <= (1.0 - min_gain) * baseline
-    ):
-        return None
-    verdict = (
-        "no effect of the library lowers the held-out score"
-        if best is None
-        else f"no effect of the library lowers the held-out score by {100 * min_gain:.0f}% (best: {best.effect})"
-    )
-    return f"{verdict}; {diagnosis.signals.text()}"

@@ -32,12 +32,13 @@ import numpy as np
 from ship_env.model import ShipModel
 from ship_env.workbench.coverage import Coverage, CoverageCheck, check_coverage, coverage_of
 from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
-from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup, one_thread, speed_output_terms
+from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup, fit_setup
 from ship_env.workbench.logs import Log
 from ship_env.workbench.parallel import pool
 from ship_env.workbench.replay import ReplayModel, Simulated, simulate
 from ship_env.workbench.runs import screen_runs
 from ship_env.workbench.terms import with_values
+from ship_env.workbench.threads import one_thread
 
 
 @dataclass(frozen=True)
@@ -246,8 +247,7 @@ def cross_validate(
     """
     setup = as_setup(model)
     logs, groups, validate_on = screen_runs(setup.model, logs, groups, validate_on)
-    options = (options or FitOptions()).for_runs(setup.model, logs)
-    setup, keys = speed_output_terms(setup, logs, terms)
+    setup, keys, options = fit_setup(setup, logs, terms, options)
     job = ValidationJob(setup, logs, keys, options, starts, groups, validate_on)
     outcome = cross_validate_each([job], options.workers)[0]
     if isinstance(outcome, Exception):

@@ -1,0 +1,39 @@
+"""How a trial is sailed and integrated: the approach speed, the step and the integrator.
+
+Shared by the trial that sails (:mod:`.trial`) and the results it returns (:mod:`.results`), which
+record the approach speed the settings give.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from ship_env.model import ShipModel
+
+
+@dataclass(frozen=True)
+class TrialSettings:
+    """How a trial is sailed and integrated.
+
+    Attributes:
+        speed: the approach speed V through the water, m/s; ``None`` takes the ship's service speed.
+        dt: the integration step, s.
+        method: the integrator, ``"rk4"`` or ``"euler"``.
+    """
+
+    speed: float | None = None
+    dt: float = 0.5
+    method: str = "rk4"
+
+    def __post_init__(self) -> None:
+        if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0.0):
+            raise ValueError(f"speed: expected a positive approach speed in m/s, got {self.speed!r}")
+
+    def approach_speed(self, model: ShipModel) -> float:
+        """V, the approach speed for this ship, m/s."""
+        return model.service_speed if self.speed is None else float(self.speed)
+
+    def seconds_for(self, model: ShipModel, lengths: float) -> float:
+        """The time to sail ``lengths`` ship lengths at the approach speed, s (s* = u t / L, 2.42)."""
+        return lengths * model.length / self.approach_speed(model)

@@ -1,0 +1,110 @@
+"""No import circle among ship_env's modules, the imports under ``TYPE_CHECKING`` included.
+
+A circle that only type checking keeps from failing at run time still ties the modules together:
+neither can be read, tested or moved without the other. The imports are read with ``ast`` from the
+source (nothing is imported), each resolved to the module it names (a package is its ``__init__``;
+``from package import name`` is the submodule where ``name`` is one). An import inside a function
+is left out: it runs when the function is called, the command line's way of loading a command's
+libraries only for that command.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import ship_env
+
+ROOT = Path(ship_env.__file__).parent
+
+
+def module_name(path: Path) -> str:
+    parts = path.relative_to(ROOT.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def module_level(node: ast.AST) -> list[ast.AST]:
+    """The statements of ``node`` outside function bodies (in classes, ``if`` and ``try`` blocks too)."""
+    found = []
+    for child in ast.iter_child_nodes(node):
+        if not isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+            found += [child, *module_level(child)]
+    return found
+
+
+def imported(tree: ast.Module, name: str, is_package: bool, modules: set[str]) -> set[str]:
+    """The ship_env modules that a module's imports outside functions name."""
+    package = name if is_package else name.rpartition(".")[0]
+    found: set[str] = set()
+    for node in module_level(tree):
+        if isinstance(node, ast.Import):
+            found.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = package.split(".")[: len(package.split(".")) - node.level + 1] if node.level else []
+            source = ".".join([*base, node.module] if node.module else base)
+            found.update(
+                f"{source}.{alias.name}" if f"{source}.{alias.name}" in modules else source for alias in node.names
+            )
+    return {module for module in found if module in modules and module != name}
+
+
+def import_graph() -> dict[str, set[str]]:
+    paths = {module_name(path): path for path in ROOT.rglob("*.py")}
+    return {
+        name: imported(ast.parse(path.read_text()), name, path.name == "__init__.py", set(paths))
+        for name, path in paths.items()
+    }
+
+
+def circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The graph's strongly connected components of more than one module (Tarjan's algorithm)."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+
+    def visit(node: str) -> None:
+        index[node] = low[node] = len(index)
+        stack.append(node)
+        on_stack.add(node)
+        for target in sorted(graph[node]):
+            if target not in index:
+                visit(target)
+                low[node] = min(low[node], low[target])
+            elif target in on_stack:
+                low[node] = min(low[node], index[target])
+        if low[node] == index[node]:
+            component = []
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                component.append(member)
+                if member == node:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return found
+
+
+def test_the_circle_finder_finds_a_circle_through_a_type_checking_import():
+    source = "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from ship_env.b import B\n"
+    modules = {"ship_env.a", "ship_env.b", "ship_env.c"}
+    graph = {
+        "ship_env.a": imported(ast.parse(source), "ship_env.a", False, modules),
+        "ship_env.b": imported(
+            ast.parse("try:\n    from . import c\nexcept ImportError:\n    pass\n"), "ship_env.b", False, modules
+        ),
+        "ship_env.c": imported(ast.parse("import ship_env.a\n"), "ship_env.c", False, modules),
+    }
+    assert circles(graph) == [["ship_env.a", "ship_env.b", "ship_env.c"]]
+    graph["ship_env.b"] = imported(ast.parse("def f():\n    from . import c\n"), "ship_env.b", False, modules)
+    assert circles(graph) == []
+
+
+def test_no_import_circle_among_ship_env_modules():
+    assert circles(import_graph()) == []

@@ -38,7 +38,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from statistics import NormalDist
 
 import numpy as np
 from numba import prange
@@ -62,8 +61,6 @@ INPUTS = ("rudder", "propeller_rate", "wind_speed", "wind_direction")
 INITIAL_WINDOW = 2.0
 #: The usual time over which it is estimated, in ship lengths sailed at the run's service speed.
 INITIAL_WINDOW_LENGTHS = 0.5
-# The median of |X| for a standard normal X: sigma = median|X| / 0.6745.
-_MEDIAN_ABS_NORMAL = 0.6745
 
 
 @dataclass(frozen=True)
@@ -201,22 +198,9 @@ def service_speed(log: Log, model: ShipModel) -> float:
 
 
 def highest_speed(log: Log, length: float) -> float | None:
-    """The run's highest mean speed over the time a ship of ``length`` (m) takes to sail its length at the
-    run's median speed, less what the speed sensor's own noise lifts that highest mean by, m/s; None
-    without a speed channel or where the ship never moves ahead.
-
-    The highest of the moving means over ``n`` samples (``N`` samples in all) of u_k = U + e_k, with white
-    noise e of standard deviation sigma, exceeds U by about the expected maximum of M = N / n independent
-    normal variables of standard deviation sigma / sqrt(n):
-
-        E[max] - U = sigma / sqrt(n) * z_M,    z_M = Phi^-1((M - 0.375) / (M + 0.25))    (Blom)
-
-    (z_1 = 0). sigma is estimated from the log itself, from its second differences, which a ship's speed,
-    smooth over a sample interval, hardly shows: Var(u_{k+1} - 2 u_k + u_{k-1}) = 6 sigma^2, and with the
-    median absolute second difference, robust to outliers and manoeuvres, sigma = median|d2| / (0.6745 *
-    sqrt(6)). Sea-trial GPS speed (0.1 m/s at 1 Hz) lifts a 320 m tanker's highest mean by about 0.5 %,
-    more than a 10/10 zig-zag's speed loss is worth to a fit; a model basin's speed channel far less.
-    """
+    """The highest mean speed of a run over the time a ship of ``length`` (m) takes to sail its length at the
+    run's median speed (long enough that the sensor's noise hardly lifts the highest mean), m/s; None without
+    a speed channel or where the ship never moves ahead."""
     if log.speed is None:
         return None
     speed = np.maximum(log.speed, 0.0)
@@ -225,19 +209,7 @@ def highest_speed(log: Log, length: float) -> float | None:
     window = length / typical if typical > 0.0 else 0.0
     count = int(min(max(round(window / interval), 1), log.samples)) if interval > 0.0 else 1
     highest = float(np.max(np.convolve(speed, np.full(count, 1.0 / count), mode="valid")))
-    highest -= _noise_lift(speed, count)
     return highest if highest > 0.0 else None
-
-
-def _noise_lift(speed: np.ndarray, count: int) -> float:
-    """The expected excess of the highest ``count``-sample mean of ``speed`` over its true value due to the
-    sensor's white noise, estimated from the second differences (:func:`highest_speed`), m/s."""
-    windows = speed.size // count
-    if speed.size < 3 or windows < 2:
-        return 0.0
-    sigma = float(np.median(np.abs(np.diff(speed, 2)))) / (_MEDIAN_ABS_NORMAL * np.sqrt(6.0))
-    quantile = NormalDist().inv_cdf((windows - 0.375) / (windows + 0.25))
-    return sigma / np.sqrt(count) * quantile
 
 
 def initial_window(log: Log, length: float, speed: float) -> float:

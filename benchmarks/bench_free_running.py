@@ -14,7 +14,7 @@ within 10 %) and the 10/10 zig-zag (first overshoot within 2 deg). Prints one ta
 figure and the time the fit took, for each of five sea trials (the sensors' noise drawn from another seed)
 and how many pass every bound.
 
-Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...]
+Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...] [--truth PRESET]
 """
 
 from __future__ import annotations
@@ -71,8 +71,8 @@ JUDGED = (
 CRITERIA = tuple((name, *JUDGED_FIGURES[key][:2]) for name, key in JUDGED)
 
 
-def truth_model() -> ShipModel:
-    preset = ShipModel(SHIP, TRUTH_EFFECTS)
+def truth_model(ship: str = SHIP) -> ShipModel:
+    preset = ShipModel(ship, TRUTH_EFFECTS)
     return preset.with_parameters({key: factor * preset.parameter(key) for key, factor in TRUTH_FACTORS.items()})
 
 
@@ -118,14 +118,14 @@ class Verdict:
     cannot_turn: str = ""
 
 
-def judge(seed: int, folder: Path) -> Verdict:
+def judge(seed: int, folder: Path, ship: str = SHIP) -> Verdict:
     """Sail the truth's zig-zags with this seed's sensor noise, fit them with ``improve``'s defaults, and judge the
     fitted preset's manoeuvres against the truth's."""
-    truth = truth_model()
+    truth = truth_model(ship)
     write_zigzag_logs(truth, folder / "zigzag", seed)
     preset = folder / "fitted.yaml"
     start = time.perf_counter()
-    command = ["improve", str(folder / "zigzag"), "--ship", SHIP, "--preset", str(preset)]
+    command = ["improve", str(folder / "zigzag"), "--ship", ship, "--preset", str(preset)]
     status = main([*command, "--report", str(folder / "report")])
     seconds = time.perf_counter() - start
     if status != 0:
@@ -146,12 +146,12 @@ def judge(seed: int, folder: Path) -> Verdict:
     return Verdict(seed, seconds, tuple(rows), sum(row[-1] == "FAIL" for row in rows))
 
 
-def main_benchmark(keep: Path | None, seeds: Sequence[int]) -> int:
+def main_benchmark(keep: Path | None, seeds: Sequence[int], ship: str = SHIP) -> int:
     folder = Path(tempfile.mkdtemp(prefix="free_running_")) if keep is None else keep
-    verdicts = [judge(seed, folder / f"seed_{seed}") for seed in seeds]
+    verdicts = [judge(seed, folder / f"seed_{seed}", ship) for seed in seeds]
     header = ("figure (mean of 35 deg stbd and port)", "truth", "fitted preset", "error", "within", "")
     for verdict in verdicts:
-        print(f"\nseed {verdict.seed}: the fit on {len(ZIGZAGS)} zig-zags ({SHIP}, sea-trial sensors) took "
+        print(f"\nseed {verdict.seed}: the fit on {len(ZIGZAGS)} zig-zags ({ship}, sea-trial sensors) took "
               f"{verdict.seconds:.0f} s; logs, report and preset in {folder / f'seed_{verdict.seed}'}")  # fmt: skip
         print(
             f"the fitted preset cannot turn: {verdict.cannot_turn}"
@@ -169,5 +169,6 @@ if __name__ == "__main__":
     parser.add_argument(
         "--seeds", type=int, nargs="+", default=list(SEEDS), help="the sensor-noise seeds (default: %(default)s)"
     )
+    parser.add_argument("--truth", default=SHIP, help="the preset the truth is made from (default: %(default)s)")
     arguments = parser.parse_args()
-    raise SystemExit(main_benchmark(arguments.keep, arguments.seeds))
+    raise SystemExit(main_benchmark(arguments.keep, arguments.seeds, arguments.truth))

@@ -131,6 +131,22 @@ def test_a_model_with_half_the_gain_predicts_larger_turns_and_overshoots_than_me
     assert predicted["initial_turning_time"] > measured["initial_turning_time"]
 
 
+def test_a_model_that_cannot_sail_a_run_says_why_and_scores_infinite(tmp_path):
+    """A model that leaves its validity in a run's manoeuvre (a speed loss past the ship's speed in the turn)
+    gives that run no figures and the reason, the figure score is infinite, the disagreements name it, and the
+    report and its drawing are written: the model is judged, not the workbench stopped (a traceback before)."""
+    model = ShipModel(SHIP, CALM_EFFECTS)
+    logs = _noise_free_logs(model, lengths=16.0)
+    wild = ReplayModel(model.with_parameters({"speed_loss.gain": 5.0}))  # u* = 5 r*^2 passes 1 in the turn only
+    zig, turn = compare_free_running(wild, logs)
+    assert turn.cannot_sail.startswith("ship 0 left the model's validity") and turn.predicted_series is None
+    assert all(math.isnan(f.value) for f in turn.predicted) and not any(math.isnan(f.value) for f in turn.measured)
+    assert figure_score([zig, turn]) == math.inf and math.isfinite(figure_score([zig]))
+    assert any("1 of 2 runs cannot be sailed (turn_m30)" in line for line in disagreements([zig, turn], ()))
+    assert "| turn_m30 | turning | tactical diameter, L |" in free_running_table([zig, turn]).markdown()
+    assert "n/a" in free_running_table([turn]).text()
+
+
 def test_a_run_that_is_neither_has_no_figures():
     model = ShipModel.minimal(SHIP)
     (log, _) = _noise_free_logs(model)

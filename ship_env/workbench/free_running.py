@@ -294,13 +294,19 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
 
 @dataclass(frozen=True)
 class RunFigures:
-    """One run's manoeuvre, its measured figures and the model's (same names, same order)."""
+    """One run's manoeuvre, its measured figures and the model's (same names, same order).
+
+    Where the model cannot sail the manoeuvre (it leaves its validity on the way: a speed loss past the ship's
+    speed, a rate of turn that runs away), ``cannot_sail`` says why, its figures are NaN ("n/a") and it has no
+    predicted series.
+    """
 
     run: str
     manoeuvre: Manoeuvre
     measured: tuple[Figure, ...]
     predicted: tuple[Figure, ...]
-    predicted_series: Series
+    predicted_series: Series | None
+    cannot_sail: str = ""
 
 
 def compare_free_running(setup: ReplayModel, logs: Sequence[Log]) -> tuple[RunFigures, ...]:
@@ -313,7 +319,13 @@ def compare_free_running(setup: ReplayModel, logs: Sequence[Log]) -> tuple[RunFi
         manoeuvre = read_manoeuvre(measured_series)
         if manoeuvre.kind == "other":
             continue
-        predicted_series = sail_free(setup, log, manoeuvre)
+        measured = manoeuvre_figures(measured_series, manoeuvre, setup.model.length)
+        try:
+            predicted_series = sail_free(setup, log, manoeuvre)
+        except FloatingPointError as error:  # the model left its validity: no figures, and why
+            unreached = tuple(replace(figure, value=math.nan) for figure in measured)
+            results.append(RunFigures(log.name, manoeuvre, measured, unreached, None, str(error)))
+            continue
         predicted_manoeuvre = manoeuvre  # a turn: the same rudder over the same seconds
         if manoeuvre.kind == "zig-zag":  # its own executes, where its heading passed b
             predicted_manoeuvre = read_manoeuvre(predicted_series)
@@ -323,7 +335,7 @@ def compare_free_running(setup: ReplayModel, logs: Sequence[Log]) -> tuple[RunFi
             RunFigures(
                 log.name,
                 manoeuvre,
-                manoeuvre_figures(measured_series, manoeuvre, setup.model.length),
+                measured,
                 manoeuvre_figures(predicted_series, predicted_manoeuvre, setup.model.length),
                 predicted_series,
             )
@@ -409,12 +421,19 @@ def disagreements(results: Sequence[RunFigures], effects: Sequence[str]) -> list
             else "the model has every effect the library knows to shape it: their terms extrapolate"
         )
         lines.append(f"{label}: {len(missed)} of {len(errors)} runs beyond {limit} (median {shown}); {then}")
+    stuck = [result for result in results if result.cannot_sail]
+    if stuck:
+        names = ", ".join(result.run for result in stuck)
+        lines.append(f"{len(stuck)} of {len(results)} runs cannot be sailed ({names}): {stuck[0].cannot_sail}")
     return lines
 
 
 def figure_score(results: Sequence[RunFigures]) -> float:
     """The runs' manoeuvre figures against the measured, as one number: the mean over every judged figure
     (:data:`JUDGED_FIGURES`) that both reach of |predicted - measured| / bound (relative to the measured figure
-    where the bound is), so 1 is a prediction at the bounds; NaN where no run has a judged figure."""
+    where the bound is), so 1 is a prediction at the bounds; infinite where the model cannot sail one of the runs,
+    NaN where no run has a judged figure."""
+    if any(result.cannot_sail for result in results):
+        return math.inf
     ratios = [abs(error) / JUDGED_FIGURES[key][0] for key, errors in judged_errors(results).items() for error in errors]
     return float(np.mean(ratios)) if ratios else math.nan

@@ -327,8 +327,7 @@ def verdict(
         if after > (1.0 - rules.min_gain) * before:
             return (
                 f"lowers the held-out score by {100.0 * gain:.1f}% but changes the validation runs' "
-                f"{_scored_by(rules)} by "
-                f"{100.0 * (after / before - 1.0):+.1f}% (needs -{100.0 * rules.min_gain:.0f}%)"
+                f"{_scored_by(rules)} {_change(before, after)} (needs -{100.0 * rules.min_gain:.0f}%)"
             )
     worse = _worsens_validation(candidate, current, scales, rules, scores)
     if worse:
@@ -375,7 +374,7 @@ def _validation_scores(
             return None
         before = figure_score(compare_free_running(current.fit.setup, runs))
         after = figure_score(compare_free_running(candidate.refitted.fit.setup, runs))
-        return (before, after) if math.isfinite(before) and math.isfinite(after) else None
+        return None if math.isnan(before) or math.isnan(after) else (before, after)  # inf: cannot sail them
     replayed, with_it = current.pooled_validation, candidate.refitted.pooled_validation
     return (replayed.score(scales), with_it.score(scales)) if replayed and with_it else None
 
@@ -383,6 +382,14 @@ def _validation_scores(
 def _scored_by(rules: Rules) -> str:
     """What the validation runs' score is, in words."""
     return "score of their manoeuvres' figures" if rules.validate_by == "figures" else "score"
+
+
+def _change(before: float, after: float, sign: str = "+") -> str:
+    """The validation runs' score changing from ``before`` to ``after``, in words (infinite: cannot sail them);
+    ``sign``: the format's sign option ("+" always shows it, "-" only for a fall)."""
+    if math.isinf(after) and math.isfinite(before):
+        return "to infinite: the model cannot sail their manoeuvres"
+    return f"by {100.0 * (after / before - 1.0):{sign}.1f}%"
 
 
 def _worsens_validation(
@@ -406,8 +413,8 @@ def _worsens_validation(
     gain = 1.0 - validation.score(scales) / current.score(scales)
     beyond = beyond_in_words(current.validation_checks())
     return (
-        f"lowers the held-out score by {100.0 * gain:.1f}% but raises the validation runs' {_scored_by(rules)} by "
-        f"{100.0 * (after / before - 1.0):.1f}% (more than {100.0 * rules.min_gain:.0f}%"
+        f"lowers the held-out score by {100.0 * gain:.1f}% but raises the validation runs' {_scored_by(rules)} "
+        f"{_change(before, after, '-')} (more than {100.0 * rules.min_gain:.0f}%"
         f"{'; validation runs ' + beyond if beyond else ''}): not added (--allow-worse-validation adds it)"
     )
 

@@ -82,7 +82,8 @@ def plot_free_running(results: Sequence[RunFigures], logs: Sequence[Log], length
         start = result.manoeuvre.executes[0]
         measured = Series.of_log(log)
         assert measured is not None  # a run without a track has no figures
-        for series, colour, label in ((measured, "black", "measured"), (predicted, "tab:red", "sailed free")):
+        sailed = ((measured, "black", "measured"), (predicted, "tab:red", "sailed free"))
+        for series, colour, label in [line for line in sailed if line[0] is not None]:
             inside = (series.time >= start) & (series.time <= log.time[-1])  # over the measured run
             north0, east0 = (float(np.interp(start, series.time, v)) for v in (series.north, series.east))
             panel.plot(
@@ -92,7 +93,8 @@ def plot_free_running(results: Sequence[RunFigures], logs: Sequence[Log], length
                 label=label,
             )
         panel.set_aspect("equal", adjustable="datalim")
-        panel.set_title(f"{result.run} ({result.manoeuvre.kind})", fontsize=9)
+        stuck = "; the model cannot sail it" if result.cannot_sail else ""
+        panel.set_title(f"{result.run} ({result.manoeuvre.kind}{stuck})", fontsize=9)
         panel.tick_params(labelsize=8)
     for panel in axes[len(results) :]:
         panel.set_visible(False)

@@ -82,8 +82,10 @@ def plot_free_running(results: Sequence[RunFigures], logs: Sequence[Log], length
         start = result.manoeuvre.executes[0]
         measured = Series.of_log(log)
         assert measured is not None  # a run without a track has no figures
-        sailed = ((measured, "black", "measured"), (predicted, "tab:red", "sailed free"))
-        for series, colour, label in [line for line in sailed if line[0] is not None]:
+        sailed: list[tuple[Series, str, str]] = [(measured, "black", "measured")]
+        if predicted is not None:  # None: the model cannot sail it
+            sailed.append((predicted, "tab:red", "sailed free"))
+        for series, colour, label in sailed:
             inside = (series.time >= start) & (series.time <= log.time[-1])  # over the measured run
             north0, east0 = (float(np.interp(start, series.time, v)) for v in (series.north, series.east))
             panel.plot(

@@ -4,6 +4,7 @@ fail mid-episode, and shipmmg's MMG KVLCC2 (skipped where shipmmg is absent)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import gymnasium as gym
@@ -15,7 +16,7 @@ from ship_env.baselines.presys import pd_controller
 from ship_env.leaderboard.entrants import CLASSIC_BUILDERS
 from ship_env.leaderboard.sailing import sail
 from ship_env.leaderboard.suites import COURSE_CHANGE, Episode
-from ship_env.model import Conditions
+from ship_env.model import Conditions, ShipModel
 from ship_env.model.external import ExternalDynamicsError, ShipMotion
 from ship_env.model.native_dynamics import NativeDynamics
 
@@ -222,3 +223,30 @@ def test_unseen_suite_sails_the_quick_episodes_on_the_mmg_ship_with_tracks_scale
     np.testing.assert_allclose(env.unwrapped.task.tracks["T3"].leg_lengths, native.tracks["T3"].leg_lengths * scale)
     with pytest.raises(ValueError, match="no wave forces"):
         SUITE_SPECS["unseen"].__class__(course_change_disturbances=("wind_current_waves",)).suites()
+
+
+def test_synthetic_logs_sailed_through_the_reference_adapter_equal_the_native_ones():
+    """A zig-zag and a turn, accelerating from below their service speed, sailed by the true model and by the
+    same model behind the protocol: the same log sample for sample (the speed through u = U0 (1 - u*) and
+    back), and an external truth in wind refused with the field named."""
+    from ship_env.workbench.replay import ReplayModel
+    from ship_env.workbench.synthetic import SEA_TRIAL_NOISE, LogSettings, Manoeuvre, sail_all
+
+    model = ShipModel("kvlcc2", ("yaw", "norrbin", "speed_loss", "sway", "steering_machine", "kinematics"))
+    speed = model.service_speed
+    runs = [
+        Manoeuvre("zigzag_20", "zigzag", math.radians(20.0), 600.0, approach=40.0, start_speed=0.8 * speed,
+                  final_speed=speed, propeller_rate=1.2, wind_speed=0.0),
+        Manoeuvre("turn_m35", "turn", math.radians(-35.0), 500.0, approach=40.0, start_speed=speed,
+                  final_speed=speed, propeller_rate=1.2, wind_speed=0.0),
+    ]  # fmt: skip
+    settings = LogSettings(dt=1.0, noise=SEA_TRIAL_NOISE)
+    native = sail_all(ReplayModel(model), runs, seed=3, settings=settings)
+    external = sail_all(ReplayModel(model), runs, seed=3, settings=settings, dynamics=lambda: NativeDynamics(model))
+    for log, log_x in zip(native, external, strict=True):
+        assert np.ptp(log.heading) > math.radians(30.0)  # it turned
+        for channel in ("heading", "rate_of_turn", "north", "east", "rudder", "speed"):
+            np.testing.assert_allclose(getattr(log_x, channel), getattr(log, channel), rtol=0.0, atol=1e-9)
+    windy = dataclasses.replace(runs[0], wind_speed=5.0)
+    with pytest.raises(ValueError, match=r"wind_speed 5\.0 m/s"):
+        sail_all(ReplayModel(model), [windy], dynamics=lambda: NativeDynamics(model))

@@ -13,6 +13,12 @@ gives the run's service speed besides its speed channel. The true wind varies as
 process around its mean (a gusty pond or sea). The log records what sensors would: heading, rate of
 turn, position, rudder (actual or ordered), speed, propeller rate and true wind (its direction in
 [0, 2 pi)), each with white noise (:class:`SensorNoise`).
+
+A truth simulated outside ship_env (``dynamics``: an adapter of :mod:`ship_env.model.external`, such as
+shipmmg's MMG KVLCC2, :class:`~ship_env.model.mmg_kvlcc2.MmgKvlcc2`) sails the same runs in place of the true
+model, which then gives only the particulars and the rudder limit: logs of a ship whose physics the workbench's
+effects do not share, the independent check of a fit's predictions. Its own steering machine moves the rudder
+(the log's actual rudder is the adapter's); it sails in calm water (a mean wind is refused).
 """
 
 from __future__ import annotations
@@ -25,6 +31,7 @@ import numpy as np
 
 from ship_env.model import REQUIRED_EFFECTS, Conditions, ShipModel, Simulator
 from ship_env.model import state as S
+from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory
 from ship_env.workbench.errors import ErrorScales, pooled, run_errors
 from ship_env.workbench.logs import Log
 from ship_env.workbench.replay import ReplayModel, simulate
@@ -145,10 +152,21 @@ def free_running(truth: ReplayModel) -> ReplayModel:
     return ReplayModel(model, truth.current_north, truth.current_east)
 
 
-def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSettings = LogSettings()) -> Log:
-    """Sail one manoeuvre with the true model sailing free (:func:`free_running`) and return what the sensors
-    logged."""
+def sail(
+    truth: ReplayModel,
+    manoeuvre: Manoeuvre,
+    seed: int,
+    settings: LogSettings = LogSettings(),
+    dynamics: DynamicsSource | None = None,
+) -> Log:
+    """Sail one manoeuvre with the true model sailing free (:func:`free_running`), or with ``dynamics`` (an
+    external truth; module docstring), and return what the sensors logged."""
     truth = free_running(truth)
+    if dynamics is not None and manoeuvre.wind_speed > 0.0:
+        raise ValueError(
+            f"manoeuvre {manoeuvre.name!r}: wind_speed {manoeuvre.wind_speed} m/s; a truth simulated by external "
+            "dynamics sails in calm water here (give wind_speed=0)"
+        )
     rng = np.random.default_rng(seed)
     dt = settings.dt
     count = round(manoeuvre.duration / dt) + 1
@@ -157,7 +175,11 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
     wind_speed = np.maximum(manoeuvre.wind_speed * (1.0 + _gauss_markov(count, dt, WIND_SPEED_VARIATION, rng)), 0.0)
     wind_direction = manoeuvre.wind_direction + _gauss_markov(count, dt, WIND_DIRECTION_VARIATION, rng)
     north, east = truth.current
-    simulator = Simulator(truth.model, dt=dt)
+    simulator = (
+        Simulator(truth.model, dt=dt)
+        if dynamics is None
+        else ExternalSimulator(truth.model, dynamics_factory(dynamics), dt=dt)
+    )
     heading0 = rng.uniform(-math.pi, math.pi)
     simulator.reset(
         seed=seed,
@@ -204,7 +226,7 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
 
     # Without a steering machine the rudder takes each order at once: over a sample interval the
     # actual rudder is that interval's order (the state sampled at its start still shows the last one).
-    actual = true["rudder"] if truth.model.has("steering_machine") else orders
+    actual = true["rudder"] if dynamics is not None or truth.model.has("steering_machine") else orders
     rudder = actual if settings.rudder_kind == "actual" else orders
 
     def indicated(values: np.ndarray) -> np.ndarray:
@@ -213,6 +235,7 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
         step = noise.rudder_resolution
         return step * np.round(read / step) if step > 0.0 else read
 
+    sailor = truth.model if dynamics is None else dynamics
     return Log(
         name=manoeuvre.name,
         time=time,
@@ -228,15 +251,19 @@ def sail(truth: ReplayModel, manoeuvre: Manoeuvre, seed: int, settings: LogSetti
         wind_direction=np.mod(sensed(wind_direction, noise.wind_direction), 2.0 * math.pi),  # as a vane reads it
         service_speed=manoeuvre.final_speed,
         source="synthetic",
-        notes=(f"sailed by {truth.model!r} with current {truth.current} m/s, seed {seed}",),
+        notes=(f"sailed by {sailor!r} with current {truth.current} m/s, seed {seed}",),
     )
 
 
 def sail_all(
-    truth: ReplayModel, manoeuvres: Sequence[Manoeuvre], seed: int = 0, settings: LogSettings = LogSettings()
+    truth: ReplayModel,
+    manoeuvres: Sequence[Manoeuvre],
+    seed: int = 0,
+    settings: LogSettings = LogSettings(),
+    dynamics: DynamicsSource | None = None,
 ) -> list[Log]:
-    """Sail several manoeuvres; run ``i`` uses seed ``seed + i``."""
-    return [sail(truth, manoeuvre, seed + i, settings) for i, manoeuvre in enumerate(manoeuvres)]
+    """Sail several manoeuvres (with ``dynamics``, as :func:`sail`); run ``i`` uses seed ``seed + i``."""
+    return [sail(truth, manoeuvre, seed + i, settings, dynamics) for i, manoeuvre in enumerate(manoeuvres)]
 
 
 # fmt: off

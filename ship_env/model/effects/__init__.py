@@ -9,7 +9,7 @@ effect's name to its declaration: these built-ins, then the effects registered f
 :class:`ship_env.model.ShipModel`.
 
 The contributions to one quantity are applied in this order (the asymmetry's part of H(r*) before
-Norrbin's, then the hull's cross-flow drag).
+Norrbin's, then the hull's cross-flow drag; the speed loss's rate before the turning resistance's).
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ from ship_env.model.effects import (
     speed_loss,
     steering_machine,
     sway,
+    turning_resistance,
     wave_filter,
     wave_spectrum,
     wind_drift,
@@ -43,6 +44,7 @@ LIBRARY = (
     norrbin,
     hull_crossflow,
     speed_loss,
+    turning_resistance,
     sway,
     steering_machine,
     rudder_offset,

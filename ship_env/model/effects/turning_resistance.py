@@ -1,4 +1,6 @@
-"""Turning resistance at the speed through the water: the speed loss's forcing falls as the ship slows (beyond the thesis).
+"""Turning resistance at the speed through the water: the speed loss's forcing falls as the ship slows.
+
+This effect goes beyond the thesis.
 
 The thesis's speed loss (2.55) drives u* by K_u* r*^2 at every speed:
 
@@ -66,9 +68,10 @@ def rate(
     """du*/dt with the forcing K_u* r*^2 (1 - u*)^q in place of (2.55)'s K_u* r*^2."""
     relative_speed = max(1.0 - speed_loss, 0.0)
     forcing = speed_loss_gain * normalised_rate * normalised_rate
-    return speed_loss_derivative - scheduling_speed / length * forcing * (
-        1.0 - relative_speed**speed_exponent
-    ) / speed_loss_time_constant
+    return (
+        speed_loss_derivative
+        - scheduling_speed / length * forcing * (1.0 - relative_speed**speed_exponent) / speed_loss_time_constant
+    )
 
 
 CONTRIBUTIONS = (Contribution("speed_loss_derivative", rate),)

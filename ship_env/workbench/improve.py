@@ -31,6 +31,11 @@ An effect *pays* (:func:`verdict`) when none of its held-out replays leaves the 
    current model does (:func:`cannot_sail`): a fit is a ship, ordered hard over by the first trial
    or autopilot that sails it, beyond the rudder and rates of turn of the runs it was fitted to.
 
+Where the current model cannot sail that turning circle and no candidate pays, the best candidate with which it
+does is added, if its terms pass rule 3, its held-out score is no more than ``min_gain`` worse and the validation
+runs are not made worse (:func:`_first_that_sails`): zig-zags cannot ask for the damping only a harder turn
+shows, but they must support it.
+
 Near the noise floor the gains fail 2 or 3: the ladder says so and stops.
 """
 
@@ -47,7 +52,8 @@ from ship_env.manoeuvres import turning_circle
 from ship_env.model import ShipModel
 from ship_env.workbench.coverage import beyond_in_words
 from ship_env.workbench.defaults import MIN_GAIN, PAIR_WIDTH
-from ship_env.workbench.diagnose import CandidateResult, Diagnosis, diagnose, in_words, pairs
+from ship_env.workbench.diagnose import CONFIRMED, CandidateResult, Diagnosis, diagnose, in_words, pairs
+from ship_env.workbench.diagnose import refit as refit_in_full
 from ship_env.workbench.errors import ErrorScales
 from ship_env.workbench.fit import Estimate, FitOptions, as_setup
 from ship_env.workbench.free_running import compare_free_running, figure_score
@@ -185,6 +191,10 @@ def improve(
             if worse and better and verdict(candidate, validation, scales, rules, logs) == worse:
                 say(f"not added: {candidate.effect}: {worse}")
         if best is None:
+            best = _first_that_sails(diagnosis.ranked + tried_pairs, validation, scales, rules, logs, options)
+            if best is not None:
+                say(f"{best.effect}: {_makes_a_ship(best, validation, scales)}")
+        if best is None:
             refitted = [c for c in tried + tried_pairs if c.cross_validation is not None]
             leading = sorted(refitted, key=lambda c: c.refitted.score(scales))
             if not leading:
@@ -242,6 +252,58 @@ def _best_paying(
         if current_sails:
             say(f"not added: {candidate.effect}: {_not_a_ship(candidate, current, scales, stuck)}")
     return None if current_sails else paying[0]
+
+
+def _first_that_sails(
+    tried: Sequence[CandidateResult],
+    current: CrossValidation,
+    scales: ErrorScales,
+    rules: Rules,
+    logs: Sequence[Log],
+    options: FitOptions,
+) -> CandidateResult | None:
+    """Where the current model cannot sail a hard-over turning circle (:func:`cannot_sail`) and no candidate pays:
+    the best-scoring one with which it sails, its terms clear of their nulls and material (rule 3), its replays
+    valid, its held-out score no more than ``min_gain`` above the current one and the validation runs not made
+    worse (rule 5); None where there is none. Candidates only screened are refitted in full first where their
+    screening is within that bound and sails (the ``CONFIRMED`` best). The runs cannot ask for what only a harder
+    turn shows (a zig-zag's r* stays below a turning circle's), yet they must support it: a fit is a ship."""
+    if not logs or cannot_sail(current.fit.setup.model, logs) is None:
+        return None
+    score = current.score(scales)
+    bound = (1.0 + rules.min_gain) * score
+    screened = sorted(
+        (
+            c
+            for c in tried
+            if c.cross_validation is None and c.screened is not None and c.screened.score(scales) <= bound
+        ),
+        key=lambda c: c.refitted_briefly.score(scales),
+    )
+    sailing = [c for c in screened if cannot_sail(c.refitted_briefly.fit.setup.model, logs) is None][:CONFIRMED]
+    refitted = [c for c in tried if c.cross_validation is not None] + refit_in_full(current, logs, sailing, options)
+    refitted = sorted((c for c in refitted if c.cross_validation is not None), key=lambda c: c.refitted.score(scales))
+    for candidate in refitted:
+        validation = candidate.refitted
+        if (
+            validation.score(scales) <= (1.0 + rules.min_gain) * score
+            and _diverged_replays(validation) is None
+            and _terms_at_null(candidate) is None
+            and mismatch(candidate.effects, validation.fit) is None
+            and not _worsens_validation(candidate, current, scales, rules)
+            and cannot_sail(validation.fit.setup.model, logs) is None
+        ):
+            return candidate
+    return None
+
+
+def _makes_a_ship(candidate: CandidateResult, current: CrossValidation, scales: ErrorScales) -> str:
+    """Why a candidate that does not pay on its scores is added (:func:`_first_that_sails`)."""
+    change = 100.0 * (candidate.refitted.score(scales) / current.score(scales) - 1.0)
+    return (
+        f"changes the held-out score by {change:+.1f}%, but without it the model cannot sail a hard-over turning "
+        "circle and with it it does, its terms clear of their nulls and material: added, a fit must be a ship"
+    )
 
 
 def _with_paying_terms(

@@ -43,3 +43,16 @@ def test_a_fit_on_an_independent_ships_zigzags_is_a_ship_that_sails_the_turning_
     bench = load_script(BENCH, "bench_free_running")
     verdict = bench.judge(2, tmp_path, bench.make_truth(bench.MMG))
     assert verdict.cannot_turn == "", verdict.cannot_turn
+
+
+@pytest.mark.slow
+def test_a_ladder_whose_final_model_cannot_sail_says_so_and_why_no_candidate_helps(load_script, tmp_path):
+    """On seed 3's sea trial of the MMG KVLCC2 the model that sails (turning_resistance, q = 1.7) is 1.9 standard
+    errors from its null, short of rule 3's 2: nothing is added, and the ladder's stop (printed, in the report)
+    says that the final model cannot sail and why each candidate with which it would was refused."""
+    pytest.importorskip("shipmmg", reason='shipmmg is not installed (pip install shipmmg or -e ".[bench]")')
+    bench = load_script(BENCH, "bench_free_running")
+    verdict = bench.judge(3, tmp_path, bench.make_truth(bench.MMG))
+    assert "speed_loss u*" in verdict.cannot_turn
+    stop = next(line for line in (tmp_path / "report" / "report.md").read_text().splitlines() if "Stopped" in line)
+    assert "the final model cannot sail" in stop and "turning_resistance: its terms lie within" in stop, stop

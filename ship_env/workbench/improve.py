@@ -190,21 +190,24 @@ def improve(
             better = best is None or candidate.refitted.score(scales) < best.refitted.score(scales)
             if worse and better and verdict(candidate, validation, scales, rules, logs) == worse:
                 say(f"not added: {candidate.effect}: {worse}")
+        refused: list[str] = []
         if best is None:
-            best = _first_that_sails(diagnosis.ranked + tried_pairs, validation, scales, rules, logs, options)
+            best, refused = _first_that_sails(diagnosis.ranked + tried_pairs, validation, scales, rules, logs, options)
             if best is not None:
                 say(f"{best.effect}: {_makes_a_ship(best, validation, scales)}")
         if best is None:
+            stuck = cannot_sail(validation.fit.setup.model, logs) if logs else None
+            adrift = "" if stuck is None else _cannot_sail_stop(stuck, refused)
             refitted = [c for c in tried + tried_pairs if c.cross_validation is not None]
             leading = sorted(refitted, key=lambda c: c.refitted.score(scales))
             if not leading:
-                return Ladder(tuple(rungs), scales, "no effect left to add")
+                return Ladder(tuple(rungs), scales, f"no effect left to add{adrift}")
             first = leading[0]
             kind = "pair" if len(first.effects) > 1 else "effect"
             return Ladder(
                 tuple(rungs),
                 scales,
-                f"the best next {kind}, {first.effect}: {verdict(first, validation, scales, rules, logs)}",
+                f"the best next {kind}, {first.effect}: {verdict(first, validation, scales, rules, logs)}{adrift}",
             )
         score = validation.score(scales)
         added, validation = best.effects, best.refitted
@@ -261,15 +264,16 @@ def _first_that_sails(
     rules: Rules,
     logs: Sequence[Log],
     options: FitOptions,
-) -> CandidateResult | None:
+) -> tuple[CandidateResult | None, list[str]]:
     """Where the current model cannot sail a hard-over turning circle (:func:`cannot_sail`) and no candidate pays:
     the best-scoring one with which it sails, its terms clear of their nulls and material (rule 3), its replays
     valid, its held-out score no more than ``min_gain`` above the current one and the validation runs not made
-    worse (rule 5); None where there is none. Candidates only screened are refitted in full first where their
-    screening is within that bound and sails (the ``CONFIRMED`` best). The runs cannot ask for what only a harder
-    turn shows (a zig-zag's r* stays below a turning circle's), yet they must support it: a fit is a ship."""
+    worse (rule 5), or None; and, for each candidate refused on the way though it sails, why. Candidates only
+    screened are refitted in full first where their screening is within that bound and sails (the ``CONFIRMED``
+    best). The runs cannot ask for what only a harder turn shows (a zig-zag's r* stays below a turning circle's),
+    yet they must support it: a fit is a ship."""
     if not logs or cannot_sail(current.fit.setup.model, logs) is None:
-        return None
+        return None, []
     score = current.score(scales)
     bound = (1.0 + rules.min_gain) * score
     screened = sorted(
@@ -283,18 +287,30 @@ def _first_that_sails(
     sailing = [c for c in screened if cannot_sail(c.refitted_briefly.fit.setup.model, logs) is None][:CONFIRMED]
     refitted = [c for c in tried if c.cross_validation is not None] + refit_in_full(current, logs, sailing, options)
     refitted = sorted((c for c in refitted if c.cross_validation is not None), key=lambda c: c.refitted.score(scales))
+    refused: list[str] = []
     for candidate in refitted:
         validation = candidate.refitted
-        if (
-            validation.score(scales) <= (1.0 + rules.min_gain) * score
-            and _diverged_replays(validation) is None
-            and _terms_at_null(candidate) is None
-            and mismatch(candidate.effects, validation.fit) is None
-            and not _worsens_validation(candidate, current, scales, rules)
-            and cannot_sail(validation.fit.setup.model, logs) is None
-        ):
-            return candidate
-    return None
+        if cannot_sail(validation.fit.setup.model, logs) is not None:
+            continue
+        change = 100.0 * (validation.score(scales) / score - 1.0)
+        why = (
+            _diverged_replays(validation)
+            or _terms_at_null(candidate)
+            or mismatch(candidate.effects, validation.fit)
+            or _worsens_validation(candidate, current, scales, rules)
+        )
+        if why is None and validation.score(scales) > bound:
+            why = f"changes the held-out score by {change:+.1f}% (at most {100.0 * rules.min_gain:+.0f}%)"
+        if why is None:
+            return candidate, refused
+        refused.append(f"{candidate.effect}: {why}")
+    return None, refused
+
+
+def _cannot_sail_stop(stuck: str, refused: Sequence[str]) -> str:
+    """The words the ladder's stop ends with where its final model cannot sail a hard-over turning circle."""
+    tried = f"; of the candidates with which it sails, none is supported by the runs: {'; '.join(refused)}"
+    return f"; and the final model cannot sail: {stuck}{tried if refused else ''}"
 
 
 def _makes_a_ship(candidate: CandidateResult, current: CrossValidation, scales: ErrorScales) -> str:

@@ -15,7 +15,7 @@ from matplotlib.transforms import Bbox
 from ship_env.leaderboard.plots import DPI, PAGE_WIDTH_PX, draw_aggregate, draw_scores
 from ship_env.leaderboard.statistics import Estimate
 from ship_env.leaderboard.suites import DEV, TRACK_FOLLOW
-from ship_env.leaderboard.tables import Standing, Table
+from ship_env.leaderboard.tables import Standing, SuiteRanking
 
 #: The smallest text height, pixels, that the drawings may show on the page (a browser's smallest default
 #: font is 9 to 10 pixels).
@@ -29,7 +29,7 @@ def standing(rank: int, entrant: str, normalised: Estimate) -> Standing:
     return Standing(rank, entrant, kind, normalised, normalised, None, {}, 5, 10, 50)
 
 
-def dev_tables() -> list[Table]:
+def dev_tables() -> list[SuiteRanking]:
     """The dev suite's 16 suites, each with its entrants' names and scores like the quick leaderboard's."""
     tables = []
     for suite in DEV.suites():
@@ -38,7 +38,7 @@ def dev_tables() -> list[Table]:
             standing(k + 1, name, Estimate(0.9 + k / 20, 0.85 + k / 20, 1.0 + k / 20)) for k, name in enumerate(names)
         ]
         rows.append(standing(len(rows) + 1, "navigators, track predictor (thesis)", Estimate(math.nan)))
-        tables.append(Table(suite, tuple(rows)))
+        tables.append(SuiteRanking(suite, tuple(rows)))
     return tables
 
 

@@ -30,7 +30,7 @@ from ship_env.leaderboard.statistics import REFERENCES, Estimate, improvements
 from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, TRACK_FOLLOW, Suite, SuiteSpec
 from ship_env.leaderboard.tables import (
     Comparison,
-    Table,
+    SuiteRanking,
     comparisons,
     grouped_estimates,
     learned_verdicts,
@@ -75,7 +75,7 @@ class Leaderboard:
     entrants: tuple[Entrant, ...]
     suites: tuple[Suite, ...]
     results: tuple[EpisodeResult, ...]
-    tables: tuple[Table, ...]
+    tables: tuple[SuiteRanking, ...]
     wall_time_s: float
     left_out: tuple[str, ...] = ()
 
@@ -84,14 +84,14 @@ class Leaderboard:
         """The name of the ship sailed (every suite's; :attr:`Suite.ship_name`)."""
         return self.suites[0].ship_name
 
-    def table(self, suite_name: str) -> Table:
+    def table(self, suite_name: str) -> SuiteRanking:
         """The table of the suite named ``suite_name`` (``"CourseChange calm | nominal"``)."""
         for table in self.tables:
             if table.suite.name == suite_name:
                 return table
         raise KeyError(f"no suite {suite_name!r}; suites: {', '.join(t.suite.name for t in self.tables)}")
 
-    def _nominal_course_changes(self) -> list[Table]:
+    def _nominal_course_changes(self) -> list[SuiteRanking]:
         """The nominal CourseChange suites' tables (none without episodes)."""
         tables = [t for t in self.tables if t.suite.env_id == COURSE_CHANGE and t.suite.condition == NOMINAL]
         return tables if tables and tables[0].suite.episodes else []

@@ -22,7 +22,7 @@ from matplotlib.figure import Figure as Drawing
 
 from ship_env.envs.track_follow_task import TrackFollowTask
 from ship_env.leaderboard.statistics import REFERENCES, Estimate
-from ship_env.leaderboard.tables import Table
+from ship_env.leaderboard.tables import SuiteRanking
 from ship_env.model import state as S
 
 #: Bar colours by the entrant's kind.
@@ -40,7 +40,7 @@ SCORE_COLUMNS = 2
 SCORE_ROW_IN, SCORE_PANEL_FRAME_IN = 0.3, 1.1
 
 
-def draw_scores(tables: Sequence[Table]) -> Drawing:
+def draw_scores(tables: Sequence[SuiteRanking]) -> Drawing:
     """Each suite's normalised scores (IQM, 1 = the reference autopilot, lower is better) as points
     with their 95 % intervals, one panel per suite, on an axis from 0; an entrant without an interval is
     drawn hollow, under a title naming the ship sailed. Each condition's panels lie under its name,
@@ -86,7 +86,7 @@ def draw_scores(tables: Sequence[Table]) -> Drawing:
     return drawing
 
 
-def plot_scores(tables: Sequence[Table], path: Path) -> Path:
+def plot_scores(tables: Sequence[SuiteRanking], path: Path) -> Path:
     """:func:`draw_scores` written to ``path``; returns ``path``."""
     draw_scores(tables).savefig(path, dpi=DPI)
     return path

@@ -95,7 +95,7 @@ class Standing:
 
 
 @dataclasses.dataclass(frozen=True)
-class Table:
+class SuiteRanking:
     """A suite's ranked standings."""
 
     suite: Suite
@@ -198,7 +198,7 @@ def grouped_estimates(layers: dict[str, list[np.ndarray]], aggregates: Sequence[
     return found
 
 
-def rank(suite: Suite, results: Sequence[EpisodeResult]) -> Table:
+def rank(suite: Suite, results: Sequence[EpisodeResult]) -> SuiteRanking:
     """The table of ``suite`` from its episodes in ``results`` (others are ignored)."""
     by_entrant: dict[str, list[EpisodeResult]] = {}
     for result in results:
@@ -244,15 +244,15 @@ def rank(suite: Suite, results: Sequence[EpisodeResult]) -> Table:
             values = {metric.key: math.nan for metric in suite.metrics} | {suite.metrics[0].key: rms}
             rows.append(Standing(0, name, HUMAN, Estimate(rms), NO_ESTIMATE, None, values, 0, 0, 0))
     rows.sort(key=lambda row: (math.isnan(row.score.value), row.score.value, row.entrant))
-    return Table(suite, tuple(dataclasses.replace(row, rank=k + 1) for k, row in enumerate(rows)))
+    return SuiteRanking(suite, tuple(dataclasses.replace(row, rank=k + 1) for k, row in enumerate(rows)))
 
 
-def best_classic(table: Table) -> Standing | None:
+def best_classic(table: SuiteRanking) -> Standing | None:
     """The classic autopilot with the lowest IQM (``None`` if none sailed)."""
     return next((standing for standing in table.standings if standing.kind == "classic"), None)
 
 
-def comparisons(table: Table) -> list[Comparison]:
+def comparisons(table: SuiteRanking) -> list[Comparison]:
     """Each learned entrant of ``table`` against the best classic autopilot (none without either)."""
     best = best_classic(table)
     if best is None:
@@ -277,7 +277,7 @@ def _cell(value: float, digits: int) -> str:
     return "" if math.isnan(value) else f"{value:.{digits}f}"
 
 
-def markdown(table: Table) -> str:
+def markdown(table: SuiteRanking) -> str:
     """The table in markdown, with a heading naming the suite and the ship, each learned entrant's verdict
     against the best classic autopilot in its row and, below, the comparisons in words."""
     suite = table.suite
@@ -315,7 +315,7 @@ def markdown(table: Table) -> str:
     return "\n".join(lines)
 
 
-def learned_verdicts(tables: Sequence[Table], entrant: str) -> dict[str, Comparison]:
+def learned_verdicts(tables: Sequence[SuiteRanking], entrant: str) -> dict[str, Comparison]:
     """Suite name -> ``entrant``'s comparison with the best classic autopilot, on each suite it sailed."""
     return {t.suite.name: c for t in tables for c in comparisons(t) if c.learned == entrant}
 
@@ -326,7 +326,7 @@ def verdict_count(comparisons_made: Sequence[Comparison]) -> str:
     return f"better on {counts[BETTER]}, tied on {counts[TIED]}, worse on {counts[WORSE]} of {len(comparisons_made)}"
 
 
-def verdicts_markdown(tables: Sequence[Table]) -> str:
+def verdicts_markdown(tables: Sequence[SuiteRanking]) -> str:
     """Per learned entrant, its verdict on each suite (:attr:`Comparison.verdict`) as a markdown table,
     counted per environment; empty without a learned entrant."""
     rows: dict[str, list[str]] = {}
@@ -374,7 +374,7 @@ def _estimate_cells(estimate: Estimate | None) -> list[str]:
     return [repr(estimate.value), *("" if bound is None else repr(bound) for bound in (estimate.low, estimate.high))]
 
 
-def write_csv(tables: Sequence[Table], path: Path) -> None:
+def write_csv(tables: Sequence[SuiteRanking], path: Path) -> None:
     """Every table's rows in one CSV: suite, ship, task, condition, rank, controller, kind, counts, the
     estimates with their interval bounds (empty: no interval), a learned entrant's verdict, the
     metrics' aggregates."""

@@ -48,3 +48,17 @@ def test_a_table_that_fits_wraps_its_header_only_where_it_must():
         "------  --------  --------",
         "zigzag      0.37     0.050",
     ]
+
+
+def test_columns_said_to_hold_numbers_are_right_aligned_whatever_their_cells():
+    table = Table(
+        ("controller", "IQM [95 % CI]", "verdict", "completed"),
+        (("PPO", "0.912 [0.85, 0.97]", "better", "10/10"), ("PD", "1.000 [0.98, 1.02]", "", "")),
+        numbers=(False, True, False, True),
+    )
+    assert table.markdown().splitlines()[:2] == [
+        "| controller | IQM [95 % CI] | verdict | completed |",
+        "|---|---:|---|---:|",
+    ]
+    assert table.markdown().splitlines()[3] == "| PD | 1.000 [0.98, 1.02] |  |  |"
+    assert table.text().splitlines()[3] == "PD          1.000 [0.98, 1.02]"

@@ -10,19 +10,11 @@ import numpy as np
 import pytest
 from rliable import metrics
 
+from ship_env.leaderboard.rendering import markdown, verdicts_markdown
 from ship_env.leaderboard.sailing import EpisodeResult
 from ship_env.leaderboard.statistics import PARITY
 from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, Suite, course_change_episodes
-from ship_env.leaderboard.tables import (
-    BETTER,
-    TIED,
-    WORSE,
-    comparisons,
-    markdown,
-    rank,
-    score_matrix,
-    verdicts_markdown,
-)
+from ship_env.leaderboard.tables import BETTER, TIED, WORSE, comparisons, rank, score_matrix
 
 REFERENCE = "PD, fixed gains"
 #: Ten course changes (15..105 deg both ways) in calm water.

@@ -8,8 +8,9 @@
 - :mod:`ship_env.leaderboard.evaluation`: jobs run in this process or on Ray;
 - :mod:`ship_env.leaderboard.statistics`: IQM, normalised score and probability of improvement
   with stratified-bootstrap intervals (rliable);
-- :mod:`ship_env.leaderboard.tables`, :mod:`ship_env.leaderboard.plots`: ranked tables (markdown,
-  CSV) and drawings;
+- :mod:`ship_env.leaderboard.tables`: each suite's ranking and the learned entrants' verdicts;
+- :mod:`ship_env.leaderboard.rendering`, :mod:`ship_env.leaderboard.plots`: the rankings as markdown and
+  CSV tables, and drawings;
 - :mod:`ship_env.leaderboard.board`: all of it together; :mod:`ship_env.leaderboard.cli`:
   ``ship-env leaderboard``.
 

@@ -25,6 +25,14 @@ from ship_env.envs.tracks import TrackError
 from ship_env.leaderboard.entrants import Entrant, classic_entrants, policy_entrants
 from ship_env.leaderboard.evaluation import evaluate, jobs_for
 from ship_env.leaderboard.plots import plot_aggregate, plot_course_changes, plot_scores, plot_tracks
+from ship_env.leaderboard.rendering import (
+    headline_markdown,
+    markdown,
+    verdict_count,
+    verdicts_markdown,
+    write_csv,
+    write_episodes_csv,
+)
 from ship_env.leaderboard.sailing import EpisodeResult, sail_recorded
 from ship_env.leaderboard.statistics import REFERENCES, Estimate, improvements
 from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, TRACK_FOLLOW, Suite, SuiteSpec
@@ -34,15 +42,10 @@ from ship_env.leaderboard.tables import (
     comparisons,
     grouped_estimates,
     learned_verdicts,
-    markdown,
     rank,
     score_matrix,
-    verdict_count,
-    verdicts_markdown,
-    write_csv,
-    write_episodes_csv,
 )
-from ship_env.text_table import Table as TextTable
+from ship_env.text_table import Table
 
 #: The scenario every CourseChange controller is drawn on: a 75-deg change in wind and current.
 SAMPLE_COURSE_CHANGE = ("CourseChange wind_current", "+75 deg")
@@ -151,30 +154,6 @@ class Leaderboard:
             for name in learned
         }
 
-    def headline_markdown(self) -> str:
-        """The headline as a markdown table (empty without the nominal CourseChange suites)."""
-        headline = self.headline()
-        if not headline:
-            return ""
-        verdicts = self.headline_verdicts()
-        best = next(iter(verdicts.values())).classic if verdicts else ""
-        lines = [
-            f"### Headline: CourseChange, nominal ship, all seas together ({self.ship_name})",
-            "",
-            f"Normalised score: each episode's integrated heading error divided by that of {REFERENCES[COURSE_CHANGE]} "
-            "(1 = the reference, lower is better); 95 % stratified-bootstrap intervals (rliable) over training "
-            f"seeds and episodes. Verdict: against the best classic autopilot here ({best}), from the interval of "
-            "the probability of improvement over it (as on each suite).",
-            "",
-            "| controller | IQM [95 % CI] | mean [95 % CI] | P(improvement) [95 % CI] | verdict |",
-            "|---|---:|---:|---:|---|",
-        ]
-        for name, (iqm, mean) in headline.items():
-            c = verdicts.get(name)
-            cells = ["", ""] if c is None else [c.improvement.text(2), c.verdict]
-            lines.append(f"| {name} | {iqm.text(3)} | {mean.text(3)} | {' | '.join(cells)} |")
-        return "\n".join(lines)
-
     def summary(self) -> str:
         """What the terminal shows, within 100 columns: the headline's IQM with each learned entrant's
         verdict, and each learned entrant's verdicts counted per environment (every table is in
@@ -192,7 +171,7 @@ class Leaderboard:
                 f"CourseChange, nominal ship, all seas together ({self.ship_name}): normalised score",
                 f"(1 = {REFERENCES[COURSE_CHANGE]}, lower is better)",
                 "",
-                TextTable(header, tuple(rows)).text(),
+                Table(header, tuple(rows)).text(),
             ]
         made: dict[tuple[str, str], list[Comparison]] = {}
         for table in self.tables:
@@ -207,7 +186,7 @@ class Leaderboard:
         """The headline, the learned entrants' verdicts and every table in markdown."""
         sections = [
             "\n".join(f"Left out: {line}" for line in self.left_out),
-            self.headline_markdown(),
+            headline_markdown(self.headline(), self.headline_verdicts(), self.ship_name),
             verdicts_markdown(self.tables),
             *(markdown(t) for t in self.tables),
         ]

@@ -1,4 +1,4 @@
-"""The leaderboard's tables: each suite's scores with their statistics, ranked, as markdown and CSV.
+"""The leaderboard's rankings: each suite's scores with their statistics, ranked, and the learned entrants' verdicts.
 
 An entrant's scores on a suite are a (training seeds x episodes) matrix of the suite's ranking
 metric (a classic autopilot, deterministic, has one row). Each row of a suite's table gives the
@@ -17,22 +17,21 @@ episodes narrow the interval, so they can resolve a tie but, short of the 5 % ch
 interval, not turn better into worse. Other learned entrants do not change the verdict.
 On the nominal TrackFollow suite the thesis's navigators (Table 6.4: 117 m with parallel indexing,
 95 m with the ground-speed vector, 33 m with the track predictor) are ranked beside them as human rows.
+:mod:`ship_env.leaderboard.rendering` writes the rankings out as markdown and CSV.
 """
 
 from __future__ import annotations
 
-import csv
 import dataclasses
 import math
 from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
 
 from ship_env.envs.metrics import THESIS_NAVIGATOR_RMS
 from ship_env.leaderboard.sailing import EpisodeResult
 from ship_env.leaderboard.statistics import PARITY, REFERENCES, Estimate, improvements, interval_estimates
-from ship_env.leaderboard.suites import COMPLETION, FIRST_WAYPOINT, NOMINAL, TRACK_FOLLOW, Metric, Suite
+from ship_env.leaderboard.suites import FIRST_WAYPOINT, NOMINAL, TRACK_FOLLOW, Metric, Suite
 
 #: A learned policy beats a baseline only with at most this multiple of its rudder travel.
 TRAVEL_ALLOWANCE = 1.5
@@ -273,139 +272,6 @@ def comparisons(table: SuiteRanking) -> list[Comparison]:
     ]
 
 
-def _cell(value: float, digits: int) -> str:
-    return "" if math.isnan(value) else f"{value:.{digits}f}"
-
-
-def markdown(table: SuiteRanking) -> str:
-    """The table in markdown, with a heading naming the suite and the ship, each learned entrant's verdict
-    against the best classic autopilot in its row and, below, the comparisons in words."""
-    suite = table.suite
-    ranking = suite.metrics[0]
-    reference = REFERENCES.get(suite.env_id, "")
-    completion = COMPLETION[suite.env_id]
-    others = suite.metrics[1:]
-    found = {c.learned: c for c in comparisons(table)}
-    lines = [
-        f"### {suite.name} on {suite.ship_name}",
-        "",
-        f"{len(suite.episodes)} episode(s) per training seed; ranked by the IQM of {ranking.heading}, lower is better; "
-        f"95 % stratified-bootstrap intervals (rliable) over seeds and episodes; normalised: 1 = {reference}; "
-        "P(improvement) and verdict: against the best classic autopilot. Other columns: means over all episodes.",
-        "",
-        f"| rank | controller | kind | IQM {ranking.heading} [95 % CI] | normalised IQM [95 % CI] | "
-        "P(improvement) [95 % CI] | verdict | "
-        + " | ".join(metric.heading for metric in others)
-        + f" | {completion} | sample |",
-        "|---:|---|---|---:|---:|---:|---|" + "---:|" * len(others) + "---:|---|",
-    ]
-    for s in table.standings:
-        improvement = "" if s.improvement is None else s.improvement.text(2)
-        score = _cell(s.score.value, ranking.digits) if s.kind == HUMAN else s.score.text(ranking.digits)
-        verdict = found[s.entrant].verdict if s.entrant in found else ""
-        cells = [score, s.normalised.text(3), improvement, verdict]
-        cells += [_cell(s.values[metric.key], metric.digits) for metric in others]
-        done = f"{s.completed}/{s.seeds * s.episodes}" if s.episodes else ""
-        lines.append(f"| {s.rank} | {s.entrant} | {s.kind} | {' | '.join(cells)} | {done} | {s.sample} |")
-    for c in found.values():
-        lines.append(
-            f"\n{c.learned} against the best classic autopilot, {c.classic}: P(improvement) {c.improvement.text(2)}, "
-            f"IQM x{c.score_ratio:.3f}, rudder travel x{c.travel_ratio:.2f}: {c.verdict} ({c.reason})."
-        )
-    return "\n".join(lines)
-
-
 def learned_verdicts(tables: Sequence[SuiteRanking], entrant: str) -> dict[str, Comparison]:
     """Suite name -> ``entrant``'s comparison with the best classic autopilot, on each suite it sailed."""
     return {t.suite.name: c for t in tables for c in comparisons(t) if c.learned == entrant}
-
-
-def verdict_count(comparisons_made: Sequence[Comparison]) -> str:
-    """``"better on 5, tied on 4, worse on 3 of 12"``."""
-    counts = {verdict: sum(c.verdict == verdict for c in comparisons_made) for verdict in VERDICTS}
-    return f"better on {counts[BETTER]}, tied on {counts[TIED]}, worse on {counts[WORSE]} of {len(comparisons_made)}"
-
-
-def verdicts_markdown(tables: Sequence[SuiteRanking]) -> str:
-    """Per learned entrant, its verdict on each suite (:attr:`Comparison.verdict`) as a markdown table,
-    counted per environment; empty without a learned entrant."""
-    rows: dict[str, list[str]] = {}
-    by_environment: dict[tuple[str, str], list[Comparison]] = {}
-    for table in tables:
-        best = best_classic(table)
-        for c in comparisons(table):
-            assert best is not None  # comparisons are made against it
-            learned = table.standing(c.learned)
-            settled = f"{learned.completed}/{learned.seeds * learned.episodes}"
-            rows.setdefault(c.learned, []).append(
-                f"| {table.suite.task} | {table.suite.condition.name} | {learned.normalised.text(3)} | "
-                f"{best.entrant} {best.normalised.text(3)} | {c.improvement.text(2)} | x{c.travel_ratio:.2f} | "
-                f"{settled} | {'yes' if c.settles else 'no'} | **{c.verdict}** |"
-            )
-            by_environment.setdefault((c.learned, table.suite.env_id), []).append(c)
-    if not rows:
-        return ""
-    lines = [
-        f"### Learned entrants against the best classic autopilot: better, tied or worse ({tables[0].suite.ship_name})",
-        "",
-        "Normalised IQM [95 % CI] (1 = the reference autopilot, lower is better). Verdict from the 95 % interval "
-        "of the probability of improvement over the best classic autopilot (the lowest IQM): better where it lies "
-        f"above parity (0.5), with at most x{TRAVEL_ALLOWANCE:g} that autopilot's rudder travel, completing with "
-        "every training seed each episode a classic autopilot completes; worse where it lies below parity; tied "
-        "otherwise. More episodes can resolve a tie; they do not make a better worse.",
-    ]
-    for entrant, entrant_rows in rows.items():
-        lines += [
-            "",
-            f"| {entrant}: task | condition | normalised IQM | best classic | P(improvement) [95 % CI] | "
-            "rudder travel / best classic's | completed | where a classic does | verdict |",
-            "|---|---|---:|---|---:|---:|---:|---|---|",
-            *entrant_rows,
-        ]
-        for (name, env_id), made in by_environment.items():
-            if name == entrant:
-                lines.append(f"\n{entrant} on the {env_id} suites: {verdict_count(made)}.")
-    return "\n".join(lines)
-
-
-def _estimate_cells(estimate: Estimate | None) -> list[str]:
-    if estimate is None:
-        return ["", "", ""]
-    return [repr(estimate.value), *("" if bound is None else repr(bound) for bound in (estimate.low, estimate.high))]
-
-
-def write_csv(tables: Sequence[SuiteRanking], path: Path) -> None:
-    """Every table's rows in one CSV: suite, ship, task, condition, rank, controller, kind, counts, the
-    estimates with their interval bounds (empty: no interval), a learned entrant's verdict, the
-    metrics' aggregates."""
-    keys = list(dict.fromkeys(metric.key for table in tables for metric in table.suite.metrics))
-    estimates = [f"{name}{part}" for name in ("iqm", "normalised_iqm", "improvement") for part in ("", "_low", "_high")]
-    estimates.append("verdict")
-    with Path(path).open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        head = ["suite", "ship", "task", "condition", "rank", "controller", "kind", "seeds", "episodes", "completed"]
-        writer.writerow([*head, *estimates, *keys])
-        for table in tables:
-            suite = table.suite
-            verdicts = {c.learned: c.verdict for c in comparisons(table)}
-            for s in table.standings:
-                row = [suite.name, suite.ship_name, suite.task, suite.condition.name, s.rank, s.entrant, s.kind]
-                row += [s.seeds, s.episodes]
-                cells = [*_estimate_cells(s.score), *_estimate_cells(s.normalised), *_estimate_cells(s.improvement)]
-                cells.append(verdicts.get(s.entrant, ""))
-                values = [repr(s.values[key]) if key in s.values else "" for key in keys]
-                writer.writerow([*row, s.completed, *cells, *values])
-
-
-def write_episodes_csv(results: Sequence[EpisodeResult], path: Path, ship: str) -> None:
-    """Every episode: suite, ``ship`` (the name of the ship sailed), controller, kind, training seed,
-    episode, seed, finished, its metrics."""
-    keys = list(dict.fromkeys(key for result in results for key in result.metrics))
-    with Path(path).open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        head = ["suite", "ship", "controller", "kind", "training_seed", "episode", "seed", "finished"]
-        writer.writerow([*head, *keys])
-        for r in results:
-            values = [repr(r.metrics[key]) if key in r.metrics else "" for key in keys]
-            training_seed = "" if r.training_seed is None else r.training_seed
-            writer.writerow([r.suite, ship, r.entrant, r.kind, training_seed, r.episode, r.seed, r.finished, *values])

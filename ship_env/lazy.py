@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import importlib
+import sys
+from collections.abc import Mapping
 from types import ModuleType
+from typing import Any
 
 
 def submodule(package: str, name: str) -> ModuleType:
@@ -15,3 +18,26 @@ def submodule(package: str, name: str) -> ModuleType:
         if error.name != f"{package}.{name}":
             raise
     raise AttributeError(f"module {package!r} has no attribute {name!r}")
+
+
+def public_name(package: str, modules: Mapping[str, str], name: str) -> Any:
+    """For a package's ``__getattr__``: its public ``name`` from the submodule that ``modules`` names,
+    bound in the package (imported once), or else its submodule ``name`` (:func:`submodule`)."""
+    if name in modules:
+        value = getattr(importlib.import_module(f"{package}.{modules[name]}"), name)
+        setattr(sys.modules[package], name, value)
+        return value
+    return submodule(package, name)
+
+
+class FunctionsNamedAsModules(ModuleType):
+    """A lazy package whose functions are named as the submodules that hold them (``zigzag`` in
+    ``zigzag``): each keeps its name in the package when its module is imported (the import system
+    binds each submodule to its name in its package). The package's ``_MODULES`` maps each public
+    name to its submodule; set as the package's class (``sys.modules[__name__].__class__``)."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        modules: dict[str, str] = self.__dict__.get("_MODULES", {})
+        if isinstance(value, ModuleType) and modules.get(name) == name:
+            value = getattr(value, name)
+        super().__setattr__(name, value)

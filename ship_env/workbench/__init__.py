@@ -31,12 +31,11 @@ import fit`` does (the modules: ``sys.modules["ship_env.workbench.fit"]``).
 
 from __future__ import annotations
 
-import importlib
 import sys
-from types import ModuleType
 from typing import TYPE_CHECKING, Any
 
-from ship_env.lazy import submodule as _submodule
+from ship_env.lazy import FunctionsNamedAsModules as _FunctionsNamedAsModules
+from ship_env.lazy import public_name as _public_name
 
 if TYPE_CHECKING:
     from ship_env.workbench.compare import Comparison, compare, held_out_comparison, plot_comparison
@@ -68,28 +67,15 @@ _MODULES: dict[str, str] = {
 def __getattr__(name: str) -> Any:
     """A public name from its module, or a submodule (``ship_env.workbench.tables``), imported when
     first asked for."""
-    if name in _MODULES:
-        value = getattr(importlib.import_module(f"{__name__}.{_MODULES[name]}"), name)
-        globals()[name] = value
-        return value
-    return _submodule(__name__, name)
+    return _public_name(__name__, _MODULES, name)
 
 
 def __dir__() -> list[str]:
     return sorted({*globals(), *_MODULES})
 
 
-class _Workbench(ModuleType):
-    """The package, whose functions ``fit``, ``compare``, ``diagnose`` and ``improve`` keep their names
-    when their modules are imported (the import system binds each submodule to its name here)."""
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        if isinstance(value, ModuleType) and _MODULES.get(name) == name:
-            value = getattr(value, name)
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Workbench
+# The functions fit, compare, diagnose and improve keep their names when their modules are imported.
+sys.modules[__name__].__class__ = _FunctionsNamedAsModules
 
 __all__ = [
     "ESSO_OSAKA",

@@ -1,25 +1,22 @@
-"""The ``ship-env`` subcommands declared here: ``manoeuvre`` and the measurement workbench's ``fit``,
-``compare``, ``diagnose`` and ``improve``.
+"""The ``ship-env`` subcommands declared here: the measurement workbench's ``fit``, ``compare``,
+``diagnose`` and ``improve``.
 
 Each task is a subcommand declared as a :class:`~ship_env.command_line.Command` beside its code
-(these here, with the workbench's shared examples; ``train``, ``leaderboard``, ``demo-logs``,
-``scale`` and ``identify-bench`` in their packages); :func:`~ship_env.command_line.main` parses the
-command line with only the chosen subcommand's module imported, and dispatches. Invalid arguments
-end with a message naming the argument and exit status 2, as argparse's own errors do; a
-simulation that leaves the model's validity, or a log that cannot be used, ends with status 1.
+(these here, with the workbench's shared examples; ``manoeuvre``, ``train``, ``leaderboard``,
+``demo-logs``, ``scale`` and ``identify-bench`` in their packages); :func:`~ship_env.command_line.main`
+parses the command line with only the chosen subcommand's module imported, and dispatches. Invalid
+arguments end with a message naming the argument and exit status 2, as argparse's own errors do; a
+log that cannot be used ends with status 1.
 
 This module imports only what the parsers read (the model's effects and ships, the workbench's
-:mod:`~ship_env.workbench.defaults`); each handler imports the manoeuvres or the workbench's
-fitting, so that ``--help`` and a bad argument answer before pandas, matplotlib and scipy's
-optimisers load.
+:mod:`~ship_env.workbench.defaults`); each handler imports the workbench's fitting, so that
+``--help`` and a bad argument answer before pandas, matplotlib and scipy's optimisers load.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import re
 import shlex
 import sys
 import textwrap
@@ -29,240 +26,27 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from tqdm import tqdm
-
 from ship_env.command_line import (
     Command,
     UsageError,
     add_json_argument,
     add_plot_argument,
     main,  # ship-env itself, for `python -m ship_env.cli` and the callers that import it from here
-    name_list,
     number,
-    prepare_outputs,
+    positive_number,
     whole_number,
 )
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
+from ship_env.model.arguments import EFFECT_SETS, effect_names, effect_set, ship_name
 from ship_env.text_table import WIDTH
 from ship_env.workbench.defaults import MIN_GAIN, MIN_SEGMENT, NUISANCE, PAIR_WIDTH
 from ship_env.workbench.outputs import claim_file, claim_folder
 from ship_env.workbench.parallel import usable_cores
 
 if TYPE_CHECKING:
-    from ship_env.manoeuvres import ManoeuvreResult
     from ship_env.workbench import CrossValidation, ErrorScales, FitOptions, Log, ReplayModel
     from ship_env.workbench.replay import Simulated
     from ship_env.workbench.runs import WorkbenchRuns
-
-#: The named effect sets of ``--effects``; anything else is a comma-separated list of effects.
-EFFECT_SETS: dict[str, Callable[[str], ShipModel]] = {
-    "minimal": ShipModel.minimal,
-    "default": ShipModel,
-    "full": ShipModel.full,
-}
-#: Rudder of the steady turns before the pull-out, deg (or the rudder limit, if smaller).
-PULL_OUT_RUDDER_DEG = 20.0
-
-
-# -- argument types: each raises ArgumentTypeError, which argparse reports with the argument --------
-_positive_number = number("a positive number", above=0.0)
-
-
-def _ship(text: str) -> str:
-    """Check a ship preset name or a YAML file path."""
-    if text in list_ships() or (text.endswith((".yaml", ".yml")) and Path(text).is_file()):
-        return text
-    raise argparse.ArgumentTypeError(f"unknown ship {text!r}; known: {', '.join(list_ships())} (or a YAML file)")
-
-
-#: Read a comma-separated list of effects (the registry as it is when the arguments are parsed).
-_effect_names = name_list("effect", EFFECTS)
-
-
-def _effects(text: str) -> str:
-    """Check an effect set name or a comma-separated list of effects; returns it normalised."""
-    if text in EFFECT_SETS:
-        return text
-    try:
-        return ",".join(_effect_names(text))
-    except argparse.ArgumentTypeError as error:
-        raise argparse.ArgumentTypeError(f"{error}; or one of {', '.join(EFFECT_SETS)} alone") from None
-
-
-def _turn_angle(text: str) -> float:
-    """Read a non-zero rudder angle in deg."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a rudder angle in deg, got {text!r}") from None
-    if not math.isfinite(value) or value == 0.0:
-        raise argparse.ArgumentTypeError(f"expected a non-zero rudder angle in deg, got {text!r}")
-    return value
-
-
-_ZIGZAG = re.compile(r"^\s*([+-]?\d+(?:\.\d*)?)\s*/\s*([+-]?\d+(?:\.\d*)?)\s*$")
-
-
-def _zigzag(text: str) -> tuple[float, float]:
-    """Read a zig-zag spec "A/B" (deg) as (rudder angle, heading change); a negative A starts to port."""
-    match = _ZIGZAG.match(text)
-    if match is None:
-        raise argparse.ArgumentTypeError(f"expected RUDDER/HEADING in deg such as 10/10 or -20/-20, got {text!r}")
-    rudder, heading = float(match[1]), float(match[2])
-    if rudder == 0.0 or heading == 0.0:
-        raise argparse.ArgumentTypeError(f"rudder and heading change must not be zero, got {text!r}")
-    if heading < 0.0 < rudder:
-        raise argparse.ArgumentTypeError(f"a port heading change needs port rudder (-A/-B), got {text!r}")
-    return rudder, abs(heading)
-
-
-# -- manoeuvre ------------------------------------------------------------------------------------
-def _build_model(ship: str, effects: str) -> ShipModel:
-    """The ship model, or a UsageError naming --effects when an effect lacks its parameters."""
-    try:
-        if effects in EFFECT_SETS:
-            return EFFECT_SETS[effects](ship)
-        return ShipModel(ship, effects.split(","))
-    except (ValueError, TypeError) as error:
-        raise UsageError("--effects", str(error)) from None
-
-
-def _check_rudder(model: ShipModel, argument: str, degrees: float, shown: str) -> None:
-    """A UsageError naming ``argument`` when a rudder angle in deg exceeds the ship's limit."""
-    limit = math.degrees(model.rudder_limit)
-    if abs(degrees) > limit + 1e-9:
-        raise UsageError(argument, f"{shown} exceeds the rudder limit of {limit:g} deg of {model.ship.name}")
-
-
-def run_manoeuvres(args: argparse.Namespace) -> int:
-    """``ship-env manoeuvre``: sail the standard manoeuvres, print the figures and IMO criteria."""
-    from ship_env.manoeuvres import (
-        TrialSettings,
-        check_criteria,
-        format_report,
-        plot_manoeuvre,
-        pull_out,
-        report_dict,
-        reversed_spiral,
-        ship_line,
-        turning_circle,
-        zigzag,
-    )
-    from ship_env.manoeuvres.results import KNOT
-
-    model = _build_model(args.ship, args.effects)
-    for angle in args.turn_angle:
-        _check_rudder(model, "--turn-angle", angle, f"{angle:g} deg")
-    for rudder, heading in args.zigzag:
-        _check_rudder(model, "--zigzag", rudder, f"{rudder:g}/{heading:g}")
-    prepare_outputs(args.plot, args.json)
-    settings = TrialSettings(speed=None if args.speed is None else args.speed * KNOT, dt=args.dt)
-    pull_out_rudder = min(math.radians(PULL_OUT_RUDDER_DEG), model.rudder_limit)
-    tasks: list[tuple[str, Callable[[], ManoeuvreResult]]] = [
-        *(
-            (f"turning circle {a:g}", lambda a=a: turning_circle(model, math.radians(a), settings))
-            for a in args.turn_angle
-        ),
-        *(
-            (f"zig-zag {a:g}/{b:g}", lambda a=a, b=b: zigzag(model, math.radians(a), math.radians(b), settings))
-            for a, b in args.zigzag
-        ),
-        ("pull-out", lambda: pull_out(model, pull_out_rudder, settings)),
-        ("reversed spiral", lambda: reversed_spiral(model, settings=settings)),
-    ]
-    results = []
-    with tqdm(tasks, desc="manoeuvres", unit="manoeuvre", file=sys.stderr, leave=False) as progress:
-        for name, task in progress:
-            progress.set_postfix_str(name)
-            try:
-                results.append(task())
-            except FloatingPointError as error:
-                print(f"ship-env manoeuvre: {name} failed: {error}", file=sys.stderr)
-                return 1
-    checks = check_criteria(results)
-    print(format_report(ship_line(model, settings.approach_speed(model)), results, checks))
-    if args.plot is not None:
-        for result in results:
-            plot_manoeuvre(result, args.plot / f"{result.slug}.png")
-        print(f"\nplots written to {args.plot}/")
-    if args.json is not None:
-        args.json.write_text(json.dumps(report_dict(model, results, checks), indent=2) + "\n")
-        print(f"figures written to {args.json}")
-    return 0
-
-
-def _manoeuvre_arguments(parser: argparse.ArgumentParser) -> None:
-    """The arguments of ``ship-env manoeuvre``."""
-    # Read "-10/-10" (the mirrored zig-zag) as a value, not an option, as argparse does from
-    # Python 3.13 on; before that only plain negative numbers such as "-35" were.
-    parser._negative_number_matcher = re.compile(r"^-\.?\d")
-    parser.add_argument(
-        "--ship",
-        type=_ship,
-        default="container_226m",
-        metavar="NAME",
-        help=f"ship preset ({', '.join(list_ships())}) or a YAML file (default: %(default)s)",
-    )
-    parser.add_argument(
-        "--effects",
-        type=_effects,
-        default="default",
-        metavar="SET",
-        help=(
-            f"model effects: {', '.join(EFFECT_SETS)} (the preset's own set), or a comma-separated list "
-            f"of: {', '.join(EFFECTS)} (default: %(default)s)"
-        ),
-    )
-    parser.add_argument(
-        "--speed",
-        type=_positive_number,
-        default=None,
-        metavar="KN",
-        help="approach speed in knots (default: the ship's service speed)",
-    )
-    parser.add_argument(
-        "--dt",
-        type=_positive_number,
-        default=0.5,
-        metavar="S",
-        help="integration step in seconds (default: %(default)s)",
-    )
-    parser.add_argument(
-        "--turn-angle",
-        type=_turn_angle,
-        nargs="+",
-        default=[35.0],
-        metavar="DEG",
-        help="rudder angles of the turning circles in deg, negative to port (default: 35)",
-    )
-    parser.add_argument(
-        "--zigzag",
-        type=_zigzag,
-        nargs="+",
-        default=[(10.0, 10.0), (20.0, 20.0)],
-        metavar="A/B",
-        help="zig-zag tests as rudder/heading change in deg, -A/-B starts to port (default: 10/10 20/20)",
-    )
-    add_plot_argument(parser, "a PNG per manoeuvre")
-    add_json_argument(parser, "the figures and criteria")
-
-
-MANOEUVRE_COMMAND = Command(
-    "manoeuvre",
-    description=(
-        "Sail the standard manoeuvres of IMO MSC.137(76) from a steady straight approach in calm\n"
-        "water: turning circles, zig-zag tests, a pull-out test to both sides and a reversed\n"
-        "spiral (Bech). Prints advance, transfer, tactical diameter, overshoot angles, the spiral\n"
-        "characteristic and the MSC.137(76) 5.3 criteria with pass or fail."
-    ),
-    examples=(
-        "ship-env manoeuvre",
-        "ship-env manoeuvre --effects minimal --turn-angle 35 -35 20 --zigzag 10/10 -10/-10",
-        "ship-env manoeuvre --speed 15 --plot plots/ --json figures.json",
-    ),
-    handler=run_manoeuvres,
-    arguments=_manoeuvre_arguments,
-)
 
 
 # -- the measurement workbench: fit, compare, diagnose, improve -----------------------------------
@@ -277,7 +61,7 @@ WORKBENCH_MODELS: dict[str, Callable[[str], ShipModel]] = {
 
 def _workbench_model(text: str) -> str:
     """Check a workbench model name (base, minimal, default, full) or a comma-separated effect list."""
-    return text if text in WORKBENCH_MODELS else _effects(text)
+    return text if text in WORKBENCH_MODELS else effect_set(text)
 
 
 def _names(text: str) -> list[str]:
@@ -603,7 +387,7 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     )
     parser.add_argument(
         "--ship",
-        type=_ship,
+        type=ship_name,
         default=None,
         metavar="NAME",
         help=f"ship preset ({', '.join(list_ships())}) or a YAML file (default: {WORKBENCH_SHIP}; with "
@@ -629,7 +413,7 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     )
     parser.add_argument(
         "--add",
-        type=_effect_names,
+        type=effect_names,
         action="append",
         default=[],
         metavar="EFFECT[,EFFECT]",
@@ -661,7 +445,7 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
         )
     parser.add_argument(
         "--service-speed",
-        type=_positive_number,
+        type=positive_number,
         default=None,
         metavar="M/S",
         help="service speed for logs without a speed channel (default: the ship's)",
@@ -677,7 +461,7 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     )
     parser.add_argument(
         "--min-segment",
-        type=_positive_number,
+        type=positive_number,
         default=MIN_SEGMENT,
         metavar="S",
         help="with --inside, the shortest stretch kept, s (default: %(default)s)",
@@ -706,7 +490,7 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     )
     parser.add_argument(
         "--window",
-        type=_positive_number,
+        type=positive_number,
         default=None,
         metavar="S",
         help="seconds at a run's start from which its initial state is estimated (default: the time the ship "
@@ -714,14 +498,14 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     )
     parser.add_argument(
         "--heading-scale",
-        type=_positive_number,
+        type=positive_number,
         default=None,
         metavar="DEG",
         help="heading error worth one score unit (default: 1 deg)",
     )
     parser.add_argument(
         "--rate-scale",
-        type=_positive_number,
+        type=positive_number,
         default=None,
         metavar="DEG/S",
         help="rate-of-turn error worth one score unit (default: 1 deg per ship length sailed, (1 deg) x U / L, "
@@ -729,14 +513,14 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
     )
     parser.add_argument(
         "--position-scale",
-        type=_positive_number,
+        type=positive_number,
         default=None,
         metavar="M",
         help="track error worth one score unit (default: L / 30, a thirtieth of the ship's length)",
     )
     parser.add_argument(
         "--speed-scale",
-        type=_positive_number,
+        type=positive_number,
         default=None,
         metavar="M/S",
         help="speed error worth one score unit (default: 1.7 %% of the mean speed, the heading's 1 deg across the "
@@ -747,7 +531,7 @@ def _add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tr
 def _add_candidate_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--candidates",
-        type=_effect_names,
+        type=effect_names,
         default=None,
         metavar="EFFECT[,EFFECT]",
         help="effects that may be added (default: every effect the logs can show)",
@@ -926,7 +710,6 @@ __all__ = [
     "DIAGNOSE_COMMAND",
     "FIT_COMMAND",
     "IMPROVE_COMMAND",
-    "MANOEUVRE_COMMAND",
     "main",
 ]
 

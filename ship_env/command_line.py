@@ -25,7 +25,7 @@ from pathlib import Path
 #: Every subcommand in the order ``ship-env --help`` lists them: its line there, and where its
 #: :class:`Command` is declared (``module:attribute``), imported only when it is chosen.
 SUBCOMMANDS: dict[str, tuple[str, str]] = {
-    "manoeuvre": ("sail the standard manoeuvres and print their IMO figures", "ship_env.cli:MANOEUVRE_COMMAND"),
+    "manoeuvre": ("sail the standard manoeuvres and print their IMO figures", "ship_env.manoeuvres.cli:COMMAND"),
     "fit": ("fit the model to measured logs and validate it leaving one run out", "ship_env.cli:FIT_COMMAND"),
     "compare": ("replay logs with a model and print its RMS errors", "ship_env.cli:COMPARE_COMMAND"),
     "diagnose": ("rank the physical effects the model lacks", "ship_env.cli:DIAGNOSE_COMMAND"),
@@ -208,6 +208,10 @@ def number(
         return value
 
     return parse
+
+
+#: An argument type: a finite number greater than zero.
+positive_number = number("a positive number", above=0.0)
 
 
 def whole_number(minimum: int) -> Callable[[str], int]:

@@ -83,7 +83,7 @@ try:
 except SystemExit as exit:
     heavy = (
         "numba", "scipy", "torch", "matplotlib", "pandas", "ship_env.model", "ship_env.manoeuvres",
-        "ship_env.workbench", "ship_env.workbench.fit", "ship_env.rl",
+        "ship_env.manoeuvres.trial", "ship_env.workbench", "ship_env.workbench.fit", "ship_env.rl",
     )
     print(exit.code, *[name for name in heavy if name in sys.modules], file=sys.stderr)
 """
@@ -92,6 +92,8 @@ except SystemExit as exit:
 _MODEL = {"numba", "scipy", "ship_env.model"}
 #: The model and the light part of the workbench (``ship_env.workbench.defaults``, ``.outputs``, ``.parallel``).
 _WORKBENCH_ARGUMENTS = {*_MODEL, "ship_env.workbench"}
+#: The model and the manoeuvres' package (``ship_env.manoeuvres.cli``), none of its manoeuvres.
+_MANOEUVRE_ARGUMENTS = {*_MODEL, "ship_env.manoeuvres"}
 
 
 @pytest.mark.parametrize(
@@ -102,9 +104,9 @@ _WORKBENCH_ARGUMENTS = {*_MODEL, "ship_env.workbench"}
         (["leaderboard", "--bad"], "2", _MODEL),  # its suites, not torch nor the plots
         (["leaderboard", "--help"], "0", _MODEL),
         # neither pandas nor matplotlib nor the fitting (once about 2 s on an idle machine, all the workbench)
-        (["manoeuvre", "--help"], "0", _WORKBENCH_ARGUMENTS),
-        (["manoeuvre", "--bad"], "2", _WORKBENCH_ARGUMENTS),
-        (["manoeuvre", "--zigzag", "0/10"], "2", _WORKBENCH_ARGUMENTS),
+        (["manoeuvre", "--help"], "0", _MANOEUVRE_ARGUMENTS),
+        (["manoeuvre", "--bad"], "2", _MANOEUVRE_ARGUMENTS),
+        (["manoeuvre", "--zigzag", "0/10"], "2", _MANOEUVRE_ARGUMENTS),
         *(([command, "--help"], "0", _WORKBENCH_ARGUMENTS) for command in ("fit", "compare", "diagnose", "improve")),
         *(
             ([command, "x", "--bad"], "2", _WORKBENCH_ARGUMENTS)

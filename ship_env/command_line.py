@@ -26,10 +26,13 @@ from pathlib import Path
 #: :class:`Command` is declared (``module:attribute``), imported only when it is chosen.
 SUBCOMMANDS: dict[str, tuple[str, str]] = {
     "manoeuvre": ("sail the standard manoeuvres and print their IMO figures", "ship_env.manoeuvres.cli:COMMAND"),
-    "fit": ("fit the model to measured logs and validate it leaving one run out", "ship_env.cli:FIT_COMMAND"),
-    "compare": ("replay logs with a model and print its RMS errors", "ship_env.cli:COMPARE_COMMAND"),
-    "diagnose": ("rank the physical effects the model lacks", "ship_env.cli:DIAGNOSE_COMMAND"),
-    "improve": ("add effects while the held-out error falls: the error ladder", "ship_env.cli:IMPROVE_COMMAND"),
+    "fit": ("fit the model to measured logs and validate it leaving one run out", "ship_env.workbench.cli_fit:COMMAND"),
+    "compare": ("replay logs with a model and print its RMS errors", "ship_env.workbench.cli_compare:COMMAND"),
+    "diagnose": ("rank the physical effects the model lacks", "ship_env.workbench.cli_diagnose:COMMAND"),
+    "improve": (
+        "add effects while the held-out error falls: the error ladder",
+        "ship_env.workbench.cli_improve:COMMAND",
+    ),
     "demo-logs": (
         "write simulated model-test logs, optionally with hidden effects, to try the workbench on",
         "ship_env.workbench.demo_logs:COMMAND",

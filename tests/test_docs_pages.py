@@ -13,7 +13,7 @@ from types import ModuleType
 import pytest
 from docutils import nodes
 
-from ship_env import cli
+from ship_env.workbench import cli as workbench_cli
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
@@ -70,7 +70,7 @@ def test_the_command_line_page_shows_help_as_text_the_same_on_every_machine(monk
     monkeypatch.setenv("COLUMNS", command_help.COLUMNS)  # restored after the test: the directive sets it
     pages = []
     for cores in (2, 16):
-        monkeypatch.setattr(cli, "usable_cores", lambda cores=cores: cores)
+        monkeypatch.setattr(workbench_cli, "usable_cores", lambda cores=cores: cores)
         sections = command_help.help_sections()
         blocks = [block for section in sections for block in section.findall(nodes.literal_block)]
         assert len(blocks) > 10  # ship-env's and each subcommand's

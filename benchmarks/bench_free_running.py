@@ -15,7 +15,7 @@ sensors (``SEA_TRIAL_NOISE``: 0.5 deg compass, 3 m GPS, 1 Hz); then, as a user w
     ship-env improve LOGS/zigzag --ship kvlcc2 --preset fitted.yaml
 
 The truth also sails, without sensor noise, the 35 deg turning circle to both sides and the 10/10 zig-zag;
-the workbench's free-running validation (``ship_env.workbench.free_running``) sails the fitted preset through
+the workbench's free-running validation (``ship_env.workbench.judging.free_running``) sails the fitted preset through
 the same manoeuvres from the same state and reads both sides' figures with the same code: advance and tactical
 diameter within 5 %, steady rate of turn and speed loss within 10 % (the means of the two turns), first
 overshoot within 2 deg. Prints one table with PASS or FAIL per figure and the time the fit took, for each of five
@@ -38,10 +38,10 @@ from ship_env.cli import main
 from ship_env.model import ShipModel
 from ship_env.model.external import DynamicsSource
 from ship_env.text_table import Table
-from ship_env.workbench.free_running import JUDGED_FIGURES, compare_free_running
-from ship_env.workbench.logs import Log, write_log
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.synthetic import SEA_TRIAL_NOISE, LogSettings, Manoeuvre, SensorNoise, sail_all
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.judging.free_running import JUDGED_FIGURES, compare_free_running
+from ship_env.workbench.logs.logs import Log, write_log
+from ship_env.workbench.synthetic.synthetic import SEA_TRIAL_NOISE, LogSettings, Manoeuvre, SensorNoise, sail_all
 
 SHIP = "kvlcc2"
 #: The truth's effects: the preset's calm-water model.

@@ -49,18 +49,18 @@ register_effect(RUDDER_STALL, [Contribution("effective_rudder", stalled_rudder)]
 from ship_env.cli import main as ship_env_main  # noqa: E402  (after the effect: the CLI lists it)
 from ship_env.model.effects import LIBRARY  # noqa: E402
 from ship_env.workbench import FitOptions, cross_validate, diagnose, improve  # noqa: E402
-from ship_env.workbench.diagnose import past_the_library  # noqa: E402
-from ship_env.workbench.logs import write_log  # noqa: E402
-from ship_env.workbench.replay import ReplayModel  # noqa: E402
-from ship_env.workbench.signals import plot_signals  # noqa: E402
-from ship_env.workbench.synthetic import (  # noqa: E402
+from ship_env.workbench.deciding.diagnose import past_the_library  # noqa: E402
+from ship_env.workbench.deciding.signals import plot_signals  # noqa: E402
+from ship_env.workbench.fitting.replay import ReplayModel  # noqa: E402
+from ship_env.workbench.logs.logs import write_log  # noqa: E402
+from ship_env.workbench.reporting.tables import ladder_table  # noqa: E402
+from ship_env.workbench.synthetic.synthetic import (  # noqa: E402
     SensorNoise,
     model_test_programme,
     noise_floor,
     noise_scales,
     sail_all,
 )
-from ship_env.workbench.tables import ladder_table  # noqa: E402
 
 SHIP = "esso_osaka_model"
 STALL_ANGLE = math.radians(15.0)

@@ -35,7 +35,7 @@ SUBCOMMANDS: dict[str, tuple[str, str]] = {
     ),
     "demo-logs": (
         "write simulated model-test logs, optionally with hidden effects, to try the workbench on",
-        "ship_env.workbench.demo_logs:COMMAND",
+        "ship_env.workbench.synthetic.demo_logs:COMMAND",
     ),
     "scale": (
         "Froude-scale a ship preset to another length (a model-scale fit to full scale, or back)",

@@ -1,7 +1,7 @@
 """A table of text cells, rendered as aligned text for the terminal or as Markdown for reports.
 
 A command builds each table once as a header and rows of strings (:class:`Table`), then renders
-it; the workbench's tables (:mod:`ship_env.workbench.tables`), the leaderboard's
+it; the workbench's tables (:mod:`ship_env.workbench.reporting.tables`), the leaderboard's
 (:mod:`ship_env.leaderboard.rendering`) and the on-line estimators' bench
 (:mod:`ship_env.baselines.online_estimators.bench`) print theirs this way. The text fits a terminal
 of :data:`WIDTH` columns: a table wider than that wraps its header's words onto more lines, and then

@@ -43,7 +43,7 @@ import numpy as np
 
 from ship_env.model import ShipModel
 from ship_env.workbench import Log
-from ship_env.workbench.synthetic import NO_TURN_SPEED_LOSS, Manoeuvre, SensorNoise
+from ship_env.workbench.synthetic.synthetic import NO_TURN_SPEED_LOSS, Manoeuvre, SensorNoise
 
 #: Euler sub-steps per sample interval.
 SUBSTEPS = 10

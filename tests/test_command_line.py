@@ -83,7 +83,7 @@ try:
 except SystemExit as exit:
     heavy = (
         "numba", "scipy", "torch", "matplotlib", "pandas", "ship_env.model", "ship_env.manoeuvres",
-        "ship_env.manoeuvres.trial", "ship_env.workbench", "ship_env.workbench.fit", "ship_env.rl",
+        "ship_env.manoeuvres.trial", "ship_env.workbench", "ship_env.workbench.fitting.fit", "ship_env.rl",
     )
     print(exit.code, *[name for name in heavy if name in sys.modules], file=sys.stderr)
 """
@@ -136,13 +136,24 @@ def test_import_ship_env_registers_the_environments_and_loads_the_model_when_ask
 
 def test_import_ship_env_workbench_loads_a_module_when_one_of_its_names_is_asked_for():
     code = (
-        "import sys, ship_env.workbench as workbench\n"
+        "import pathlib, sys, ship_env.workbench as workbench\n"
         "assert not {'ship_env.model', 'scipy', 'pandas', 'matplotlib'} & set(sys.modules)\n"
-        "import ship_env.workbench.improve  # imports .fit and .diagnose, which the import system binds here\n"
-        "from ship_env.workbench import FitError, compare, diagnose, fit, improve, tables\n"
-        "for name, function in {'compare': compare, 'diagnose': diagnose, 'fit': fit, 'improve': improve}.items():\n"
-        "    assert function is sys.modules['ship_env.workbench.' + name].__dict__[name] is getattr(workbench, name)\n"
-        "assert FitError is sys.modules['ship_env.workbench.fit'].FitError and tables.__name__.endswith('.tables')\n"
+        "import ship_env.workbench.deciding.improve  # imports fitting.fit and deciding.diagnose\n"
+        "from ship_env.workbench import FitError, compare, diagnose, fit, improve, reporting\n"
+        "modules = {'compare': 'judging.compare', 'diagnose': 'deciding.diagnose', 'fit': 'fitting.fit',\n"
+        "           'improve': 'deciding.improve'}\n"
+        "for name, module in modules.items():\n"
+        "    assert getattr(workbench, name) is sys.modules['ship_env.workbench.' + module].__dict__[name]\n"
+        "assert FitError is sys.modules['ship_env.workbench.fitting.fit'].FitError\n"
+        "assert reporting.__name__ == 'ship_env.workbench.reporting'\n"
+        "here = {path.stem for path in pathlib.Path(workbench.__file__).parent.iterdir()}\n"
+        "assert not here & set(workbench.__all__), here & set(workbench.__all__)  # no name shadows a module\n"
+        "try:\n"
+        "    import ship_env.workbench.tables  # the flat workbench's path\n"
+        "except ModuleNotFoundError:\n"
+        "    pass\n"
+        "else:\n"
+        "    raise AssertionError('ship_env.workbench.tables')\n"
         "names = [getattr(workbench, name) for name in workbench.__all__]  # none of them a module\n"
         "print(len(names), sum(not isinstance(value, type(sys)) for value in names))\n"
     )

@@ -11,10 +11,10 @@ import pytest
 from ship_env.cli import main
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import load_logs
-from ship_env.workbench.demo_logs import hidden_values
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.synthetic import NULL_PRESET_VALUES
-from ship_env.workbench.terms import make_term
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import make_term
+from ship_env.workbench.synthetic.demo_logs import hidden_values
+from ship_env.workbench.synthetic.synthetic import NULL_PRESET_VALUES
 
 #: Short runs (s), so that the fits take seconds.
 DURATION = "40"

@@ -27,11 +27,11 @@ from ship_env.leaderboard.sailing import sail
 from ship_env.leaderboard.suites import Episode
 from ship_env.model import ShipModel, load_ship
 from ship_env.workbench import FitOptions, LogWarning, compare, cross_validate, load_logs
-from ship_env.workbench.errors import ErrorScales, RunErrors, pooled
-from ship_env.workbench.logs import every_nth
-from ship_env.workbench.presets import log_file, preset_replay_model
-from ship_env.workbench.runs import prepare_runs
-from ship_env.workbench.terms import CURRENT_TERMS
+from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled
+from ship_env.workbench.fitting.runs import prepare_runs
+from ship_env.workbench.fitting.terms import CURRENT_TERMS
+from ship_env.workbench.logs.logs import every_nth
+from ship_env.workbench.reporting.presets import log_file, preset_replay_model
 
 SHIP = "esso_osaka_model"
 ROOT = Path(__file__).resolve().parents[1]

@@ -229,8 +229,8 @@ def test_synthetic_logs_sailed_through_the_reference_adapter_equal_the_native_on
     """A zig-zag and a turn, accelerating from below their service speed, sailed by the true model and by the
     same model behind the protocol: the same log sample for sample (the speed through u = U0 (1 - u*) and
     back), and an external truth in wind refused with the field named."""
-    from ship_env.workbench.replay import ReplayModel
-    from ship_env.workbench.synthetic import SEA_TRIAL_NOISE, LogSettings, Manoeuvre, sail_all
+    from ship_env.workbench.fitting.replay import ReplayModel
+    from ship_env.workbench.synthetic.synthetic import SEA_TRIAL_NOISE, LogSettings, Manoeuvre, sail_all
 
     model = ShipModel("kvlcc2", ("yaw", "norrbin", "speed_loss", "sway", "steering_machine", "kinematics"))
     speed = model.service_speed

@@ -16,8 +16,8 @@ from ship_env.model import state as S
 from ship_env.model.effect_api import Contribution, Effect, Parameter, State, register_effect
 from ship_env.model.registry import register_module
 from ship_env.workbench import write_log
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.synthetic.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
 
 SHIP = "esso_osaka_model"
 NAME = effect_with_state.EFFECT.name

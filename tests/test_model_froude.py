@@ -32,7 +32,7 @@ from ship_env.model.froude import (
     unit_exponent,
 )
 from ship_env.model.registry import EFFECTS, register_effect
-from ship_env.workbench.coverage import QUANTITIES
+from ship_env.workbench.judging.coverage import QUANTITIES
 
 TOLERANCE = 1e-9  # relative: rounding only (module docstring)
 MODEL_LENGTH = 7.0  # the SIMMAN KVLCC2 model, m

@@ -20,9 +20,9 @@ from ship_env.model import state as S
 from ship_env.model.effects.hull_crossflow import crossflow_integral
 from ship_env.model.ship import ship_from_document
 from ship_env.workbench import FitOptions, ReplayModel
-from ship_env.workbench.fit import fit
-from ship_env.workbench.synthetic import HIDDEN_VALUES, SensorNoise, hidden_effect_logs, noise_scales
-from ship_env.workbench.terms import effect_terms, make_term, why_not_fitted
+from ship_env.workbench.fitting.fit import fit
+from ship_env.workbench.fitting.terms import effect_terms, make_term, why_not_fitted
+from ship_env.workbench.synthetic.synthetic import HIDDEN_VALUES, SensorNoise, hidden_effect_logs, noise_scales
 
 CROSSFLOW = ["yaw", "kinematics", "hull_crossflow"]
 COEFFICIENT = 0.8

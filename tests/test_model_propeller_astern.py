@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from ship_env.model import REQUIRED_EFFECTS, Conditions, ShipModel, Simulator
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.signals import residual_signals
+from ship_env.workbench.deciding.signals import residual_signals
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.logs.logs import Log
 
 SHIP = str(Path(__file__).parent / "data" / "esso_osaka_nominal.yaml")
 ASTERN = -8.0  # rps

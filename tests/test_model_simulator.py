@@ -310,8 +310,8 @@ from ship_env.envs import course_change_task
 from ship_env.model import ShipModel, Simulator, integrators
 from ship_env.model.simulator import PARALLEL_SHIPS
 from ship_env.workbench import ReplayModel, simulate
-from ship_env.workbench.replay import _replay_task
-from ship_env.workbench.synthetic import model_test_programme, sail_all
+from ship_env.workbench.fitting.replay import _replay_task
+from ship_env.workbench.synthetic.synthetic import model_test_programme, sail_all
 
 sim = Simulator(ShipModel("container_226m"), num_ships=PARALLEL_SHIPS)
 sim.reset(seed=0)

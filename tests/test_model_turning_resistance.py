@@ -18,10 +18,10 @@ from ship_env.manoeuvres.settings import TrialSettings
 from ship_env.manoeuvres.trial import run_trial
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import FitOptions
-from ship_env.workbench.fit import fit
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.synthetic import SensorNoise, model_test_programme, noise_scales, sail_all
-from ship_env.workbench.terms import effect_terms, make_term
+from ship_env.workbench.fitting.fit import fit
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import effect_terms, make_term
+from ship_env.workbench.synthetic.synthetic import SensorNoise, model_test_programme, noise_scales, sail_all
 
 SHIP = "kvlcc2"
 TURNING = ("yaw", "norrbin", "speed_loss", "steering_machine", "kinematics")

@@ -27,8 +27,8 @@ from ship_env.model import (
 from ship_env.model import state as S
 from ship_env.paths import config_dir
 from ship_env.workbench import fit
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.synthetic import LogSettings, model_test_programme, sail_all
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.synthetic.synthetic import LogSettings, model_test_programme, sail_all
 
 SHIP = "esso_osaka_model"
 NAME = effect_plugin.EFFECT.name

@@ -31,7 +31,7 @@ from ship_env.baselines.online_estimators.log import (
 )
 from ship_env.baselines.online_estimators.scenarios import GUESS
 from ship_env.model import ShipModel
-from ship_env.workbench.logs import Log
+from ship_env.workbench.logs.logs import Log
 
 
 def good_arrays(samples: int = 200) -> dict[str, np.ndarray]:

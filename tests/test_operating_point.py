@@ -32,9 +32,9 @@ from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
 from ship_env.model.operating_point import CoverageWarning
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, simulate
-from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.presets import fitted_current, preset_document, site_conditions, write_preset
-from ship_env.workbench.synthetic import Manoeuvre, hidden_effect_logs
+from ship_env.workbench.fitting.errors import ErrorScales
+from ship_env.workbench.reporting.presets import fitted_current, preset_document, site_conditions, write_preset
+from ship_env.workbench.synthetic.synthetic import Manoeuvre, hidden_effect_logs
 
 SHIP = "esso_osaka_model"
 RATE = 12.0  # rps, the fitted runs' propeller rate

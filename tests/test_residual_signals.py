@@ -9,9 +9,9 @@ import pytest
 
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import fit
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.signals import plot_signals, residual_signals
-from ship_env.workbench.synthetic import model_test_programme, sail_all
+from ship_env.workbench.deciding.signals import plot_signals, residual_signals
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.synthetic.synthetic import model_test_programme, sail_all
 
 #: The Esso Osaka hull with the nominal coefficients these checks were designed on (not the identified preset).
 SHIP = str(Path(__file__).parent / "data" / "esso_osaka_nominal.yaml")

@@ -14,10 +14,10 @@ import pytest
 from ship_env.cli import main
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import ErrorScales, FitOptions, LogWarning, cross_validate, improve, load_logs, write_log
-from ship_env.workbench.documents import DocumentError, read_fitted_model
-from ship_env.workbench.errors import mean_speed
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.synthetic import (
+from ship_env.workbench.fitting.errors import mean_speed
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.reporting.documents import DocumentError, read_fitted_model
+from ship_env.workbench.synthetic.synthetic import (
     LogSettings,
     Manoeuvre,
     SensorNoise,

@@ -12,7 +12,7 @@ import pytest
 
 from ship_env.cli import main
 from ship_env.workbench import write_log
-from ship_env.workbench.synthetic import hidden_effect_logs, model_test_programme
+from ship_env.workbench.synthetic.synthetic import hidden_effect_logs, model_test_programme
 
 SHIP = "esso_osaka_model"
 

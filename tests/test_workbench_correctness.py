@@ -13,14 +13,14 @@ import pytest
 
 from ship_env.model import ShipModel
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, fit, simulate
-from ship_env.workbench.diagnose import CandidateResult
-from ship_env.workbench.documents import fit_document
-from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, pooled_jackknife, run_errors
-from ship_env.workbench.fit import Problem, unknown_variances
-from ship_env.workbench.improve import Rules, _terms_at_null, verdict
-from ship_env.workbench.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
-from ship_env.workbench.tables import error_table, estimate_table
-from ship_env.workbench.terms import with_values
+from ship_env.workbench.deciding.diagnose import CandidateResult
+from ship_env.workbench.deciding.improve import Rules, _terms_at_null, verdict
+from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled, pooled_jackknife, run_errors
+from ship_env.workbench.fitting.fit import Problem, unknown_variances
+from ship_env.workbench.fitting.terms import with_values
+from ship_env.workbench.reporting.documents import fit_document
+from ship_env.workbench.reporting.tables import error_table, estimate_table
+from ship_env.workbench.synthetic.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
 
 #: The Esso Osaka hull with the nominal coefficients these checks were designed on (not the identified preset).
 SHIP = str(Path(__file__).parent / "data" / "esso_osaka_nominal.yaml")

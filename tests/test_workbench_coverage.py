@@ -1,6 +1,6 @@
 """Honest extrapolation: a fit's coverage, the runs beyond it, the jackknife bands, and improve's validation rule.
 
-Synthetic logs (``ship_env.workbench.synthetic``): zig-zags at small rudder are fitted, turning
+Synthetic logs (``ship_env.workbench.synthetic.synthetic``): zig-zags at small rudder are fitted, turning
 circles at 35 deg rudder are the validation runs -- beyond the zig-zags' rudder angle and rate of
 turn. The Esso Osaka checks read ``../shared/data/esso_osaka`` and skip without it.
 """
@@ -17,17 +17,17 @@ import pytest
 from ship_env.cli import main
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, improve, load_logs, simulate, write_log
-from ship_env.workbench.bands import jackknife_band, jackknife_bands
-from ship_env.workbench.compare import held_out_comparison, plot_run
-from ship_env.workbench.coverage import (
+from ship_env.workbench.fitting.errors import pooled, run_errors
+from ship_env.workbench.judging.bands import jackknife_band, jackknife_bands
+from ship_env.workbench.judging.compare import held_out_comparison, plot_run
+from ship_env.workbench.judging.coverage import (
     COVERAGE_PERCENTILE,
     Coverage,
     check_coverage,
     coverage_of,
     errors_inside_beyond,
 )
-from ship_env.workbench.errors import pooled, run_errors
-from ship_env.workbench.synthetic import (
+from ship_env.workbench.synthetic.synthetic import (
     Manoeuvre,
     SensorNoise,
     hidden_effect_logs,
@@ -249,7 +249,7 @@ def test_improve_on_the_command_line_says_why_it_stopped_and_reports_the_validat
 
 
 @needs_esso
-@pytest.mark.filterwarnings("ignore::ship_env.workbench.logs.LogWarning")
+@pytest.mark.filterwarnings("ignore::ship_env.workbench.logs.logs.LogWarning")
 def test_the_esso_turning_runs_lie_beyond_the_zigzags_rate_of_turn():
     model = ShipModel(SHIP)
     zigzag, turning = load_logs([DATA / "zigzag"]), load_logs([DATA / "turning"])

@@ -14,8 +14,14 @@ from ship_env.model import REQUIRED_EFFECTS, ShipModel, load_ship
 from ship_env.model.declarations import Envelope
 from ship_env.paths import config_dir
 from ship_env.workbench import FitOptions, Log, ReplayModel, fit, write_log
-from ship_env.workbench.envelope import check_envelope, inside_logs
-from ship_env.workbench.synthetic import HIDDEN_VALUES, LogSettings, SensorNoise, model_test_programme, sail_all
+from ship_env.workbench.fitting.envelope import check_envelope, inside_logs
+from ship_env.workbench.synthetic.synthetic import (
+    HIDDEN_VALUES,
+    LogSettings,
+    SensorNoise,
+    model_test_programme,
+    sail_all,
+)
 
 SHIP = "esso_osaka_model"
 SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)

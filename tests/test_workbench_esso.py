@@ -6,7 +6,7 @@ built-in log format reads every run; the slow ones fit the nine zig-zags and run
 commands, checking each figure ``docs/results/workbench.md`` states for them.
 
 A figure is checked against its recomputation within two jackknife standard errors over the runs
-(:func:`~ship_env.workbench.errors.pooled_jackknife`): the pooled error with each run left out in
+(:func:`~ship_env.workbench.fitting.errors.pooled_jackknife`): the pooled error with each run left out in
 turn shows how much the figure owes to which runs were measured, so a stated figure that lies
 further off than that is no longer the result of these commands.
 """
@@ -29,7 +29,7 @@ from ship_env.workbench import (
     load_log,
     load_logs,
 )
-from ship_env.workbench.errors import RunErrors, pooled, pooled_jackknife
+from ship_env.workbench.fitting.errors import RunErrors, pooled, pooled_jackknife
 
 DATA = Path(__file__).resolve().parents[1].parent / "shared" / "data" / "esso_osaka"
 pytestmark = pytest.mark.skipif(

@@ -18,9 +18,10 @@ from ship_env.workbench import (
     fit,
     simulate,
 )
-from ship_env.workbench.fit import DIFFERENCE_STEP, Problem
-from ship_env.workbench.replay import initial_state, initial_window, moved_replays
-from ship_env.workbench.synthetic import (
+from ship_env.workbench.fitting.fit import DIFFERENCE_STEP, Problem
+from ship_env.workbench.fitting.replay import initial_state, initial_window, moved_replays
+from ship_env.workbench.fitting.terms import acts_on, default_terms, make_term, value_of, with_values
+from ship_env.workbench.synthetic.synthetic import (
     HIDDEN_VALUES,
     SEA_TRIAL_NOISE,
     LogSettings,
@@ -31,7 +32,6 @@ from ship_env.workbench.synthetic import (
     noise_scales,
     sail_all,
 )
-from ship_env.workbench.terms import acts_on, default_terms, make_term, value_of, with_values
 
 SHIP = "esso_osaka_model"
 SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)

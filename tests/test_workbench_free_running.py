@@ -14,9 +14,11 @@ from ship_env.cli import main
 from ship_env.manoeuvres import turning_circle, zigzag
 from ship_env.manoeuvres.results import Figure
 from ship_env.model import ShipModel
-from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.fit import FitOptions
-from ship_env.workbench.free_running import (
+from ship_env.workbench.deciding.improve import improve
+from ship_env.workbench.fitting.errors import ErrorScales
+from ship_env.workbench.fitting.fit import FitOptions
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.judging.free_running import (
     RunFigures,
     Series,
     compare_free_running,
@@ -26,12 +28,10 @@ from ship_env.workbench.free_running import (
     manoeuvre_figures,
     read_manoeuvre,
 )
-from ship_env.workbench.improve import improve
-from ship_env.workbench.logs import load_logs, write_log
-from ship_env.workbench.presets import preset_document, write_preset
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.synthetic import LogSettings, Manoeuvre, SensorNoise, sail_all
-from ship_env.workbench.validation import cross_validate
+from ship_env.workbench.judging.validation import cross_validate
+from ship_env.workbench.logs.logs import load_logs, write_log
+from ship_env.workbench.reporting.presets import preset_document, write_preset
+from ship_env.workbench.synthetic.synthetic import LogSettings, Manoeuvre, SensorNoise, sail_all
 
 SHIP = "container_226m"
 #: The container ship's preset without its wind effects and current: yaw, Norrbin, speed loss, sway, steering machine.

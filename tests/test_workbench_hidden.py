@@ -1,7 +1,7 @@
 """The hidden-effect suite: logs sailed with an effect the fitted model lacks must lead to it.
 
 For each effect: zig-zags and turns sailed by the simulator with the effect on and realistic
-sensor noise (``ship_env.workbench.synthetic``), the speed-scheduled Nomoto model fitted without
+sensor noise (``ship_env.workbench.synthetic.synthetic``), the speed-scheduled Nomoto model fitted without
 it, then diagnosed. The hidden effect must rank first, and adding it must remove at least half
 of the held-out (leave-one-run-out) score's excess over the noise floor (the score of the true
 model on the same noisy logs) and bring the score within 1.5 times that floor. The floor is what
@@ -17,7 +17,7 @@ screening (only the three candidates with the most evidence are refitted); the f
 Two suites run the same checks: the 3 m model in a basin (``MODEL_BASIN``: 5 Hz, a basin's sensors)
 and a 226 m container ship on sea trials (``SEA_TRIAL``: 1 Hz, GPS of 3 m, a compass of 0.5 deg,
 the rudder indicator read to 0.5 deg), each sailing the model-test programme in its own time
-scale L / U (:func:`~ship_env.workbench.synthetic.model_test_programme`).
+scale L / U (:func:`~ship_env.workbench.synthetic.synthetic.model_test_programme`).
 """
 
 from __future__ import annotations
@@ -29,9 +29,10 @@ import pytest
 
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, diagnose, improve
-from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.logs import Log
-from ship_env.workbench.synthetic import (
+from ship_env.workbench.fitting.errors import ErrorScales
+from ship_env.workbench.logs.logs import Log
+from ship_env.workbench.reporting.tables import diagnosis_table
+from ship_env.workbench.synthetic.synthetic import (
     HIDDEN_EFFECTS,
     HIDDEN_VALUES,
     NULL_PRESET_VALUES,
@@ -45,7 +46,6 @@ from ship_env.workbench.synthetic import (
     noise_scales,
     sail_all,
 )
-from ship_env.workbench.tables import diagnosis_table
 
 
 @dataclass(frozen=True)

@@ -20,8 +20,8 @@ from ship_env.workbench import (
     load_logs,
     write_log,
 )
-from ship_env.workbench.formats import format_template, read_format
-from ship_env.workbench.logs import every_nth, log_from_frame
+from ship_env.workbench.logs.formats import format_template, read_format
+from ship_env.workbench.logs.logs import every_nth, log_from_frame
 
 
 def standard_frame(samples: int = 50) -> pd.DataFrame:

@@ -9,10 +9,10 @@ import pytest
 
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel
 from ship_env.model.declarations import Parameter
-from ship_env.workbench.fit import Estimate
-from ship_env.workbench.materiality import mismatch
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.terms import _RULES, DEFAULT_TERMS, make_term
+from ship_env.workbench.fitting.fit import Estimate
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import _RULES, DEFAULT_TERMS, make_term
+from ship_env.workbench.judging.materiality import mismatch
 
 SHIPS = ("esso_osaka_model", "container_226m", "kvlcc2")
 

@@ -9,9 +9,9 @@ import pytest
 
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import FitError, FitOptions, ReplayModel, cross_validate, diagnose
-from ship_env.workbench.diagnose import Diagnosis
-from ship_env.workbench.synthetic import LogSettings, model_test_programme, sail_all
-from ship_env.workbench.validation import CrossValidation
+from ship_env.workbench.deciding.diagnose import Diagnosis
+from ship_env.workbench.judging.validation import CrossValidation
+from ship_env.workbench.synthetic.synthetic import LogSettings, model_test_programme, sail_all
 
 SHIP = "esso_osaka_model"
 

@@ -1,7 +1,7 @@
 """Fitted presets: a fit written as a ship YAML that ShipModel, the simulators and the environments sail.
 
 Synthetic zig-zags sailed by a known ship (the Esso Osaka model's Nomoto ship with a rudder offset;
-``ship_env.workbench.synthetic``, a model basin's sensor noise) are fitted, written as a preset and
+``ship_env.workbench.synthetic.synthetic``, a model basin's sensor noise) are fitted, written as a preset and
 read back: the values bit for bit, the replays to 1e-9, the truth within four standard errors.
 """
 
@@ -21,10 +21,16 @@ from ship_env.leaderboard.board import run_leaderboard
 from ship_env.leaderboard.suites import NOMINAL, SuiteSpec
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
 from ship_env.workbench import FitOptions, ReplayModel, compare, cross_validate, load_logs, simulate, write_log
-from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.presets import DataLimit, envelope_section, preset_document, standard_errors, write_preset
-from ship_env.workbench.synthetic import Manoeuvre, hidden_effect_logs
-from ship_env.workbench.tables import error_table
+from ship_env.workbench.fitting.errors import ErrorScales
+from ship_env.workbench.reporting.presets import (
+    DataLimit,
+    envelope_section,
+    preset_document,
+    standard_errors,
+    write_preset,
+)
+from ship_env.workbench.reporting.tables import error_table
+from ship_env.workbench.synthetic.synthetic import Manoeuvre, hidden_effect_logs
 
 SHIP = "esso_osaka_model"
 HIDDEN = ("rudder_offset",)

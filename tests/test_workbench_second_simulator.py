@@ -20,14 +20,14 @@ from second_simulator import Hull, sail, sail_all
 
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import FitOptions, cross_validate, diagnose, improve
-from ship_env.workbench.synthetic import (
+from ship_env.workbench.reporting.tables import diagnosis_table
+from ship_env.workbench.synthetic.synthetic import (
     NO_TURN_SPEED_LOSS,
     SensorNoise,
     hidden_current,
     model_test_programme,
     noise_scales,
 )
-from ship_env.workbench.tables import diagnosis_table
 
 SHIP = "esso_osaka_model"
 SCALES = noise_scales(SensorNoise())

@@ -14,12 +14,12 @@ import pytest
 
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, fit, simulate
-from ship_env.workbench.documents import fit_document
-from ship_env.workbench.errors import ErrorScales, pooled, run_errors
-from ship_env.workbench.presets import preset_document
-from ship_env.workbench.synthetic import LogSettings, Manoeuvre, SensorNoise, noise_scales, sail_all
-from ship_env.workbench.tables import error_table
-from ship_env.workbench.terms import default_terms
+from ship_env.workbench.fitting.errors import ErrorScales, pooled, run_errors
+from ship_env.workbench.fitting.terms import default_terms
+from ship_env.workbench.reporting.documents import fit_document
+from ship_env.workbench.reporting.presets import preset_document
+from ship_env.workbench.reporting.tables import error_table
+from ship_env.workbench.synthetic.synthetic import LogSettings, Manoeuvre, SensorNoise, noise_scales, sail_all
 
 SHIP = "esso_osaka_model"
 SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)

@@ -17,7 +17,7 @@ SCRIPT = textwrap.dedent(
     """
     from ship_env.model import REQUIRED_EFFECTS, ShipModel
     from ship_env.workbench import FitOptions, ReplayModel, improve
-    from ship_env.workbench.synthetic import LogSettings, model_test_programme, sail_all
+    from ship_env.workbench.synthetic.synthetic import LogSettings, model_test_programme, sail_all
 
     truth = ReplayModel(ShipModel("esso_osaka_model", [*REQUIRED_EFFECTS, "rudder_offset"]))
     logs = sail_all(truth, model_test_programme(duration=20.0)[:3], seed=5, settings=LogSettings())
@@ -36,6 +36,8 @@ def test_a_script_without_the_main_guard_gets_an_error_naming_it_and_the_fix(tmp
     )
     assert finished.returncode != 0
     last = finished.stderr.strip().splitlines()[-1]
-    assert last.startswith("ship_env.workbench.parallel.WorkerStartError: the worker processes stopped while starting")
+    assert last.startswith(
+        "ship_env.workbench.fitting.parallel.WorkerStartError: the worker processes stopped while starting"
+    )
     assert str(script) in last and 'if __name__ == "__main__":' in last and "workers=1" in last
     assert "BrokenProcessPool" not in finished.stderr

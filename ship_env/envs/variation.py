@@ -21,7 +21,7 @@ drawn.
 
 ``ship_variation="fitted"`` (:data:`FITTED`) draws the ship from its fit instead: a preset written
 by ``ship-env fit/improve --preset`` carries each fitted value theta_hat with its standard error s
-(the larger of the Jacobian's and the jackknife's, :mod:`ship_env.workbench.presets`), and each
+(the larger of the Jacobian's and the jackknife's, :mod:`ship_env.workbench.reporting.presets`), and each
 episode's K* and tau* are drawn (:class:`FittedShipVariation`)
 
     theta ~ N(theta_hat, s^2) truncated to [theta_min, theta_max],

@@ -75,7 +75,7 @@ CONDITION_UNITS: dict[str, str] = {
     "wind_east": "m/s",
 }
 
-#: The SI unit of each quantity of a fitted preset's coverage (``workbench.coverage.QUANTITIES``).
+#: The SI unit of each quantity of a fitted preset's coverage (``workbench.judging.coverage.QUANTITIES``).
 COVERAGE_UNITS: dict[str, str] = {"speed": "m/s", "rate": "-", "drift": "rad", "rudder": "rad", "propeller": "rps"}
 
 #: Numbers of a ``fitted:`` record that are counts or shares, kept as they are.

@@ -7,12 +7,12 @@ in on a straight course at its service speed where a :class:`~ship_env.model.Con
       propeller_rate: {value: 10.2, unit: rps, source: "median of the fitted runs' propeller rate"}
 
 A preset without one sails as before (propeller rate 0). ``ship-env fit --preset`` and ``improve
---preset`` write the propeller rate the fitted runs had (:mod:`ship_env.workbench.presets`): a
+--preset`` write the propeller rate the fitted runs had (:mod:`ship_env.workbench.reporting.presets`): a
 slipstream term fitted at 10.2 rps then acts at 10.2 rps in ``Simulator``, the environments, the
 manoeuvres and the leaderboard, not at 0 rps where the rudder is weaker.
 
 A fitted preset also records the ranges its runs covered (``fitted.coverage``,
-:mod:`ship_env.workbench.coverage`): the propeller rate, ``r* = L |r| / max(u, u_min)``, the drift angle
+:mod:`ship_env.workbench.judging.coverage`): the propeller rate, ``r* = L |r| / max(u, u_min)``, the drift angle
 ``|atan2(-v, u)|`` and the rudder angle ``|delta|``. A :class:`~ship_env.model.Simulator` sailing it beyond
 them (:class:`FittedRanges`: the propeller rate where a ship starts, the others after every step)
 warns with a :class:`CoverageWarning` naming the quantity, its value and the range, once per preset
@@ -68,7 +68,7 @@ class Quantity:
         return f"{self.words} {low * self.factor:.3g} to {high * self.factor:.3g}{unit}"
 
 
-#: The quantities of a fit's coverage, by key (:mod:`ship_env.workbench.coverage`).
+#: The quantities of a fit's coverage, by key (:mod:`ship_env.workbench.judging.coverage`).
 COVERAGE_QUANTITIES: dict[str, Quantity] = {
     "speed": Quantity("speed", "m/s", 1.0, True),
     "rate": Quantity("r*", "", 1.0, False),

@@ -12,7 +12,7 @@ and the values of its parameters. Every value carries its source; an assumed val
 
 Values may be given in deg, deg/s, kn or rpm (``unit``); the model holds SI units and radians.
 
-A preset written from a fit (``ship-env fit --preset``, :mod:`ship_env.workbench.presets`) gives each
+A preset written from a fit (``ship-env fit --preset``, :mod:`ship_env.workbench.reporting.presets`) gives each
 fitted value its standard error in the value's unit (``std_error``; null where the data do not
 determine it), and a top-level ``fitted:`` block saying what it was fitted to (the logs and their
 hashes, the command, the held-out errors, the coverage, the version). Both are optional in every preset.

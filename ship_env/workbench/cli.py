@@ -26,13 +26,13 @@ from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
 from ship_env.model.arguments import EFFECT_SETS, effect_names, effect_set, ship_name
 from ship_env.text_table import WIDTH
 from ship_env.workbench.defaults import MIN_SEGMENT, NUISANCE, PAIR_WIDTH
+from ship_env.workbench.fitting.parallel import usable_cores
 from ship_env.workbench.outputs import claim_file, claim_folder
-from ship_env.workbench.parallel import usable_cores
 
 if TYPE_CHECKING:
     from ship_env.workbench import CrossValidation, ErrorScales, FitOptions, Log, ReplayModel
-    from ship_env.workbench.replay import Simulated
-    from ship_env.workbench.runs import WorkbenchRuns
+    from ship_env.workbench.fitting.replay import Simulated
+    from ship_env.workbench.fitting.runs import WorkbenchRuns
 
 #: The ship the workbench's commands assume without ``--ship`` (and without ``--parameters``).
 WORKBENCH_SHIP = "esso_osaka_model"
@@ -60,8 +60,8 @@ _count = whole_number(0)
 def _workbench_setup(args: argparse.Namespace) -> ReplayModel:
     """The model to start from: ``--model`` on ``--ship``, or a fit's document (``--parameters``) on its hull;
     plus ``--add``."""
-    from ship_env.workbench.documents import DocumentError, read_fitted_model
-    from ship_env.workbench.presets import preset_replay_model
+    from ship_env.workbench.reporting.documents import DocumentError, read_fitted_model
+    from ship_env.workbench.reporting.presets import preset_replay_model
 
     added = tuple(name for names in args.add for name in names)
     if args.parameters is not None:
@@ -105,7 +105,7 @@ def _workbench_options(args: argparse.Namespace, setup: ReplayModel, logs: Seque
 def _workbench_logs(args: argparse.Namespace, paths: Sequence[Path] | None = None) -> list[Log]:
     """The logs (``args.logs`` or ``paths``), each loader warning printed as one line on stderr."""
     from ship_env.workbench import LogWarning, load_logs
-    from ship_env.workbench.logs import every_nth
+    from ship_env.workbench.logs.logs import every_nth
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", LogWarning)
@@ -117,8 +117,8 @@ def _workbench_logs(args: argparse.Namespace, paths: Sequence[Path] | None = Non
 
 def _workbench_runs(args: argparse.Namespace, setup: ReplayModel) -> WorkbenchRuns:
     """Load the logs, check them against the model's envelope, cut or group them as asked; print what was done."""
-    from ship_env.workbench.runs import GroupingError, prepare_runs
-    from ship_env.workbench.tables import envelope_line, envelope_table
+    from ship_env.workbench.fitting.runs import GroupingError, prepare_runs
+    from ship_env.workbench.reporting.tables import envelope_line, envelope_table
 
     logs = _workbench_logs(args)
     validation = _workbench_logs(args, args.validate_on) if args.validate_on else []
@@ -138,9 +138,9 @@ def print_inside_outside(
     title: str, logs: Sequence[Log], replays: Sequence[Simulated], runs: WorkbenchRuns, scales: ErrorScales
 ) -> None:
     """RMS errors over the samples inside and outside the envelope, where a run has both."""
-    from ship_env.workbench.errors import pooled
-    from ship_env.workbench.runs import inside_outside_errors
-    from ship_env.workbench.tables import error_table
+    from ship_env.workbench.fitting.errors import pooled
+    from ship_env.workbench.fitting.runs import inside_outside_errors
+    from ship_env.workbench.reporting.tables import error_table
 
     for where, errors in inside_outside_errors(logs, replays, runs.checks).items():
         print(f"\n{title}, over the samples {where} the envelope")
@@ -149,7 +149,7 @@ def print_inside_outside(
 
 def fitted_terms(args: argparse.Namespace, setup: ReplayModel, logs: Sequence[Log]) -> list[str]:
     """The model's default terms for the logs, plus ``--free``, less ``--fix``."""
-    from ship_env.workbench.terms import default_terms
+    from ship_env.workbench.fitting.terms import default_terms
 
     defaults = default_terms(setup.model.effects, logs)
     keys = defaults + [key for key in args.free if key not in defaults]
@@ -171,7 +171,7 @@ def _claim_outputs(args: argparse.Namespace) -> None:
 
 
 def print_validation(validation: CrossValidation, scales: ErrorScales) -> None:
-    from ship_env.workbench.tables import error_table, estimate_table
+    from ship_env.workbench.reporting.tables import error_table, estimate_table
 
     fitted = validation.fit
     print(f"\nfitted terms ({fitted.evaluations} evaluations; {fitted.message})")
@@ -191,7 +191,7 @@ def model_line(setup: ReplayModel, logs: Sequence[Log]) -> str:
 
 def print_validation_runs(validation: CrossValidation, runs: WorkbenchRuns, scales: ErrorScales) -> None:
     """The --validate-on runs' errors under the all-run fit, whole and inside/outside the envelope."""
-    from ship_env.workbench.tables import error_table, validation_coverage_text
+    from ship_env.workbench.reporting.tables import error_table, validation_coverage_text
 
     if not validation.validation:
         return
@@ -208,7 +208,7 @@ def start_command(args: argparse.Namespace, fitting: bool = True) -> tuple[Repla
     A command that fits (``fitting``) sails the model with the speed loss on where a log measures the
     speed (:func:`~.terms.with_speed_output`), and says what the logs leave it unable to know.
     """
-    from ship_env.workbench.terms import not_identified, with_speed_output
+    from ship_env.workbench.fitting.terms import not_identified, with_speed_output
 
     setup = _workbench_setup(args)
     _claim_outputs(args)
@@ -224,7 +224,7 @@ def start_command(args: argparse.Namespace, fitting: bool = True) -> tuple[Repla
 
 def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, runs: WorkbenchRuns) -> None:
     """``--preset FILE``: the fitted model as a ship preset (claimed before any work)."""
-    from ship_env.workbench.presets import preset_document, write_preset
+    from ship_env.workbench.reporting.presets import preset_document, write_preset
 
     if args.preset is None:
         return

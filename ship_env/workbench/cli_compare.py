@@ -23,8 +23,8 @@ from ship_env.workbench.cli import (
 def run_compare(args: argparse.Namespace) -> int:
     """``ship-env compare``: replay the logs with a model as it is (no fitting)."""
     from ship_env.workbench import compare, plot_comparison
-    from ship_env.workbench.coverage import check_coverage, fitted_coverage
-    from ship_env.workbench.tables import coverage_text, error_table
+    from ship_env.workbench.judging.coverage import check_coverage, fitted_coverage
+    from ship_env.workbench.reporting.tables import coverage_text, error_table
 
     setup, options, runs = start_command(args, fitting=False)
     logs = [*runs.logs, *runs.validation]

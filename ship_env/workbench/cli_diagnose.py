@@ -28,9 +28,9 @@ from ship_env.workbench.outputs import claim_file
 def run_diagnose(args: argparse.Namespace) -> int:
     """``ship-env diagnose``: rank the effects the model lacks."""
     from ship_env.workbench import cross_validate, diagnose
-    from ship_env.workbench.diagnose import past_the_library
-    from ship_env.workbench.signals import plot_signals
-    from ship_env.workbench.tables import diagnosis_table
+    from ship_env.workbench.deciding.diagnose import past_the_library
+    from ship_env.workbench.deciding.signals import plot_signals
+    from ship_env.workbench.reporting.tables import diagnosis_table
 
     if args.signals_plot is not None:
         claim_file(args.signals_plot, args.force, "--plot")

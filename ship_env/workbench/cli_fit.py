@@ -28,8 +28,8 @@ from ship_env.workbench.cli import (
 def run_fit(args: argparse.Namespace) -> int:
     """``ship-env fit``: fit the model to the logs, validate it leaving one run out."""
     from ship_env.workbench import cross_validate, fit_each_run, held_out_comparison, plot_comparison
-    from ship_env.workbench.documents import fit_document, write_document
-    from ship_env.workbench.tables import error_table
+    from ship_env.workbench.reporting.documents import fit_document, write_document
+    from ship_env.workbench.reporting.tables import error_table
 
     setup, options, runs = start_command(args)
     logs = runs.logs

@@ -32,8 +32,8 @@ def run_improve(args: argparse.Namespace) -> int:
     """``ship-env improve``: add effects while the held-out error falls; the error ladder, and with
     ``--report`` a report."""
     from ship_env.workbench import improve, write_report
-    from ship_env.workbench.documents import ladder_document, write_document
-    from ship_env.workbench.tables import estimate_table, ladder_table, validation_coverage_text
+    from ship_env.workbench.reporting.documents import ladder_document, write_document
+    from ship_env.workbench.reporting.tables import estimate_table, ladder_table, validation_coverage_text
 
     setup, options, runs = start_command(args)
     logs = runs.logs

@@ -12,7 +12,7 @@ sees NaN, time that stands still or goes back, or degrees where radians belong; 
 - a heading that changes about 57 times faster, or slower, than the rate of turn says (one of the
   two in degrees).
 
-:func:`from_workbench_log` converts the measurement workbench's :class:`ship_env.workbench.logs.Log`.
+:func:`from_workbench_log` converts the measurement workbench's :class:`ship_env.workbench.logs.logs.Log`.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from ship_env.workbench.logs import Log
+    from ship_env.workbench.logs.logs import Log
 
 #: No rudder turns further than this, rad: a larger value is in degrees.
 MAX_PLAUSIBLE_RUDDER = math.pi / 2.0
@@ -179,7 +179,7 @@ def _check_heading_against_rate(time: np.ndarray, heading: np.ndarray, rate: np.
 
 
 def from_workbench_log(log: Log, service_speed: float | None = None) -> ExcitationLog:
-    """The measurement workbench's :class:`ship_env.workbench.logs.Log` as an :class:`ExcitationLog`.
+    """The measurement workbench's :class:`ship_env.workbench.logs.logs.Log` as an :class:`ExcitationLog`.
 
     The workbench's log is already in SI units and radians with an unwrapped heading. A log without
     a rate-of-turn channel gets r = d(psi)/dt by central differences (``numpy.gradient``); one

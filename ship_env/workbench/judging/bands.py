@@ -23,9 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import EAST, NORTH, Tasks, pack_runs, replay
-from ship_env.workbench.validation import Fold
+from ship_env.workbench.fitting.replay import EAST, NORTH, Tasks, pack_runs, replay
+from ship_env.workbench.judging.validation import Fold
+from ship_env.workbench.logs.logs import Log
 
 #: How the band is labelled in drawings.
 BAND_LABEL = "jackknife band"

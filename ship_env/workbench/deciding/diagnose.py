@@ -39,12 +39,11 @@ from itertools import combinations
 import numpy as np
 
 from ship_env.model import EFFECTS, ShipModel
-from ship_env.workbench.errors import ErrorScales, RunErrors
-from ship_env.workbench.fit import FitOptions, Problem
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.signals import ResidualSignals, residual_signals
-from ship_env.workbench.terms import (
+from ship_env.workbench.deciding.signals import ResidualSignals, residual_signals
+from ship_env.workbench.fitting.errors import ErrorScales, RunErrors
+from ship_env.workbench.fitting.fit import FitOptions, Problem
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import (
     Term,
     effect_terms,
     make_term,
@@ -52,8 +51,9 @@ from ship_env.workbench.terms import (
     why_not_fitted,
     with_values,
 )
-from ship_env.workbench.threads import one_thread
-from ship_env.workbench.validation import CrossValidation, ValidationJob, cross_validate_each
+from ship_env.workbench.fitting.threads import one_thread
+from ship_env.workbench.judging.validation import CrossValidation, ValidationJob, cross_validate_each
+from ship_env.workbench.logs.logs import Log
 
 #: Cost evaluations of a screening fit (a few Gauss-Newton iterations from the current fit).
 SCREENING_EVALUATIONS = 6

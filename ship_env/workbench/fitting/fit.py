@@ -8,7 +8,7 @@ and simulated
   model's, a measured speed sets only the run's service speed and initial speed), and
 - track (north, east) replayed with the measured heading (and speed),
 
-each divided by its error scale (:class:`~ship_env.workbench.errors.ErrorScales`), with
+each divided by its error scale (:class:`~ship_env.workbench.fitting.errors.ErrorScales`), with
 ``scipy.optimize.least_squares`` (trust-region reflective, within the terms' ranges). The Jacobian
 is taken by forward differences, every perturbed parameter set and run replayed in one compiled
 batch. Optional per-run nuisance terms (an offset of the initial heading and of the initial rate of
@@ -36,9 +36,8 @@ from scipy.optimize import least_squares
 from ship_env.model import ShipModel
 from ship_env.model import state as S
 from ship_env.workbench.defaults import NUISANCE
-from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import (
+from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled, run_errors
+from ship_env.workbench.fitting.replay import (
     EAST,
     HEADING,
     NORTH,
@@ -53,7 +52,7 @@ from ship_env.workbench.replay import (
     replay,
     unpack,
 )
-from ship_env.workbench.terms import (
+from ship_env.workbench.fitting.terms import (
     Term,
     acts_on,
     default_terms,
@@ -63,7 +62,8 @@ from ship_env.workbench.terms import (
     with_values,
     write_record,
 )
-from ship_env.workbench.threads import one_thread
+from ship_env.workbench.fitting.threads import one_thread
+from ship_env.workbench.logs.logs import Log
 
 #: How cross-validation fits a fold (see :mod:`.validation`).
 FOLD_METHODS = ("linearised", "refit")

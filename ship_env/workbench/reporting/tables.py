@@ -11,15 +11,15 @@ from collections.abc import Sequence
 
 from ship_env.model.declarations import Envelope
 from ship_env.text_table import Table
-from ship_env.workbench.coverage import QUANTITIES, Coverage, CoverageCheck, errors_inside_beyond
-from ship_env.workbench.diagnose import CandidateResult, Diagnosis
-from ship_env.workbench.envelope import EnvelopeCheck
-from ship_env.workbench.errors import ErrorScales, RunErrors, pooled
-from ship_env.workbench.improve import Ladder
-from ship_env.workbench.logs import Log
-from ship_env.workbench.materiality import mismatch
-from ship_env.workbench.replay import Simulated
-from ship_env.workbench.validation import CrossValidation
+from ship_env.workbench.deciding.diagnose import CandidateResult, Diagnosis
+from ship_env.workbench.deciding.improve import Ladder
+from ship_env.workbench.fitting.envelope import EnvelopeCheck
+from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled
+from ship_env.workbench.fitting.replay import Simulated
+from ship_env.workbench.judging.coverage import QUANTITIES, Coverage, CoverageCheck, errors_inside_beyond
+from ship_env.workbench.judging.materiality import mismatch
+from ship_env.workbench.judging.validation import CrossValidation
+from ship_env.workbench.logs.logs import Log
 
 
 def number(value: float, digits: int = 2) -> str:

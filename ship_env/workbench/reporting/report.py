@@ -16,30 +16,30 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure as Drawing
 from matplotlib.ticker import FormatStrFormatter
 
-from ship_env.workbench.compare import held_out_comparison, plot_run, run_drawings
-from ship_env.workbench.coverage import beyond_in_words
-from ship_env.workbench.diagnose import Diagnosis
-from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.free_running import (
+from ship_env.workbench.deciding.diagnose import Diagnosis
+from ship_env.workbench.deciding.improve import Ladder
+from ship_env.workbench.fitting.errors import ErrorScales
+from ship_env.workbench.fitting.parallel import run_each
+from ship_env.workbench.fitting.terms import not_identified, replay_inputs
+from ship_env.workbench.judging.compare import held_out_comparison, plot_run, run_drawings
+from ship_env.workbench.judging.coverage import beyond_in_words
+from ship_env.workbench.judging.free_running import (
     RunFigures,
     Series,
     disagreements,
     free_running_table,
     held_out_free_running,
 )
-from ship_env.workbench.improve import Ladder
-from ship_env.workbench.logs import Log
+from ship_env.workbench.judging.validation import CrossValidation
+from ship_env.workbench.logs.logs import Log
 from ship_env.workbench.outputs import save_drawing
-from ship_env.workbench.parallel import run_each
-from ship_env.workbench.tables import (
+from ship_env.workbench.reporting.tables import (
     coverage_sections,
     diagnosis_table,
     estimate_table,
     ladder_table,
     log_table,
 )
-from ship_env.workbench.terms import not_identified, replay_inputs
-from ship_env.workbench.validation import CrossValidation
 
 
 def plot_ladder(ladder: Ladder, path: Path) -> Path:
@@ -122,7 +122,7 @@ def _free_running_lines(ladder: Ladder, logs: Sequence[Log], folder: Path, worke
             "Each turning and zig-zag run (validation runs included) read as its manoeuvre and sailed free by a "
             "model that did not see it, from the measured state at its first execute: a turn holds its rudder, a "
             "zig-zag reverses the rudder on the heading, as a helmsman does "
-            "(`ship_env.workbench.free_running`). Figures in ship lengths L, degrees and seconds."
+            "(`ship_env.workbench.judging.free_running`). Figures in ship lengths L, degrees and seconds."
         ),
         "",
     ]

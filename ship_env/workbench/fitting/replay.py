@@ -49,7 +49,7 @@ from ship_env.model.contributions import derivative_quantity
 from ship_env.model.dynamics import derivatives
 from ship_env.model.integrators import RK4, WORK_ROWS, borrowed, step_ship_with_noise
 from ship_env.model.kernel import kernel, parallel_kernel
-from ship_env.workbench.logs import Log
+from ship_env.workbench.logs.logs import Log
 
 #: Columns of a replay's output: the track, heading, rate of turn and speed through the water u, m/s.
 NORTH, EAST, HEADING, RATE, SPEED = 0, 1, 2, 3, 4

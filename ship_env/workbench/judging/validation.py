@@ -30,15 +30,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from ship_env.model import ShipModel
-from ship_env.workbench.coverage import Coverage, CoverageCheck, check_coverage, coverage_of
-from ship_env.workbench.errors import ErrorScales, RunErrors, pooled, run_errors
-from ship_env.workbench.fit import FitError, FitOptions, FitResult, Problem, as_setup, fit_setup
-from ship_env.workbench.logs import Log
-from ship_env.workbench.parallel import pool
-from ship_env.workbench.replay import ReplayModel, Simulated, simulate
-from ship_env.workbench.runs import screen_runs
-from ship_env.workbench.terms import with_values
-from ship_env.workbench.threads import one_thread
+from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled, run_errors
+from ship_env.workbench.fitting.fit import FitError, FitOptions, FitResult, Problem, as_setup, fit_setup
+from ship_env.workbench.fitting.parallel import pool
+from ship_env.workbench.fitting.replay import ReplayModel, Simulated, simulate
+from ship_env.workbench.fitting.runs import screen_runs
+from ship_env.workbench.fitting.terms import with_values
+from ship_env.workbench.fitting.threads import one_thread
+from ship_env.workbench.judging.coverage import Coverage, CoverageCheck, check_coverage, coverage_of
+from ship_env.workbench.logs.logs import Log
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """``ship-env demo-logs``: simulated model-test logs to try the workbench on, with effects hidden in them.
 
-The simulator sails the model-test programme (:func:`~ship_env.workbench.synthetic.model_test_programme`:
+The simulator sails the model-test programme (:func:`~ship_env.workbench.synthetic.synthetic.model_test_programme`:
 three zig-zags and three turns, scaled to the ship) with the speed-scheduled Nomoto ship plus the
 ``--hidden`` effects, and sensors add their noise (:data:`SENSORS`). The logs are written in the
 workbench's standard CSV format, the zig-zags into ``DIR/zigzag`` and the turns into ``DIR/turning``,
@@ -8,9 +8,9 @@ so ``ship-env fit DIR/zigzag --validate-on DIR/turning`` and the other workbench
 install alone. ``DIR/truth.json`` holds what is hidden, with its values keyed and in the units of
 ``ship-env fit --json``; ``DIR/README.txt`` says the same in words, with the commands to try.
 
-A hidden effect takes the ship preset's values, except :data:`~ship_env.workbench.synthetic.HIDDEN_VALUES`
+A hidden effect takes the ship preset's values, except :data:`~ship_env.workbench.synthetic.synthetic.HIDDEN_VALUES`
 and, where the preset holds the null value (an aligned rudder, a slipstream inside K*),
-:data:`~ship_env.workbench.synthetic.NULL_PRESET_VALUES`.
+:data:`~ship_env.workbench.synthetic.synthetic.NULL_PRESET_VALUES`.
 """
 
 from __future__ import annotations
@@ -24,10 +24,11 @@ from pathlib import Path
 
 from ship_env.command_line import Command, UsageError, name_list, number, whole_number
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
-from ship_env.workbench.logs import Log, write_log
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import effect_terms, make_term, value_of
+from ship_env.workbench.logs.logs import Log, write_log
 from ship_env.workbench.outputs import OutputError, claim_folder
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.synthetic import (
+from ship_env.workbench.synthetic.synthetic import (
     HIDDEN_EFFECTS,
     HIDDEN_VALUES,
     NULL_PRESET_VALUES,
@@ -38,7 +39,6 @@ from ship_env.workbench.synthetic import (
     hidden_effect_logs,
     model_test_programme,
 )
-from ship_env.workbench.terms import effect_terms, make_term, value_of
 
 
 @dataclass(frozen=True)

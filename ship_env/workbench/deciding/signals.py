@@ -32,9 +32,9 @@ from scipy.signal import savgol_filter
 from ship_env.model import state as S
 from ship_env.model.dynamics import derivatives
 from ship_env.model.kernel import kernel
-from ship_env.workbench.logs import Log
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.logs.logs import Log
 from ship_env.workbench.outputs import save_drawing
-from ship_env.workbench.replay import ReplayModel
 
 #: The span the rate of turn is smoothed and differentiated over, s (Savitzky-Golay, quadratic).
 SMOOTHING = 4.0

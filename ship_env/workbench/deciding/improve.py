@@ -50,21 +50,21 @@ from scipy.stats import chi2
 
 from ship_env.manoeuvres import turning_circle
 from ship_env.model import ShipModel
-from ship_env.workbench.coverage import beyond_in_words
+from ship_env.workbench.deciding.diagnose import CONFIRMED, CandidateResult, Diagnosis, diagnose, in_words, pairs
+from ship_env.workbench.deciding.diagnose import refit as refit_in_full
 from ship_env.workbench.defaults import MIN_GAIN, PAIR_WIDTH
-from ship_env.workbench.diagnose import CONFIRMED, CandidateResult, Diagnosis, diagnose, in_words, pairs
-from ship_env.workbench.diagnose import refit as refit_in_full
-from ship_env.workbench.errors import ErrorScales
-from ship_env.workbench.fit import Estimate, FitOptions, as_setup
-from ship_env.workbench.free_running import compare_free_running, figure_score
-from ship_env.workbench.logs import Log
-from ship_env.workbench.materiality import mismatch
-from ship_env.workbench.parallel import start as start_workers
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.runs import screen_runs
-from ship_env.workbench.terms import sailing_model, with_values
-from ship_env.workbench.threads import one_thread
-from ship_env.workbench.validation import CrossValidation, ValidationJob, cross_validate, cross_validate_each
+from ship_env.workbench.fitting.errors import ErrorScales
+from ship_env.workbench.fitting.fit import Estimate, FitOptions, as_setup
+from ship_env.workbench.fitting.parallel import start as start_workers
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.runs import screen_runs
+from ship_env.workbench.fitting.terms import sailing_model, with_values
+from ship_env.workbench.fitting.threads import one_thread
+from ship_env.workbench.judging.coverage import beyond_in_words
+from ship_env.workbench.judging.free_running import compare_free_running, figure_score
+from ship_env.workbench.judging.materiality import mismatch
+from ship_env.workbench.judging.validation import CrossValidation, ValidationJob, cross_validate, cross_validate_each
+from ship_env.workbench.logs.logs import Log
 
 #: Jackknife standard errors of the held-out score's fall that the fall must exceed.
 GAIN_SIGMAS = 1.0

@@ -22,12 +22,9 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure as Drawing
 
-from ship_env.workbench.bands import BAND_LABEL, Band, jackknife_bands
-from ship_env.workbench.errors import RunErrors, pooled, run_errors
-from ship_env.workbench.logs import Log
-from ship_env.workbench.outputs import save_drawing
-from ship_env.workbench.parallel import run_each
-from ship_env.workbench.replay import (
+from ship_env.workbench.fitting.errors import RunErrors, pooled, run_errors
+from ship_env.workbench.fitting.parallel import run_each
+from ship_env.workbench.fitting.replay import (
     EAST,
     HEADING,
     NORTH,
@@ -37,8 +34,11 @@ from ship_env.workbench.replay import (
     Simulated,
     simulate,
 )
-from ship_env.workbench.runs import screen_runs
-from ship_env.workbench.validation import CrossValidation
+from ship_env.workbench.fitting.runs import screen_runs
+from ship_env.workbench.judging.bands import BAND_LABEL, Band, jackknife_bands
+from ship_env.workbench.judging.validation import CrossValidation
+from ship_env.workbench.logs.logs import Log
+from ship_env.workbench.outputs import save_drawing
 
 MEASURED_STYLE: dict[str, Any] = {"color": "black", "linewidth": 1.0, "label": "measured"}
 SIMULATED_STYLE: dict[str, Any] = {"color": "tab:red", "linewidth": 1.0, "label": "simulated"}

@@ -26,8 +26,8 @@ from scipy.ndimage import uniform_filter1d
 from ship_env.model.declarations import Envelope
 from ship_env.model.effects.wave_spectrum import GRAVITY
 from ship_env.workbench.defaults import MIN_SEGMENT
-from ship_env.workbench.logs import MIN_SAMPLES, Log
-from ship_env.workbench.replay import highest_speed
+from ship_env.workbench.fitting.replay import highest_speed
+from ship_env.workbench.logs.logs import MIN_SAMPLES, Log
 
 #: Seconds over which the track is smoothed before the course over ground is taken from it.
 COURSE_WINDOW = 1.0

@@ -34,8 +34,8 @@ import numpy as np
 from ship_env.model import EFFECTS, PRINCIPAL, ShipModel
 from ship_env.model.declarations import Parameter
 from ship_env.model.effects.current import STEADY_COMPONENT
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import INPUTS, ReplayModel
+from ship_env.workbench.fitting.replay import INPUTS, ReplayModel
+from ship_env.workbench.logs.logs import Log
 
 CURRENT_TERMS = ("current.north", "current.east")
 

@@ -29,13 +29,13 @@ from typing import Any
 
 from ship_env.model import PRINCIPAL, ShipModel, list_ships, load_ship
 from ship_env.paths import config_dir
-from ship_env.workbench.envelope import EnvelopeCheck
-from ship_env.workbench.errors import CHANNEL_UNITS, ErrorScales, RunErrors
-from ship_env.workbench.improve import Ladder
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.terms import not_identified, replay_inputs, with_values
-from ship_env.workbench.validation import CrossValidation
+from ship_env.workbench.deciding.improve import Ladder
+from ship_env.workbench.fitting.envelope import EnvelopeCheck
+from ship_env.workbench.fitting.errors import CHANNEL_UNITS, ErrorScales, RunErrors
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import not_identified, replay_inputs, with_values
+from ship_env.workbench.judging.validation import CrossValidation
+from ship_env.workbench.logs.logs import Log
 
 
 class DocumentError(ValueError):

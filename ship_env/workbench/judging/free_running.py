@@ -47,10 +47,10 @@ from ship_env.manoeuvres.trial import run_trial
 from ship_env.manoeuvres.zigzag import ZigZagHelmsman
 from ship_env.model import Conditions
 from ship_env.text_table import Table
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import ReplayModel, service_speed
-from ship_env.workbench.terms import sailing_model
-from ship_env.workbench.validation import CrossValidation
+from ship_env.workbench.fitting.replay import ReplayModel, service_speed
+from ship_env.workbench.fitting.terms import sailing_model
+from ship_env.workbench.judging.validation import CrossValidation
+from ship_env.workbench.logs.logs import Log
 
 #: The rudder is "over" where it is at least this fraction of the manoeuvre's angle.
 OVER = 0.5

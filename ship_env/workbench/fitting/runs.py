@@ -19,10 +19,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ship_env.model import ShipModel
-from ship_env.workbench.envelope import MIN_SEGMENT, EnvelopeCheck, check_envelope, inside_logs
-from ship_env.workbench.errors import RunErrors, split_errors
-from ship_env.workbench.logs import Log, LogError, LogWarning
-from ship_env.workbench.replay import Simulated
+from ship_env.workbench.fitting.envelope import MIN_SEGMENT, EnvelopeCheck, check_envelope, inside_logs
+from ship_env.workbench.fitting.errors import RunErrors, split_errors
+from ship_env.workbench.fitting.replay import Simulated
+from ship_env.workbench.logs.logs import Log, LogError, LogWarning
 
 
 class GroupingError(ValueError):

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from ship_env.workbench.fit import Estimate, FitResult
+from ship_env.workbench.fitting.fit import Estimate, FitResult
 
 #: SI units shown in other units, with the factor: radians as degrees.
 _SHOWN_AS = {"rad": ("deg", 180.0 / math.pi), "rad/s": ("deg/s", 180.0 / math.pi)}

@@ -33,11 +33,11 @@ import numpy as np
 
 from ship_env.model import ShipModel
 from ship_env.model.operating_point import COVERAGE_QUANTITIES
-from ship_env.workbench.envelope import _percent, drift_angle
-from ship_env.workbench.errors import RunErrors, split_errors
-from ship_env.workbench.fit import FitError
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import Simulated
+from ship_env.workbench.fitting.envelope import _percent, drift_angle
+from ship_env.workbench.fitting.errors import RunErrors, split_errors
+from ship_env.workbench.fitting.fit import FitError
+from ship_env.workbench.fitting.replay import Simulated
+from ship_env.workbench.logs.logs import Log
 
 #: Percentile of the fitted runs' samples taken as a quantity's upper limit (100 minus it: the lower one).
 COVERAGE_PERCENTILE = 99.0

@@ -70,7 +70,7 @@ def _single_threaded() -> None:
     import numba
     from threadpoolctl import threadpool_limits
 
-    import ship_env.workbench.fit  # noqa: F401  (loads scipy's BLAS before limiting it)
+    import ship_env.workbench.fitting.fit  # noqa: F401  (loads scipy's BLAS before limiting it)
 
     numba.set_num_threads(1)
     threadpool_limits(limits=1, user_api="blas")

@@ -1,6 +1,6 @@
 """Measurement logs: read a CSV or Parquet time series, check it, and hold it in SI units.
 
-:func:`load_log` reads a file with a declared :class:`~ship_env.workbench.formats.LogFormat`
+:func:`load_log` reads a file with a declared :class:`~ship_env.workbench.logs.formats.LogFormat`
 (or the built-in one whose columns the file has), converts every channel to SI units and radians
 and checks what would otherwise give silently wrong fits. Each problem is an error that names the
 file, the column and the offending value:
@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ship_env.workbench.formats import (
+from ship_env.workbench.logs.formats import (
     CHANNELS,
     FormatError,
     LogFormat,

@@ -54,12 +54,10 @@ import yaml
 import ship_env
 from ship_env.model import EFFECTS, PRINCIPAL, Conditions, ShipModel
 from ship_env.model.declarations import ENVELOPE_LIMITS, Parameter
-from ship_env.workbench.coverage import COVERAGE_PERCENTILE, Coverage
-from ship_env.workbench.errors import CHANNEL_UNITS, RunErrors
-from ship_env.workbench.fit import Estimate
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import ReplayModel
-from ship_env.workbench.terms import (
+from ship_env.workbench.fitting.errors import CHANNEL_UNITS, RunErrors
+from ship_env.workbench.fitting.fit import Estimate
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import (
     CURRENT_TERMS,
     not_identified,
     propeller_rates,
@@ -67,7 +65,9 @@ from ship_env.workbench.terms import (
     reverses_propeller,
     sailing_model,
 )
-from ship_env.workbench.validation import CrossValidation
+from ship_env.workbench.judging.coverage import COVERAGE_PERCENTILE, Coverage
+from ship_env.workbench.judging.validation import CrossValidation
+from ship_env.workbench.logs.logs import Log
 
 #: Hex digits of a log file's SHA-256 kept in a preset (48 bits: no two files of a campaign collide).
 HASH_DIGITS = 12

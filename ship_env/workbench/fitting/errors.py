@@ -6,7 +6,7 @@ Channels (each an RMS over the run's samples):
   speed where the log has a speed channel: the model's own, ``replay.SPEED``, never the measured one);
 - position, m: distance between the measured and the freely simulated track;
 - track, m: distance between the measured track and the track replayed with the measured
-  heading (see :mod:`ship_env.workbench.replay`): the error of the track effects alone.
+  heading (see :mod:`ship_env.workbench.fitting.replay`): the error of the track effects alone.
 
 The **score** puts them on one scale: ``sqrt(mean_c (RMS_c / scale_c)^2)`` over heading, rate of
 turn, speed and track (those measured), where the scales are the errors one accepts. The free
@@ -15,7 +15,7 @@ channel already counts.
 
 A replay that leaves the model's validity (a state not finite, the ship going astern) is
 *diverged*: from the sample where it left, its outputs hold the last valid state
-(:mod:`ship_env.workbench.replay`). Its run keeps its place in the pooled errors and score, with
+(:mod:`ship_env.workbench.fitting.replay`). Its run keeps its place in the pooled errors and score, with
 the error of that held replay -- dropping it would reward a model for diverging -- and is flagged:
 ``diverged_at`` says when it left, a pooled row counts its ``diverged`` runs, the tables and the
 fit's JSON show both, and the error ladder adds no effect whose held-out replays diverge.
@@ -44,8 +44,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ship_env.model import ShipModel
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import Simulated
+from ship_env.workbench.fitting.replay import Simulated
+from ship_env.workbench.logs.logs import Log
 
 #: The channels of an error report, with their display units.
 CHANNEL_UNITS = {"heading": "deg", "rate_of_turn": "deg/s", "speed": "m/s", "position": "m", "track": "m"}

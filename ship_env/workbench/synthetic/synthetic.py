@@ -32,9 +32,9 @@ import numpy as np
 from ship_env.model import REQUIRED_EFFECTS, Conditions, ShipModel, Simulator
 from ship_env.model import state as S
 from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory
-from ship_env.workbench.errors import ErrorScales, pooled, run_errors
-from ship_env.workbench.logs import Log
-from ship_env.workbench.replay import ReplayModel, simulate
+from ship_env.workbench.fitting.errors import ErrorScales, pooled, run_errors
+from ship_env.workbench.fitting.replay import ReplayModel, simulate
+from ship_env.workbench.logs.logs import Log
 
 
 @dataclass(frozen=True)

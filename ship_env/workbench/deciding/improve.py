@@ -191,12 +191,12 @@ def improve(
             if worse and better and verdict(candidate, validation, scales, rules, logs) == worse:
                 say(f"not added: {candidate.effect}: {worse}")
         refused: list[str] = []
-        if best is None:
+        stuck = cannot_sail(validation.fit.setup.model, logs) if best is None and logs else None
+        if stuck is not None:
             best, refused = _first_that_sails(diagnosis.ranked + tried_pairs, validation, scales, rules, logs, options)
             if best is not None:
                 say(f"{best.effect}: {_makes_a_ship(best, validation, scales)}")
         if best is None:
-            stuck = cannot_sail(validation.fit.setup.model, logs) if logs else None
             adrift = "" if stuck is None else _cannot_sail_stop(stuck, refused)
             refitted = [c for c in tried + tried_pairs if c.cross_validation is not None]
             leading = sorted(refitted, key=lambda c: c.refitted.score(scales))
@@ -271,9 +271,8 @@ def _first_that_sails(
     worse (rule 5), or None; and, for each candidate refused on the way though it sails, why. Candidates only
     screened are refitted in full first where their screening is within that bound and sails (the ``CONFIRMED``
     best). The runs cannot ask for what only a harder turn shows (a zig-zag's r* stays below a turning circle's),
-    yet they must support it: a fit is a ship."""
-    if not logs or cannot_sail(current.fit.setup.model, logs) is None:
-        return None, []
+    yet they must support it: a fit is a ship. Called only where the current model cannot sail (the caller
+    has asked :func:`cannot_sail` once)."""
     score = current.score(scales)
     bound = (1.0 + rules.min_gain) * score
     screened = sorted(

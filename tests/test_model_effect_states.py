@@ -17,7 +17,11 @@ from ship_env.model.effect_api import Contribution, Effect, Parameter, State, re
 from ship_env.model.registry import register_module
 from ship_env.workbench import write_log
 from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import DEFAULT_TERMS
 from ship_env.workbench.synthetic.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
+
+#: The speed loss's terms, fitted wherever the logs measure speed (the speed is an output the model predicts).
+SPEED_LOSS_TERMS = DEFAULT_TERMS["speed_loss"]
 
 SHIP = "esso_osaka_model"
 NAME = effect_with_state.EFFECT.name
@@ -93,14 +97,17 @@ def test_registering_it_changes_no_number_of_the_built_ins(plugin):
 @pytest.mark.slow
 def test_a_hidden_instance_is_recovered_by_fit_add(plugin, tmp_path, capsys):
     """Noise-free logs of the lagged ship: ``fit --add`` with the plugin finds every term (from T_l = 2 s)."""
-    truth = ReplayModel(_lag_model(6.0))
+    # The logs measure speed, so the fit predicts it with the speed loss: the truth loses speed in its turns.
+    # Runs that start at their service speed: one that accelerates from rest has it estimated (``replay``).
+    truth = ReplayModel(_lag_model(6.0).with_effects("speed_loss"))
     exact = LogSettings(noise=SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
-    for log in sail_all(truth, model_test_programme(duration=60.0)[:4], seed=5, settings=exact):
+    runs = [run for run in model_test_programme(duration=60.0) if run.start_speed == run.final_speed][:4]
+    for log in sail_all(truth, runs, seed=5, settings=exact):
         write_log(log, tmp_path / f"{log.name}.csv")
     fit_file = tmp_path / "fit.json"
     assert main(["fit", str(tmp_path), "--ship", SHIP, "--add", NAME, "--json", str(fit_file)]) == 0
     values = json.loads(fit_file.read_text())["values"]
-    assert set(values) == {"yaw.gain", "yaw.time_constant", f"{NAME}.time_constant"}
+    assert set(values) == {"yaw.gain", "yaw.time_constant", f"{NAME}.time_constant", *SPEED_LOSS_TERMS}
     for key, value in values.items():
         assert value == pytest.approx(truth.model.parameter(key), rel=1e-6), key
 

@@ -28,7 +28,11 @@ from ship_env.model import state as S
 from ship_env.paths import config_dir
 from ship_env.workbench import fit
 from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import DEFAULT_TERMS
 from ship_env.workbench.synthetic.synthetic import LogSettings, model_test_programme, sail_all
+
+#: The speed loss's terms, fitted wherever the logs measure speed (the speed is an output the model predicts).
+SPEED_LOSS_TERMS = DEFAULT_TERMS["speed_loss"]
 
 SHIP = "esso_osaka_model"
 NAME = effect_plugin.EFFECT.name
@@ -94,7 +98,7 @@ def test_a_hidden_instance_is_recovered_by_the_fit(plugin):
     logs = sail_all(truth, model_test_programme(duration=60.0)[:4], seed=5, settings=LogSettings())
     result = fit(ShipModel(SHIP, [*REQUIRED_EFFECTS, NAME]), logs)
     estimates = {estimate.term.key: estimate.value for estimate in result.estimates}
-    assert set(estimates) == {"yaw.gain", "yaw.time_constant", f"{NAME}.loss"}
+    assert set(estimates) == {"yaw.gain", "yaw.time_constant", f"{NAME}.loss", *SPEED_LOSS_TERMS}
     assert estimates[f"{NAME}.loss"] == pytest.approx(0.6, abs=0.06)
     assert estimates["yaw.gain"] == pytest.approx(truth.model.parameter("yaw.gain"), rel=0.05)
 

@@ -240,9 +240,14 @@ def test_improve_on_the_command_line_says_why_it_stopped_and_reports_the_validat
         main(["improve", str(tmp_path / "zigzag"), *arguments, *scales, "--ship", SHIP, "--report", str(report)]) == 0
     )
     out = capsys.readouterr().out
+    print(out)
     stopped = next(line for line in out.splitlines() if line.startswith("stopped: "))
     assert "norrbin: lowers the held-out score by" in stopped and "(--allow-worse-validation adds it)" in stopped
-    assert "validation change" in out and "validation runs beyond the fitted runs' coverage" in out
+    lines = out.splitlines()
+    header = lines[lines.index("error ladder (held out: leave one run out)") + 1 :][:3]
+    # The ladder's last column is the validation runs' change, its header wrapped over two lines.
+    assert header[1].endswith("validation") and header[2].endswith("change"), header
+    assert "validation runs beyond the fitted runs' coverage" in out
     text = (report / "report.md").read_text()
     assert "## Validation runs and the fitted runs' coverage" in text
     assert (report / "final" / "turn_0.png").is_file()  # the validation runs drawn, with their band

@@ -13,7 +13,17 @@ import pytest
 
 from ship_env.cli import main
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
-from ship_env.workbench import ErrorScales, FitOptions, LogWarning, cross_validate, improve, load_logs, write_log
+from ship_env.workbench import (
+    ErrorScales,
+    FitOptions,
+    LogWarning,
+    cross_validate,
+    fit,
+    fit_each_run,
+    improve,
+    load_logs,
+    write_log,
+)
 from ship_env.workbench.fitting.errors import mean_speed
 from ship_env.workbench.fitting.replay import ReplayModel
 from ship_env.workbench.reporting.documents import DocumentError, read_fitted_model
@@ -122,6 +132,17 @@ def folder_with_a_run_outside(tmp_path_factory) -> Path:
     for log in (*logs, alongside):
         write_log(log, folder / f"{log.name}.csv")
     return folder
+
+
+def test_fit_and_fit_each_run_leave_out_a_run_outside_the_envelope_as_cross_validate_does(folder_with_a_run_outside):
+    logs = load_logs([folder_with_a_run_outside])
+    model = ShipModel(SHIP, REQUIRED_EFFECTS)
+    with pytest.warns(LogWarning, match="alongside lies wholly outside the model's envelope"):
+        result = fit(model, logs)
+    assert [errors.name for errors in result.errors] == [log.name for log in logs if log.name != "alongside"]
+    with pytest.warns(LogWarning, match="alongside lies wholly outside the model's envelope"):
+        each = fit_each_run(model, logs)
+    assert [f.errors[0].name for f in each] == [errors.name for errors in result.errors]
 
 
 @pytest.mark.slow

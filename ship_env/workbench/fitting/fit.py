@@ -52,6 +52,7 @@ from ship_env.workbench.fitting.replay import (
     replay,
     unpack,
 )
+from ship_env.workbench.fitting.runs import screen_runs
 from ship_env.workbench.fitting.terms import (
     Term,
     acts_on,
@@ -554,6 +555,8 @@ def fit(
 
     Where a log measures the speed, the model sails with the speed loss on and its speed is fitted
     (:func:`~.terms.with_speed_output`; the speed loss's default terms join ``terms`` where it was off).
+    A run wholly outside the model's envelope is left out, with a :class:`~.logs.LogWarning`, as
+    :func:`~.validation.cross_validate` and :func:`~.improve.improve` leave it out (:func:`~.runs.screen_runs`).
 
     Example::
 
@@ -561,7 +564,9 @@ def fit(
         result = fit(model, load_logs(["../shared/data/esso_osaka/zigzag"]))
         result.estimates, result.pooled.heading
     """
-    setup, keys, options = fit_setup(model, logs, terms, options)
+    setup = as_setup(model)
+    logs, _, _ = screen_runs(setup.model, logs)
+    setup, keys, options = fit_setup(setup, logs, terms, options)
     return Problem(setup, logs, keys, options).solve()
 
 
@@ -572,6 +577,9 @@ def fit_each_run(
     terms: Sequence[str] | None = None,
     options: FitOptions | None = None,
 ) -> list[FitResult]:
-    """One fit per run (in-sample): how well the model can fit each run on its own."""
-    setup, keys, options = fit_setup(model, logs, terms, options)
+    """One fit per run (in-sample): how well the model can fit each run on its own; a run wholly outside the
+    model's envelope is left out, as :func:`fit` leaves it out."""
+    setup = as_setup(model)
+    logs, _, _ = screen_runs(setup.model, logs)
+    setup, keys, options = fit_setup(setup, logs, terms, options)
     return [Problem(setup, [log], keys, options).solve() for log in logs]

@@ -178,11 +178,13 @@ def improve(
             return Ladder(tuple(rungs), scales, f"reached the most steps, {max_steps}")
         diagnosis = diagnose(validation, logs, options, candidates, refit)
         tried = [c for c in diagnosis.ranked if c.cross_validation is not None]
-        best = _best_paying(tried, validation, scales, rules, logs, options, say)
+        # Whether the current model sails its hard-over turning circles, asked once per rung.
+        stuck = cannot_sail(validation.fit.setup.model, logs) if logs else None
+        best = _best_paying(tried, validation, scales, rules, logs, options, say, stuck)
         tried_pairs: list[CandidateResult] = []
         if best is None and pair_width >= 2:
             tried_pairs = pairs(diagnosis, logs, options, pair_width)
-            best = _best_paying(tried_pairs, validation, scales, rules, logs, options, say)
+            best = _best_paying(tried_pairs, validation, scales, rules, logs, options, say, stuck)
         rungs.append(Rung(added, validation, diagnosis, tuple(tried_pairs)))
         for candidate in [c for c in tried + tried_pairs if c.cross_validation is not None]:
             # Say where the validation runs alone kept a better candidate out.
@@ -191,8 +193,7 @@ def improve(
             if worse and better and verdict(candidate, validation, scales, rules, logs) == worse:
                 say(f"not added: {candidate.effect}: {worse}")
         refused: list[str] = []
-        stuck = cannot_sail(validation.fit.setup.model, logs) if best is None and logs else None
-        if stuck is not None:
+        if best is None and stuck is not None:
             best, refused = _first_that_sails(diagnosis.ranked + tried_pairs, validation, scales, rules, logs, options)
             if best is not None:
                 say(f"{best.effect}: {_makes_a_ship(best, validation, scales)}")
@@ -235,19 +236,21 @@ def _best_paying(
     logs: Sequence[Log],
     options: FitOptions,
     say: Callable[[str], None],
+    current_stuck: str | None,
 ) -> CandidateResult | None:
     """The candidate with the lowest held-out score among those that pay, or None. Each keeps only the terms that
     pay their way (:func:`_with_paying_terms`). Those that sail free
-    (:func:`cannot_sail`) come first: where the current model sails, one that cannot is refused (said); where it
-    cannot either, the best that sails is taken before a better-scoring one that does not (a step towards a ship
-    is preferred to a better replay that is none), and the best of those only where none sails."""
+    (:func:`cannot_sail`) come first: where the current model sails (``current_stuck`` None, else why it does not),
+    one that cannot is refused (said); where it cannot either, the best that sails is taken before a better-scoring
+    one that does not (a step towards a ship is preferred to a better replay that is none), and the best of those
+    only where none sails."""
     refitted = [c for c in tried if c.cross_validation is not None]
     paying = [c for c in refitted if not verdict(c, current, scales, rules)]
     if not paying:
         return None
     paying = [_with_paying_terms(c, current, logs, options, scales, rules, say) for c in paying]
     paying.sort(key=lambda c: c.refitted.score(scales))
-    current_sails = cannot_sail(current.fit.setup.model, logs) is None
+    current_sails = current_stuck is None
     for candidate in paying:
         stuck = cannot_sail(candidate.refitted.fit.setup.model, logs)
         if stuck is None:

@@ -10,18 +10,13 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 import pytest
+from speed_loss_checks import assert_same_hard_over_turn, recovered, steady_turn
 
 from ship_env.manoeuvres import turning_circle
-from ship_env.manoeuvres.settings import TrialSettings
-from ship_env.manoeuvres.trial import run_trial
-from ship_env.model import REQUIRED_EFFECTS, ShipModel
-from ship_env.workbench import FitOptions
-from ship_env.workbench.fitting.fit import fit
+from ship_env.model import ShipModel
 from ship_env.workbench.fitting.replay import ReplayModel
 from ship_env.workbench.fitting.terms import effect_terms, make_term
-from ship_env.workbench.synthetic.synthetic import SensorNoise, model_test_programme, noise_scales, sail_all
 
 SHIP = "kvlcc2"
 TURNING = ("yaw", "norrbin", "speed_loss", "steering_machine", "kinematics")
@@ -33,20 +28,9 @@ def with_exponent(model: ShipModel, exponent: float, **values: float) -> ShipMod
     )
 
 
-def steady_turn(model: ShipModel, rudder: float = math.radians(35.0)) -> tuple[float, float]:
-    """(r*, u*) in the steady part of a hard-over turning circle."""
-    circle = turning_circle(model, rudder)
-    speed = model.service_speed * (1.0 - circle.speed_loss)
-    return model.length * abs(circle.steady_rate_of_turn) / speed, circle.speed_loss
-
-
 def test_its_null_is_the_thesis_speed_loss_bit_for_bit():
     thesis = ShipModel(SHIP, TURNING)
-    frames = [
-        run_trial(model, TrialSettings(), lambda simulator: math.radians(35.0), ["turn"], 900.0)
-        for model in (thesis, with_exponent(thesis, 0.0))
-    ]
-    np.testing.assert_array_equal(frames[1].to_numpy(), frames[0].to_numpy())
+    assert_same_hard_over_turn(thesis, with_exponent(thesis, 0.0))
 
 
 @pytest.mark.parametrize("exponent", [1.0, 2.0])
@@ -92,11 +76,6 @@ def test_hidden_turning_resistance_is_recovered_by_a_fit_that_adds_it():
     """Logs sailed with the speed loss (K_u* 2, tau_u* 1) and q = 1.5 on the 3 m model's test programme (its
     hard-over turns included) with a basin's sensors and the speed measured: the model with the term added
     recovers q within 20 %."""
-    ship, truth_value = "esso_osaka_model", 1.5
-    effects = [*REQUIRED_EFFECTS, "speed_loss", "turning_resistance"]
-    values = {"speed_loss.gain": 2.0, "speed_loss.time_constant": 1.0, "turning_resistance.speed_exponent": truth_value}
-    logs = sail_all(ReplayModel(ShipModel(ship, effects, values)), model_test_programme(ship=ship), seed=4)
-    result = fit(ShipModel(ship, effects), logs, options=FitOptions(scales=noise_scales(SensorNoise())))
-    (estimate,) = [e for e in result.estimates if e.term.key == "turning_resistance.speed_exponent"]
-    print(f"\nq = {estimate.value:.3f} +- {estimate.std_error:.3f} (truth {truth_value})")
-    assert estimate.value == pytest.approx(truth_value, rel=0.2)
+    key, truth_value = "turning_resistance.speed_exponent", 1.5
+    values = {"speed_loss.gain": 2.0, "speed_loss.time_constant": 1.0, key: truth_value}
+    assert recovered("turning_resistance", values, key).value == pytest.approx(truth_value, rel=0.2)

@@ -9,7 +9,8 @@ effect's name to its declaration: these built-ins, then the effects registered f
 :class:`ship_env.model.ShipModel`.
 
 The contributions to one quantity are applied in this order (the asymmetry's part of H(r*) before
-Norrbin's, then the hull's cross-flow drag; the speed loss's rate before the turning resistance's).
+Norrbin's, then the hull's cross-flow drag; the speed loss's rate before the turning resistance's and
+the rudder drag's).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from ship_env.model.effects import (
     norrbin,
     propeller_astern,
     propeller_slipstream,
+    rudder_drag,
     rudder_offset,
     speed_loss,
     steering_machine,
@@ -45,6 +47,7 @@ LIBRARY = (
     hull_crossflow,
     speed_loss,
     turning_resistance,
+    rudder_drag,
     sway,
     steering_machine,
     rudder_offset,

@@ -48,6 +48,7 @@ DEFAULT_TERMS: dict[str, tuple[str, ...]] = {
     "asymmetry": ("asymmetry.side_force", "asymmetry.quadratic"),
     "speed_loss": ("speed_loss.gain", "speed_loss.time_constant"),
     "turning_resistance": ("turning_resistance.speed_exponent",),
+    "rudder_drag": ("rudder_drag.drag_coefficient",),
     "sway": ("sway.linear",),
     "steering_machine": ("steering_machine.rudder_rate",),
     "rudder_offset": ("rudder_offset.angle",),
@@ -110,6 +111,7 @@ _RULES: dict[str, TermRule] = {
     "speed_loss.time_constant": TermRule(0.05, 100.0),
     "speed_loss.cubic": TermRule(0.0, 100.0, 0.0, 1.0),
     "turning_resistance.speed_exponent": TermRule(0.0, 4.0, 0.0, 0.3),
+    "rudder_drag.drag_coefficient": TermRule(0.0, 20.0, 0.0, 0.3),
     "sway.linear": TermRule(-3.0, 3.0, 0.0, 0.1),
     "sway.cubic": TermRule(-3.0, 3.0, 0.0, 0.1),
     "steering_machine.rudder_rate": TermRule(0.2 * _DEG, 500.0 * _DEG, None, 1.0 * _DEG),
@@ -355,6 +357,10 @@ def why_not_fitted(effect: str, model: ShipModel, logs: Sequence[Log]) -> str | 
         "speed_loss": (
             not measures_speed(logs),
             "no log measures the speed: the speed loss is not identified (the preset keeps its values)",
+        ),
+        "rudder_drag": (
+            not measures_speed(logs),
+            "no log measures the speed: the rudder's drag shows only in the speed",
         ),
         "steering_machine": (records_actual_rudder(logs), "every log records the actual rudder"),
         "propeller_slipstream": (any(log.propeller_rate is None for log in logs), "a log has no propeller rate"),

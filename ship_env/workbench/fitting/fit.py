@@ -28,7 +28,7 @@ import math
 import warnings
 from collections import Counter
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.optimize import least_squares
@@ -526,22 +526,44 @@ def as_setup(model: ShipModel | ReplayModel) -> ReplayModel:
     return model if isinstance(model, ReplayModel) else ReplayModel(model)
 
 
+@dataclass(frozen=True)
+class FitSetup:
+    """What a fit sails, fits and weighs (:func:`fit_setup`): the model, the runs kept and their groups, the
+    validation runs kept, the terms and the options."""
+
+    setup: ReplayModel
+    logs: list[Log]
+    keys: list[str]
+    options: FitOptions
+    groups: list[str] | None = None
+    validate_on: list[Log] = field(default_factory=list)
+
+
 def fit_setup(
-    model: ShipModel | ReplayModel, logs: Sequence[Log], terms: Sequence[str] | None, options: FitOptions | None
-) -> tuple[ReplayModel, list[str], FitOptions]:
-    """What a fit to ``logs`` sails, fits and weighs: the model (the speed loss on where a log measures the
-    speed, :func:`~.terms.with_speed_output`), the terms (``terms``, or the default ones for the logs; where
-    the speed loss was turned on here, its default terms are added to those given) and the options with
-    their error scales chosen for the runs (:meth:`FitOptions.for_runs`)."""
+    model: ShipModel | ReplayModel,
+    logs: Sequence[Log],
+    terms: Sequence[str] | None,
+    options: FitOptions | None,
+    groups: Sequence[str] | None = None,
+    validate_on: Sequence[Log] = (),
+) -> FitSetup:
+    """What a fit to ``logs`` sails, fits and weighs: the runs (and their ``groups``, and the ``validate_on``
+    runs) less those wholly outside the model's envelope, each left out with a :class:`~.logs.LogWarning`
+    (:func:`~.runs.screen_runs`); the model (the speed loss on where a log measures the speed,
+    :func:`~.terms.with_speed_output`); the terms (``terms``, or the default ones for the logs; where the speed
+    loss was turned on here, its default terms are added to those given) and the options with their error
+    scales chosen for the runs kept (:meth:`FitOptions.for_runs`)."""
     setup = as_setup(model)
-    sailed = with_speed_output(setup, logs)
+    kept, kept_groups, kept_validation = screen_runs(setup.model, logs, groups, validate_on)
+    sailed = with_speed_output(setup, kept)
     if terms is None:
-        keys = default_terms(sailed.model.effects, logs)
+        keys = default_terms(sailed.model.effects, kept)
     else:
         keys = list(terms)
         if sailed is not setup:
             keys += [key for key in default_terms(("speed_loss",)) if key not in keys]
-    return sailed, keys, (options or FitOptions()).for_runs(sailed.model, logs)
+    options = (options or FitOptions()).for_runs(sailed.model, kept)
+    return FitSetup(sailed, kept, keys, options, kept_groups, kept_validation)
 
 
 @one_thread
@@ -564,10 +586,8 @@ def fit(
         result = fit(model, load_logs(["../shared/data/esso_osaka/zigzag"]))
         result.estimates, result.pooled.heading
     """
-    setup = as_setup(model)
-    logs, _, _ = screen_runs(setup.model, logs)
-    setup, keys, options = fit_setup(setup, logs, terms, options)
-    return Problem(setup, logs, keys, options).solve()
+    prepared = fit_setup(model, logs, terms, options)
+    return Problem(prepared.setup, prepared.logs, prepared.keys, prepared.options).solve()
 
 
 @one_thread
@@ -579,7 +599,5 @@ def fit_each_run(
 ) -> list[FitResult]:
     """One fit per run (in-sample): how well the model can fit each run on its own; a run wholly outside the
     model's envelope is left out, as :func:`fit` leaves it out."""
-    setup = as_setup(model)
-    logs, _, _ = screen_runs(setup.model, logs)
-    setup, keys, options = fit_setup(setup, logs, terms, options)
-    return [Problem(setup, [log], keys, options).solve() for log in logs]
+    prepared = fit_setup(model, logs, terms, options)
+    return [Problem(prepared.setup, [log], prepared.keys, prepared.options).solve() for log in prepared.logs]

@@ -31,10 +31,9 @@ import numpy as np
 
 from ship_env.model import ShipModel
 from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled, run_errors
-from ship_env.workbench.fitting.fit import FitError, FitOptions, FitResult, Problem, as_setup, fit_setup
+from ship_env.workbench.fitting.fit import FitError, FitOptions, FitResult, Problem, fit_setup
 from ship_env.workbench.fitting.parallel import pool
 from ship_env.workbench.fitting.replay import ReplayModel, Simulated, simulate
-from ship_env.workbench.fitting.runs import screen_runs
 from ship_env.workbench.fitting.terms import with_values
 from ship_env.workbench.fitting.threads import one_thread
 from ship_env.workbench.judging.coverage import Coverage, CoverageCheck, check_coverage, coverage_of
@@ -245,11 +244,17 @@ def cross_validate(
         groups: per run, a label; the runs with one label are left out together (default: each run alone).
         validate_on: runs replayed by the all-run fit and never fitted (another manoeuvre type).
     """
-    setup = as_setup(model)
-    logs, groups, validate_on = screen_runs(setup.model, logs, groups, validate_on)
-    setup, keys, options = fit_setup(setup, logs, terms, options)
-    job = ValidationJob(setup, logs, keys, options, starts, groups, validate_on)
-    outcome = cross_validate_each([job], options.workers)[0]
+    prepared = fit_setup(model, logs, terms, options, groups, validate_on)
+    job = ValidationJob(
+        prepared.setup,
+        prepared.logs,
+        prepared.keys,
+        prepared.options,
+        starts,
+        prepared.groups,
+        prepared.validate_on,
+    )
+    outcome = cross_validate_each([job], prepared.options.workers)[0]
     if isinstance(outcome, Exception):
         raise outcome
     return outcome

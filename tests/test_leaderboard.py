@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import dataclasses
 import math
+from pathlib import Path
 
 import pytest
 import yaml
@@ -33,6 +34,12 @@ from ship_env.rl.shipped import shipped_folder
 SHIPPED_PPO = "PPO (shipped)"
 #: One course change each way in calm water: the smallest suite that exercises every entrant.
 TINY = SuiteSpec(course_changes_deg=(45.0,), tracks=(), conditions=(NOMINAL,), course_change_disturbances=("calm",))
+
+
+def lines_past_100_columns(out: str, folder: Path) -> list[str]:
+    """The printed lines wider than a terminal's 100 columns, but for those naming the output folder (as long as
+    its path)."""
+    return [line for line in out.splitlines() if len(line) > 100 and str(folder) not in line]
 
 
 @pytest.mark.slow
@@ -255,8 +262,7 @@ def test_leaderboard_command_prints_ranked_tables_and_writes_files(tmp_path, cap
     assert "CourseChange, nominal ship, all seas together (container_226m): normalised score" in out
     assert f"{SHIPPED_PPO} on ship_env/CourseChange-v0: better on " in out and " of 2" in out
     assert "TrackFollow" not in out and "###" not in out  # the tables are in the file
-    # The text fits a terminal; a line naming the output folder is as long as the folder's path.
-    assert [line for line in out.splitlines() if len(line) > 100 and str(tmp_path) not in line] == []
+    assert lines_past_100_columns(out, tmp_path) == []
     assert "on the local backend" in out
     assert f"every suite's ranked table: {tmp_path / 'leaderboard.md'}" in out
     assert "leaderboard" in err  # the progress bar over episodes, on stderr
@@ -293,8 +299,7 @@ def test_each_run_writes_a_folder_named_after_its_suite_and_ship_and_prints_with
     out = capsys.readouterr().out
     assert "every suite's ranked table: out/leaderboard/test/leaderboard.md" in out
     assert "PD, fixed gains" in out and "###" not in out
-    # The text fits a terminal; a line naming the output folder is as long as the folder's path.
-    assert [line for line in out.splitlines() if len(line) > 100 and str(tmp_path) not in line] == []
+    assert lines_past_100_columns(out, tmp_path) == []
 
 
 def test_a_run_leaves_no_drawing_of_an_earlier_run_in_its_folder(tmp_path):

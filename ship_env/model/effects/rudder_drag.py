@@ -66,11 +66,12 @@ def rate(
     service_speed,
     speed_loss_time_constant,
     length,
+    minimum_speed,
     drag_coefficient,
 ):
     """du*/dt with the rudder's drag C_R* sin^2(delta_e) u_R^2 / (u U0) added to (2.55)'s forcing."""
     sine = math.sin(effective_rudder)
-    reference_speed_squared = scheduling_speed * max(service_speed, scheduling_speed)  # u U0
+    reference_speed_squared = scheduling_speed * max(service_speed, minimum_speed)  # u U0, each floored alike
     drag = drag_coefficient * sine * sine * inflow_speed_squared / reference_speed_squared
     return speed_loss_derivative + scheduling_speed / length * drag / speed_loss_time_constant
 

@@ -7,8 +7,9 @@ workbench) needs none of them. The extras, as ``pyproject.toml`` declares them:
   policies (:mod:`ship_env.rl`) and the SB3 adapter (:mod:`ship_env.envs.sb3_adapter`);
 - ``leaderboard``: ``rl``'s packages (it sails the shipped PPO policies) and rliable with arch for
   its intervals, for ``ship-env leaderboard``;
-- ``ray``: Ray, for ``--backend ray``; ``bench``: shipmmg, for the speed benchmark's KVLCC2 model;
-- ``dev``: all of these (but ``bench``) and the test, lint and documentation tools.
+- ``ray``: Ray, for ``--backend ray``; ``bench``: shipmmg, the MMG KVLCC2 model (a second, independent
+  simulator) for the benchmarks, the ``kvlcc2`` fit and the tests that sail it;
+- ``dev``: all of these and the test, lint and documentation tools.
 
 A feature calls :func:`require` before it imports them (or turns the ImportError into
 :func:`missing_extra`), so a missing package ends with :class:`MissingExtra`, whose message names the

@@ -183,6 +183,28 @@ def test_mmg_kvlcc2_holds_its_speed_and_the_current_carries_it():
     assert motion.heading == 0.0 and motion.rate_of_turn == 0.0
 
 
+def test_mmg_kvlcc2_at_model_scale_sails_the_full_scale_turn_froude_scaled():
+    """The MMG equations have no Reynolds-dependent term: the 7 m model sails the 320 m ship's hard-over turn with
+    lengths / lambda and times / sqrt(lambda), its steering machine's rate included (SIMMAN's 2.32 deg/s at full
+    scale is 15.7 deg/s on the model)."""
+    mmg = mmg_kvlcc2()
+    full, model = mmg.MmgKvlcc2(), mmg.MmgKvlcc2(scale=1.0)
+    time_scale = math.sqrt(mmg.SCALE)
+    assert math.degrees(model.rudder_rate) == pytest.approx(15.69, abs=0.01)
+    motions = []
+    for ship, dt in ((full, 1.0), (model, 1.0 / time_scale)):
+        speed = ship.service_speed
+        ship.reset(ShipMotion(0.0, 0.0, 0.0, 0.0, speed), Conditions(service_speed=speed), 0)
+        motions.append([ship.step(math.radians(35.0), None, dt) for _ in range(120)])
+    for at_full, at_model in zip(*motions, strict=True):
+        assert at_model.heading == pytest.approx(at_full.heading, rel=1e-4, abs=1e-6)
+        assert at_model.rudder == pytest.approx(at_full.rudder, rel=1e-9)
+        assert at_model.rate_of_turn == pytest.approx(at_full.rate_of_turn * time_scale, rel=1e-4, abs=1e-8)
+        assert at_model.north * mmg.SCALE == pytest.approx(at_full.north, rel=1e-4, abs=1e-3)
+        assert at_model.east * mmg.SCALE == pytest.approx(at_full.east, rel=1e-4, abs=1e-3)
+        assert at_model.speed * time_scale == pytest.approx(at_full.speed, rel=1e-4)
+
+
 def test_mmg_kvlcc2_refuses_waves():
     mmg = mmg_kvlcc2()
     with pytest.raises(ValueError, match="no wave forces"):

@@ -165,13 +165,14 @@ class MmgKvlcc2:
 
     Args:
         scale: the Froude scale from the 7 m model (default 45.714: the 320 m ship).
-        rudder_rate: the steering machine's rate, rad/s (SIMMAN's 2.32 deg/s).
+        rudder_rate: the steering machine's rate, rad/s (default: SIMMAN's 2.32 deg/s at full scale, Froude-scaled
+            to ``scale``: 15.7 deg/s on the 7 m model).
         **solver_options: passed to ``solve_ivp`` through shipmmg (``rtol``, ``atol``, ...).
 
     ``ImportError`` with the install command where shipmmg is missing.
     """
 
-    def __init__(self, scale: float = SCALE, rudder_rate: float = RUDDER_RATE, **solver_options: Any) -> None:
+    def __init__(self, scale: float = SCALE, rudder_rate: float | None = None, **solver_options: Any) -> None:
         try:
             from shipmmg.mmg_3dof import simulate_mmg_3dof
         except ImportError as error:
@@ -181,7 +182,8 @@ class MmgKvlcc2:
         self.basic, self.maneuvering = kvlcc2_mmg(scale)
         #: m/s: 15.5 kn at full scale, Froude-scaled.
         self.service_speed = SERVICE_SPEED * math.sqrt(scale / SCALE)
-        self.rudder_rate = rudder_rate
+        #: rad/s: a rate scales as 1 / sqrt(lambda).
+        self.rudder_rate = RUDDER_RATE * math.sqrt(SCALE / scale) if rudder_rate is None else rudder_rate
         self.solver_options = solver_options
         self.reset(ShipMotion(0.0, 0.0, 0.0, 0.0, self.service_speed), Conditions(service_speed=self.service_speed), 0)
 

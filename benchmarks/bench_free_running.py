@@ -1,16 +1,22 @@
-"""A fit on zig-zags predicts the turning circle it never saw: a full-scale ship with sea-trial sensors.
+"""A fit on zig-zags predicts the turning circle it never saw: a full-scale ship with sea-trial sensors, or a model
+in a basin.
 
-The truth is one of two ships:
+The truth is one of three ships:
 
 - ``--truth kvlcc2`` (the default; or another preset): the preset's calm-water model (yaw, Norrbin, asymmetry,
   speed loss, sway, steering machine) with its values moved (``TRUTH_FACTORS``), so that the workbench, which
   starts from the preset, starts away from the truth;
 - ``--truth mmg``: shipmmg's MMG model of KVLCC2 (Yasukawa & Yoshimura 2015, Froude-scaled to 320 m;
   ``ship_env.model.mmg_kvlcc2``), a 3-DOF ship whose physics none of the workbench's effects share, its
-  propeller at the constant rate that holds 15.5 kn (needs ``pip install shipmmg``).
+  propeller at the constant rate that holds 15.5 kn (needs ``pip install shipmmg``);
+- ``--truth mmg-basin``: the same MMG ship as the 7 m model it was identified from, sailed as a basin runs its
+  free-running tests: thirteen zig-zags from 5/1 to 35/5 (``BASIN_ZIGZAGS``), the propeller at the constant rate
+  of the model's self-propulsion point, the basin's sensors (``SensorNoise()``) at 5 Hz, no wind. The workbench
+  starts from the ``kvlcc2`` preset scaled to the model as a user would (``ship-env scale kvlcc2 --length 7``).
 
-The truth sails four zig-zags (10/10 and 20/20 to both sides) at its service speed, logged by sea-trial
-sensors (``SEA_TRIAL_NOISE``: 0.5 deg compass, 3 m GPS, 1 Hz); then, as a user would and with the defaults:
+The sea-trial truths sail four zig-zags (10/10 and 20/20 to both sides) at their service speed, logged by
+sea-trial sensors (``SEA_TRIAL_NOISE``: 0.5 deg compass, 3 m GPS, 1 Hz); then, as a user would and with the
+defaults:
 
     ship-env improve LOGS/zigzag --ship kvlcc2 --preset fitted.yaml
 
@@ -19,14 +25,15 @@ the workbench's free-running validation (``ship_env.workbench.judging.free_runni
 the same manoeuvres from the same state and reads both sides' figures with the same code: advance and tactical
 diameter within 5 %, steady rate of turn and speed loss within 10 % (the means of the two turns), first
 overshoot within 2 deg. Prints one table with PASS or FAIL per figure and the time the fit took, for each of five
-sea trials (the sensors' noise drawn from another seed) and how many pass every bound.
+trials (the sensors' noise drawn from another seed) and how many pass every bound.
 
-Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...] [--truth PRESET|mmg]
+Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...] [--truth PRESET|mmg|mmg-basin]
 """
 
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import tempfile
 import time
@@ -43,6 +50,9 @@ from ship_env.workbench.judging.free_running import JUDGED_FIGURES, compare_free
 from ship_env.workbench.logs.logs import Log, write_log
 from ship_env.workbench.synthetic.synthetic import SEA_TRIAL_NOISE, LogSettings, Manoeuvre, SensorNoise, sail_all
 
+#: A zig-zag programme: (name, rudder a in deg, heading change b in deg), a negative a to port.
+Programme = tuple[tuple[str, float, float], ...]
+
 SHIP = "kvlcc2"
 #: The truth's effects: the preset's calm-water model.
 TRUTH_EFFECTS = ("yaw", "asymmetry", "norrbin", "speed_loss", "sway", "steering_machine", "kinematics")
@@ -54,13 +64,34 @@ TRUTH_FACTORS = {
     "speed_loss.gain": 0.8,
     "sway.linear": 1.2,
 }
-#: The zig-zags logged: (name, rudder a in deg, heading change b in deg), a negative a to port.
-ZIGZAGS = (
+#: The sea trial's zig-zags.
+ZIGZAGS: Programme = (
     ("zigzag_10_stbd", 10, 10),
     ("zigzag_10_port", -10, 10),
     ("zigzag_20_stbd", 20, 20),
     ("zigzag_20_port", -20, 20),
 )
+#: ``--truth mmg-basin``: the MMG KVLCC2 as the 7 m model, a basin's free-running programme.
+MMG_BASIN = "mmg-basin"
+#: A basin's zig-zags from 5/1 to 35/5: small heading changes at every rudder angle, the standard 10/10 and 20/20
+#: to both sides, 35/5 to both sides (thirteen runs).
+BASIN_ZIGZAGS: Programme = (
+    ("zigzag_05_01", 5, 1),
+    ("zigzag_05_05", 5, 5),
+    ("zigzag_10_02", 10, 2),
+    ("zigzag_10_10_stbd", 10, 10),
+    ("zigzag_10_10_port", -10, 10),
+    ("zigzag_15_05", 15, 5),
+    ("zigzag_20_05", -20, 5),
+    ("zigzag_20_20_stbd", 20, 20),
+    ("zigzag_20_20_port", -20, 20),
+    ("zigzag_25_05", 25, 5),
+    ("zigzag_30_05", -30, 5),
+    ("zigzag_35_05_stbd", 35, 5),
+    ("zigzag_35_05_port", -35, 5),
+)
+#: The basin's sample interval, s.
+BASIN_DT = 0.2
 #: The sensor noise's seeds: each a sea trial of the same ship.
 SEEDS = (1, 2, 3, 4, 5)
 #: Each zig-zag's length in ship lengths sailed (five executes of a 10/10 take about 20).
@@ -94,12 +125,16 @@ EXACT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 class Truth:
     """The ship the logs are sailed by: ``ship`` the preset the workbench starts from, ``model`` the true model
     (an external truth's particulars and rudder limit), ``dynamics`` the external truth (None: ``model``),
-    ``propeller_rate`` its constant propeller rate, rps."""
+    ``propeller_rate`` its constant propeller rate, rps; ``zigzags`` the programme fitted, logged by ``noise``'s
+    sensors every ``dt`` seconds."""
 
     ship: str
     model: ShipModel
     dynamics: DynamicsSource | None = None
     propeller_rate: float = Manoeuvre.propeller_rate
+    zigzags: Programme = ZIGZAGS
+    noise: SensorNoise = SEA_TRIAL_NOISE
+    dt: float = 1.0
 
 
 def truth_model(ship: str = SHIP) -> ShipModel:
@@ -107,12 +142,23 @@ def truth_model(ship: str = SHIP) -> ShipModel:
     return preset.with_parameters({key: factor * preset.parameter(key) for key, factor in TRUTH_FACTORS.items()})
 
 
-def make_truth(name: str = SHIP) -> Truth:
-    """``--truth``'s ship: a preset with its values moved, or :data:`MMG`."""
-    if name == MMG:
-        from ship_env.model.mmg_kvlcc2 import MmgKvlcc2, service_propeller_rate
+def make_truth(name: str = SHIP, folder: Path | None = None) -> Truth:
+    """``--truth``'s ship: a preset with its values moved, :data:`MMG` or :data:`MMG_BASIN` (whose starting preset,
+    ``kvlcc2`` scaled to the model by ``ship-env scale``, is written into ``folder``)."""
+    if name in (MMG, MMG_BASIN):
+        from ship_env.model.mmg_kvlcc2 import MODEL_LENGTH, MmgKvlcc2, service_propeller_rate
 
-        return Truth("kvlcc2", ShipModel("kvlcc2"), MmgKvlcc2, service_propeller_rate())
+        if name == MMG:
+            return Truth("kvlcc2", ShipModel("kvlcc2"), MmgKvlcc2, service_propeller_rate())
+        if folder is None:
+            raise ValueError(f"--truth {MMG_BASIN}: give the folder its starting preset is written into")
+        preset = folder / "kvlcc2_model.yaml"
+        if not preset.exists():
+            folder.mkdir(parents=True, exist_ok=True)
+            main(["scale", "kvlcc2", "--length", f"{MODEL_LENGTH:g}", "-o", str(preset)])
+        dynamics = functools.partial(MmgKvlcc2, scale=1.0)  # the 7 m model itself
+        rate = service_propeller_rate(1.0)
+        return Truth(str(preset), ShipModel(preset), dynamics, rate, BASIN_ZIGZAGS, SensorNoise(), BASIN_DT)
     return Truth(name, truth_model(name))
 
 
@@ -120,7 +166,7 @@ def sail_truth(
     truth: Truth, runs: Sequence[tuple[str, float, float | None]], lengths: float, seed: int, noise: SensorNoise
 ) -> list[Log]:
     """The truth's logs of ``runs`` (a zig-zag where b is given, else a turn), each ``lengths`` ship lengths
-    long at the service speed after an approach of two, sampled at 1 Hz."""
+    long at the service speed after an approach of two, sampled every ``truth.dt`` seconds."""
     speed = truth.model.service_speed
     unit = truth.model.length / speed
     manoeuvres = [
@@ -138,13 +184,13 @@ def sail_truth(
         )
         for name, a, b in runs
     ]
-    return sail_all(ReplayModel(truth.model), manoeuvres, seed, LogSettings(dt=1.0, noise=noise), truth.dynamics)
+    return sail_all(ReplayModel(truth.model), manoeuvres, seed, LogSettings(dt=truth.dt, noise=noise), truth.dynamics)
     # fmt: skip
 
 
 def write_zigzag_logs(truth: Truth, folder: Path, seed: int) -> None:
     folder.mkdir(parents=True)
-    for log in sail_truth(truth, ZIGZAGS, ZIGZAG_LENGTHS, seed, SEA_TRIAL_NOISE):
+    for log in sail_truth(truth, truth.zigzags, ZIGZAG_LENGTHS, seed, truth.noise):
         write_log(log, folder / f"{log.name}.csv")
 
 
@@ -205,12 +251,12 @@ def judge(seed: int, folder: Path, truth: Truth | None = None, truth_logs: Seque
 
 def main_benchmark(keep: Path | None, seeds: Sequence[int], truth_name: str = SHIP) -> int:
     folder = Path(tempfile.mkdtemp(prefix="free_running_")) if keep is None else keep
-    truth = make_truth(truth_name)
+    truth = make_truth(truth_name, folder)
     truth_logs = sail_truth(truth, JUDGED_RUNS, TURNING_LENGTHS, 0, EXACT)
     verdicts = [judge(seed, folder / f"seed_{seed}", truth, truth_logs) for seed in seeds]
     header = ("figure (mean of 35 deg stbd and port)", "truth", "fitted preset", "error", "within", "")
     for verdict in verdicts:
-        print(f"\nseed {verdict.seed}: the fit on {len(ZIGZAGS)} zig-zags ({truth_name}, sea-trial sensors) took "
+        print(f"\nseed {verdict.seed}: the fit on {len(truth.zigzags)} zig-zags ({truth_name}) took "
               f"{verdict.seconds:.0f} s; logs, report and preset in {folder / f'seed_{verdict.seed}'}")  # fmt: skip
         print(
             f"the fitted preset cannot sail: {verdict.cannot_turn}"
@@ -229,7 +275,9 @@ if __name__ == "__main__":
         "--seeds", type=int, nargs="+", default=list(SEEDS), help="the sensor-noise seeds (default: %(default)s)"
     )
     parser.add_argument(
-        "--truth", default=SHIP, help="the preset the truth is made from, or 'mmg' (default: %(default)s)"
+        "--truth",
+        default=SHIP,
+        help=f"the preset the truth is made from, {MMG!r} or {MMG_BASIN!r} (default: %(default)s)",
     )
     arguments = parser.parse_args()
     raise SystemExit(main_benchmark(arguments.keep, arguments.seeds, arguments.truth))

@@ -8,6 +8,7 @@ read back: the values bit for bit, the replays to 1e-9, the truth within four st
 from __future__ import annotations
 
 import hashlib
+import json
 import math
 from pathlib import Path
 
@@ -15,10 +16,12 @@ import gymnasium as gym
 import numpy as np
 import pytest
 import yaml
+from scipy.optimize import brentq
 
 from ship_env.cli import main
 from ship_env.leaderboard.board import run_leaderboard
 from ship_env.leaderboard.suites import NOMINAL, SuiteSpec
+from ship_env.manoeuvres.uncertainty import fold_models, jackknife_error
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
 from ship_env.workbench import FitOptions, ReplayModel, compare, cross_validate, load_logs, simulate, write_log
 from ship_env.workbench.fitting.errors import ErrorScales
@@ -63,6 +66,52 @@ def fitted(sailed, tmp_path_factory):
     path = tmp_path_factory.mktemp("preset") / "fitted_ship.yaml"
     write_preset(preset_document(validation, logs, "ship-env fit (test)", path.stem), path)
     return validation, path
+
+
+def test_the_preset_records_its_fold_fits_and_the_manoeuvres_sail_them_for_each_figures_error(fitted, tmp_path):
+    """The preset's fitted.jackknife holds each fold's terms bit for bit; ``ship-env manoeuvre`` sails every fold and
+    gives each figure its jackknife standard error. For this Nomoto ship sailed free, each fold's steady turn has the
+    closed form r* = K* (delta + delta_0) (2.26), u* + beta3 u*^3 = K_u* r*^2 (2.55, 2.39), r = r* U0 (1 - u*) / L
+    (2.40, 2.53): the figure's error is the jackknife of those rates."""
+    validation, path = fitted
+    model = ShipModel(path)
+    folds = fold_models(model)
+    assert len(folds) == len(validation.folds) == 3
+    for ship, fold in zip(folds, validation.folds, strict=True):
+        assert {key: ship.parameter(key) for key in fold.values} == dict(fold.values)
+        assert ship.effects == model.effects
+    for key, error in validation.jackknife_errors().items():
+        assert jackknife_error([ship.parameter(key) for ship in folds]) == pytest.approx(error, rel=1e-12), key
+    figures = tmp_path / "figures.json"
+    assert main(["manoeuvre", "--ship", str(path), "--turn-angle", "20", "--json", str(figures)]) == 0
+    steady = json.loads(figures.read_text())["manoeuvres"][0]["figures"]["steady_rate_of_turn"]
+
+    def steady_rate(ship: ShipModel) -> float:
+        normalised = ship.parameter("yaw.gain") * (math.radians(20.0) + ship.parameter("rudder_offset.angle"))
+        gain, cubic = ship.parameter("speed_loss.gain"), ship.parameter("speed_loss.cubic")
+        loss = brentq(lambda u: u + cubic * u**3 - gain * normalised**2, 0.0, 1.0)
+        return math.degrees(normalised * ship.service_speed * (1.0 - loss) / ship.length)
+
+    assert steady["value"] == pytest.approx(steady_rate(model), rel=1e-6)
+    assert steady["std_error"] == pytest.approx(jackknife_error([steady_rate(ship) for ship in folds]), rel=1e-5)
+    assert steady["std_error"] > 0.0
+
+
+def test_a_figures_jackknife_error_is_the_spread_of_the_folds():
+    assert jackknife_error([1.0, 2.0, 3.0, 4.0]) == pytest.approx(math.sqrt(3 / 4 * 5.0))
+    assert math.isnan(jackknife_error([1.0, math.nan, 3.0]))  # a fold that did not reach the figure
+    assert math.isnan(jackknife_error([1.0]))
+    assert fold_models(ShipModel("kvlcc2")) == []  # a built-in preset records no fold fits
+
+
+def test_a_malformed_fold_record_is_refused_naming_the_field(fitted, tmp_path):
+    _, path = fitted
+    document = yaml.safe_load(path.read_text())
+    document["fitted"]["jackknife"]["values"][1].pop()
+    broken = tmp_path / "broken.yaml"
+    broken.write_text(yaml.safe_dump(document, sort_keys=False))
+    with pytest.raises(ValueError, match="fitted.jackknife needs 'terms' and per fold as many 'values'"):
+        fold_models(ShipModel(broken))
 
 
 def test_the_preset_holds_the_fitted_values_bit_for_bit_and_recovers_the_truth(sailed, fitted):

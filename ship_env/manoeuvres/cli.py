@@ -97,6 +97,7 @@ def run_manoeuvres(args: argparse.Namespace) -> int:
         zigzag,
     )
     from ship_env.manoeuvres.results import KNOT
+    from ship_env.manoeuvres.uncertainty import fold_models
 
     model = _build_model(args.ship, args.effects)
     for angle in args.turn_angle:
@@ -106,37 +107,85 @@ def run_manoeuvres(args: argparse.Namespace) -> int:
     prepare_outputs(args.plot, args.json)
     settings = TrialSettings(speed=None if args.speed is None else args.speed * KNOT, dt=args.dt)
     pull_out_rudder = min(math.radians(PULL_OUT_RUDDER_DEG), model.rudder_limit)
-    tasks: list[tuple[str, Callable[[], ManoeuvreResult]]] = [
+    tasks: list[tuple[str, Callable[[ShipModel], ManoeuvreResult]]] = [
         *(
-            (f"turning circle {a:g}", lambda a=a: turning_circle(model, math.radians(a), settings))
+            (f"turning circle {a:g}", lambda ship, a=a: turning_circle(ship, math.radians(a), settings))
             for a in args.turn_angle
         ),
         *(
-            (f"zig-zag {a:g}/{b:g}", lambda a=a, b=b: zigzag(model, math.radians(a), math.radians(b), settings))
+            (
+                f"zig-zag {a:g}/{b:g}",
+                lambda ship, a=a, b=b: zigzag(ship, math.radians(a), math.radians(b), settings),
+            )
             for a, b in args.zigzag
         ),
-        ("pull-out", lambda: pull_out(model, pull_out_rudder, settings)),
-        ("reversed spiral", lambda: reversed_spiral(model, settings=settings)),
+        ("pull-out", lambda ship: pull_out(ship, pull_out_rudder, settings)),
+        ("reversed spiral", lambda ship: reversed_spiral(ship, settings=settings)),
     ]
+    folds = fold_models(model)
     results = []
+    fold_results: list[list[ManoeuvreResult | None]] = []
     with tqdm(tasks, desc="manoeuvres", unit="manoeuvre", file=sys.stderr, leave=False) as progress:
         for name, task in progress:
             progress.set_postfix_str(name)
             try:
-                results.append(task())
+                results.append(task(model))
             except FloatingPointError as error:
                 print(f"ship-env manoeuvre: {name} failed: {error}", file=sys.stderr)
                 return 1
+            fold_results.append([_sailed_or_none(task, fold) for fold in folds])
     checks = check_criteria(results)
-    print(format_report(ship_line(model, settings.approach_speed(model)), results, checks))
+    errors = [_figure_errors(sailed) for sailed in fold_results] if folds else None
+    print(format_report(ship_line(model, settings.approach_speed(model)), results, checks, errors))
+    if folds:
+        print(_uncertainty_line(len(folds), [name for name, _ in tasks], fold_results))
     if args.plot is not None:
         for result in results:
             plot_manoeuvre(result, args.plot / f"{result.slug}.png")
         print(f"\nplots written to {args.plot}/")
     if args.json is not None:
-        args.json.write_text(json.dumps(report_dict(model, results, checks), indent=2) + "\n")
+        args.json.write_text(json.dumps(report_dict(model, results, checks, errors), indent=2) + "\n")
         print(f"figures written to {args.json}")
     return 0
+
+
+def _sailed_or_none(task: Callable[[ShipModel], ManoeuvreResult], ship: ShipModel) -> ManoeuvreResult | None:
+    """The manoeuvre sailed by ``ship``, or None where it leaves the model's validity."""
+    try:
+        return task(ship)
+    except FloatingPointError:
+        return None
+
+
+def _figure_errors(sailed: list[ManoeuvreResult | None]) -> dict[str, float]:
+    """Per numeric figure, its jackknife standard error over the fold fits (none where one could not sail)."""
+    from ship_env.manoeuvres.uncertainty import jackknife_error
+
+    results = [result for result in sailed if result is not None]
+    if len(results) < len(sailed):
+        return {}
+    values: dict[str, list[float]] = {}
+    for result in results:
+        for figure in result.figures():
+            if not isinstance(figure.value, str):
+                values.setdefault(figure.key, []).append(figure.value)
+    return {key: jackknife_error(numbers) for key, numbers in values.items()}
+
+
+def _uncertainty_line(count: int, names: list[str], fold_results: list[list[ManoeuvreResult | None]]) -> str:
+    """What +- means, and which manoeuvres some fold fits could not sail."""
+    line = (
+        f"\n+- the fit's jackknife standard error: each figure sailed by the {count} ships fitted with one run (group) "
+        "left out (the preset's fitted.jackknife)"
+    )
+    failed = [
+        f"{name} ({missing} of {count})"
+        for name, sailed in zip(names, fold_results, strict=True)
+        if (missing := sum(result is None for result in sailed))
+    ]
+    if failed:
+        line += f"; none where fold fits cannot sail the manoeuvre: {', '.join(failed)}"
+    return line
 
 
 def _manoeuvre_arguments(parser: argparse.ArgumentParser) -> None:

@@ -7,16 +7,18 @@ and a column per run, then the spiral's table and the IMO criteria with pass or 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 from ship_env.manoeuvres.imo import CriterionCheck
-from ship_env.manoeuvres.results import KNOT, ManoeuvreResult, fixed
+from ship_env.manoeuvres.results import KNOT, Figure, ManoeuvreResult, fixed
 from ship_env.manoeuvres.spiral import SpiralTest
 from ship_env.model import ShipModel
 
 LABEL_WIDTH = 44  # row headers: a figure and its unit
 CRITERION_WIDTH = 64  # row headers of the criteria: clause, figure, run and unit
 COLUMN_WIDTH = 12
+#: Per result (in the order given), a figure's standard error by its key (:mod:`.uncertainty`).
+FigureErrors = Sequence[Mapping[str, float]]
 
 
 def ship_line(model: ShipModel, approach_speed: float) -> str:
@@ -33,13 +35,22 @@ def _row(header: str, cells: Sequence[str], width: int = LABEL_WIDTH) -> str:
     return f"{header:<{width}}" + "".join(f"{cell:>{COLUMN_WIDTH}}" for cell in cells)
 
 
-def _figures_block(results: Sequence[ManoeuvreResult]) -> list[str]:
-    """Results of one kind side by side: a row per figure, a column per run."""
+def _cell(figure: Figure, error: float | None) -> str:
+    """The figure as printed, with "+-" its standard error where one is given and finite."""
+    if error is None or not math.isfinite(error) or isinstance(figure.value, str):
+        return figure.text
+    return f"{figure.text} +-{fixed(error, figure.digits)}"
+
+
+def _figures_block(results: Sequence[ManoeuvreResult], errors: FigureErrors) -> list[str]:
+    """Results of one kind side by side: a row per figure, a column per run (with its standard error, if any)."""
     figures_per_run = [result.figures() for result in results]
     lines = [_row(results[0].manoeuvre.capitalize(), [result.label for result in results])]
     for same_figure in zip(*figures_per_run, strict=True):
         unit = f" [{same_figure[0].unit}]" if same_figure[0].unit else ""
-        lines.append(_row(f"  {same_figure[0].label}{unit}", [figure.text for figure in same_figure]))
+        pairs = zip(same_figure, errors, strict=True)
+        cells = [_cell(figure, run_errors.get(figure.key)) for figure, run_errors in pairs]
+        lines.append(_row(f"  {same_figure[0].label}{unit}", cells))
     return lines
 
 
@@ -68,14 +79,21 @@ def _criteria_block(checks: Sequence[CriterionCheck]) -> list[str]:
     return lines
 
 
-def format_report(header: str, results: Sequence[ManoeuvreResult], checks: Sequence[CriterionCheck]) -> str:
-    """The text report: ``header``, a block per kind of manoeuvre, the spiral table, the criteria."""
+def format_report(
+    header: str,
+    results: Sequence[ManoeuvreResult],
+    checks: Sequence[CriterionCheck],
+    errors: FigureErrors | None = None,
+) -> str:
+    """The text report: ``header``, a block per kind of manoeuvre (each figure +- its standard error in ``errors``,
+    where given), the spiral table, the criteria."""
     lines = [header]
+    errors = errors if errors is not None else [{} for _ in results]
     kinds = list(dict.fromkeys(type(result) for result in results))
     for kind in kinds:
-        same_kind = [result for result in results if type(result) is kind]
-        lines += ["", *_figures_block(same_kind)]
-        for result in same_kind:
+        same_kind = [i for i, result in enumerate(results) if type(result) is kind]
+        lines += ["", *_figures_block([results[i] for i in same_kind], [errors[i] for i in same_kind])]
+        for result in (results[i] for i in same_kind):
             if isinstance(result, SpiralTest):
                 lines += _spiral_table(result)
     if checks:
@@ -88,14 +106,29 @@ def _number(value: float | str) -> float | str | None:
     return None if isinstance(value, float) and math.isnan(value) else value
 
 
-def report_dict(model: ShipModel, results: Sequence[ManoeuvreResult], checks: Sequence[CriterionCheck]) -> dict:
-    """The report as plain data for JSON: ship, results' figures (display units), spiral tables, criteria."""
+def _figure_entry(figure: Figure, error: float | None) -> dict[str, object]:
+    """A figure for JSON: value and unit, and its standard error where one is given."""
+    entry: dict[str, object] = {"value": _number(figure.value), "unit": figure.unit}
+    if error is not None and not isinstance(figure.value, str):
+        entry["std_error"] = _number(error)
+    return entry
+
+
+def report_dict(
+    model: ShipModel,
+    results: Sequence[ManoeuvreResult],
+    checks: Sequence[CriterionCheck],
+    errors: FigureErrors | None = None,
+) -> dict:
+    """The report as plain data for JSON: ship, results' figures (display units, with their standard errors in
+    ``errors`` where given), spiral tables, criteria."""
+    errors = errors if errors is not None else [{} for _ in results]
     manoeuvres = []
-    for result in results:
+    for result, run_errors in zip(results, errors, strict=True):
         entry: dict[str, object] = {
             "manoeuvre": result.manoeuvre,
             "label": result.label,
-            "figures": {f.key: {"value": _number(f.value), "unit": f.unit} for f in result.figures()},
+            "figures": {f.key: _figure_entry(f, run_errors.get(f.key)) for f in result.figures()},
         }
         if isinstance(result, SpiralTest):
             entry["table"] = [

@@ -320,6 +320,7 @@ def preset_document(
         "std_errors": "the larger of the Jacobian's and the jackknife's over the left-out runs",
         "error_units": dict(CHANNEL_UNITS),
         "held_out": _errors(validation.pooled),
+        **({"jackknife": _jackknife_section(validation)} if len(validation.folds) >= 2 else {}),
     }
     if validation_logs:
         checked = dict.fromkeys(log_file(log) for log in validation_logs)
@@ -345,6 +346,18 @@ def preset_document(
         "envelope": envelope_section(raw, limits),
         "effects": _effects_section(sailed, raw, fitted),
         "fitted": record,
+    }
+
+
+def _jackknife_section(validation: CrossValidation) -> dict[str, Any]:
+    """The fold fits' values of the ship's fitted terms (SI units; not the site's current), from which the fit's
+    uncertainty in what the preset predicts is sailed (:mod:`ship_env.manoeuvres.uncertainty`)."""
+    terms = [estimate.term.key for estimate in validation.fit.estimates if estimate.term.key not in CURRENT_TERMS]
+    return {
+        "about": "per fold, the terms fitted with its runs left out (the jackknife of the standard errors)",
+        "left_out": [list(fold.left_out) for fold in validation.folds],
+        "terms": terms,
+        "values": [[float(fold.values[key]) for key in terms] for fold in validation.folds],
     }
 
 

@@ -25,6 +25,7 @@ from ship_env.workbench.judging.free_running import (
     disagreements,
     figure_score,
     free_running_table,
+    held_out_free_running,
     manoeuvre_figures,
     read_manoeuvre,
 )
@@ -185,6 +186,34 @@ def test_the_improve_report_shows_each_run_s_figures_and_tracks(tmp_path):
         assert section.count(f"| {run} | ") >= 5 and figure in section, (run, figure)
     for label in ("start", "final") if "### final model" in section else ("final",):
         assert (report / f"free_running_{label}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_validation_run_s_predicted_figures_carry_the_folds_jackknife_error():
+    """A fit on three noisy zig-zags, validated on a turn it never saw: every fold sails the turn too, and each
+    predicted figure's error is sqrt((n - 1) / n sum (x_i - mean x)^2) over the folds' figures, shown in the table."""
+    model = ShipModel(SHIP, CALM_EFFECTS)
+    speed, unit = model.service_speed, model.length / model.service_speed
+    runs = [
+        Manoeuvre(f"zigzag_{a}", "zigzag", math.radians(a), 30 * unit, approach=2 * unit,
+                  zigzag_angle=math.radians(abs(a)), start_speed=speed, final_speed=speed, wind_speed=0.0)
+        for a in (10.0, -15.0, 20.0)
+    ]  # fmt: skip
+    turn = Manoeuvre("turn_m30", "turn", math.radians(-30.0), 30 * unit, approach=2 * unit, start_speed=speed,
+                     final_speed=speed, wind_speed=0.0)  # fmt: skip
+    settings = LogSettings(noise=SensorNoise(), dt=0.5)
+    logs = sail_all(ReplayModel(model), [*runs, turn], seed=5, settings=settings)
+    options = FitOptions(scales=ErrorScales.for_runs(model, logs[:3]), workers=1)
+    validation = cross_validate(model, logs[:3], ["yaw.gain", "yaw.time_constant"], options, validate_on=logs[3:])
+    predicted = held_out_free_running(validation, logs[:3])[-1]
+    assert predicted.run == "turn_m30" and len(validation.folds) == 3
+    by_fold = [compare_free_running(fold.setup, logs[3:])[0].predicted for fold in validation.folds]
+    for i, figure in enumerate(predicted.predicted):
+        values = np.array([float(figures[i].value) for figures in by_fold])
+        expected = math.sqrt(2 / 3 * np.sum((values - values.mean()) ** 2))
+        assert predicted.spread[i] == pytest.approx(expected, rel=1e-12, nan_ok=True), figure.key
+    tactical = [figure.key for figure in predicted.predicted].index("tactical_diameter_lengths")
+    assert predicted.spread[tactical] > 0.0
+    assert f"+-{predicted.spread[tactical]:.2f}" in free_running_table([predicted]).text()
 
 
 def test_a_fit_that_took_the_actual_rudder_sails_free_with_the_preset_s_steering_machine():

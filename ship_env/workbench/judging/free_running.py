@@ -40,10 +40,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ship_env.manoeuvres.results import Figure, metre_digits
+from ship_env.manoeuvres.results import Figure, fixed, metre_digits
 from ship_env.manoeuvres.series import first_crossing, value_at, velocity_over_ground
 from ship_env.manoeuvres.settings import TrialSettings
 from ship_env.manoeuvres.trial import run_trial
+from ship_env.manoeuvres.uncertainty import jackknife_error
 from ship_env.manoeuvres.zigzag import ZigZagHelmsman
 from ship_env.model import Conditions
 from ship_env.text_table import Table
@@ -298,7 +299,8 @@ class RunFigures:
 
     Where the model cannot sail the manoeuvre (it leaves its validity on the way: a speed loss past the ship's
     speed, a rate of turn that runs away), ``cannot_sail`` says why, its figures are NaN ("n/a") and it has no
-    predicted series.
+    predicted series. ``spread``, where given, holds each predicted figure's jackknife standard error over the
+    fit's folds (:func:`held_out_free_running`; NaN where a fold does not reach the figure).
     """
 
     run: str
@@ -307,6 +309,7 @@ class RunFigures:
     predicted: tuple[Figure, ...]
     predicted_series: Series | None
     cannot_sail: str = ""
+    spread: tuple[float, ...] = ()
 
 
 def compare_free_running(setup: ReplayModel, logs: Sequence[Log]) -> tuple[RunFigures, ...]:
@@ -344,18 +347,21 @@ def compare_free_running(setup: ReplayModel, logs: Sequence[Log]) -> tuple[RunFi
 
 
 def free_running_table(results: Sequence[RunFigures]) -> Table:
-    """Run, manoeuvre, figure, measured, predicted and their difference, one row per figure."""
+    """Run, manoeuvre, figure, measured, predicted (+- its jackknife standard error, where the result has one) and
+    their difference, one row per figure."""
     rows = []
     for result in results:
-        for measured, predicted in zip(result.measured, result.predicted, strict=True):
+        spread = result.spread or (math.nan,) * len(result.predicted)
+        for measured, predicted, error in zip(result.measured, result.predicted, spread, strict=True):
             difference = float(predicted.value) - float(measured.value)
+            shown = predicted.text if math.isnan(error) else f"{predicted.text} +-{fixed(error, predicted.digits)}"
             rows.append(
                 (
                     result.run,
                     result.manoeuvre.kind,
                     f"{measured.label}, {measured.unit}",
                     measured.text,
-                    predicted.text,
+                    shown,
                     Figure(measured.key, "", difference, measured.unit, measured.digits).text,
                 )
             )
@@ -364,11 +370,23 @@ def free_running_table(results: Sequence[RunFigures]) -> Table:
 
 def held_out_free_running(validation: CrossValidation, logs: Sequence[Log]) -> tuple[RunFigures, ...]:
     """Every run sailed free by a fit that did not see it: a fitted run by the fold that left it out, a
-    validation run (``validate_on``) by the fit to all runs."""
+    validation run (``validate_on``) by the fit to all runs, each of its figures with its jackknife standard error
+    over the folds (every fold sails it too: how far the fitted runs would move the prediction)."""
     fold_of = {name: fold.setup for fold in validation.folds for name in fold.left_out}
     fitted = [compare_free_running(fold_of.get(log.name, validation.fit.setup), [log]) for log in logs]
     validated = compare_free_running(validation.fit.setup, validation.validation_logs)
+    if len(validation.folds) >= 2:
+        by_fold = [compare_free_running(fold.setup, validation.validation_logs) for fold in validation.folds]
+        validated = tuple(
+            replace(result, spread=_spread([results[i] for results in by_fold])) for i, result in enumerate(validated)
+        )
     return (*(figures for run in fitted for figures in run), *validated)
+
+
+def _spread(by_fold: Sequence[RunFigures]) -> tuple[float, ...]:
+    """Per figure of one run, the jackknife standard error of the folds' predictions of it."""
+    columns = zip(*(result.predicted for result in by_fold), strict=True)
+    return tuple(jackknife_error([float(figure.value) for figure in column]) for column in columns)
 
 
 #: The figures judged, with the bound beyond which prediction and measurement disagree (relative to the measured

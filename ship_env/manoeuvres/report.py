@@ -36,8 +36,9 @@ def _row(header: str, cells: Sequence[str], width: int = LABEL_WIDTH) -> str:
 
 
 def _cell(figure: Figure, error: float | None) -> str:
-    """The figure as printed, with "+-" its standard error where one is given and finite."""
-    if error is None or not math.isfinite(error) or isinstance(figure.value, str):
+    """The figure as printed, with "+-" its standard error where one is given, finite and not 0 (a figure every
+    fold sails alike)."""
+    if error is None or not math.isfinite(error) or error == 0.0 or isinstance(figure.value, str):
         return figure.text
     return f"{figure.text} +-{fixed(error, figure.digits)}"
 

@@ -354,7 +354,8 @@ def free_running_table(results: Sequence[RunFigures]) -> Table:
         spread = result.spread or (math.nan,) * len(result.predicted)
         for measured, predicted, error in zip(result.measured, result.predicted, spread, strict=True):
             difference = float(predicted.value) - float(measured.value)
-            shown = predicted.text if math.isnan(error) else f"{predicted.text} +-{fixed(error, predicted.digits)}"
+            exact = math.isnan(error) or error == 0.0  # none, or a figure every fold sails alike (the rudder)
+            shown = predicted.text if exact else f"{predicted.text} +-{fixed(error, predicted.digits)}"
             rows.append(
                 (
                     result.run,

@@ -104,6 +104,26 @@ def test_a_figures_jackknife_error_is_the_spread_of_the_folds():
     assert fold_models(ShipModel("kvlcc2")) == []  # a built-in preset records no fold fits
 
 
+def test_a_fold_that_cannot_sail_a_manoeuvre_leaves_that_manoeuvre_without_an_error_and_says_so(
+    fitted, tmp_path, capsys
+):
+    """One fold's K* made ten times the fit's: it stops dead in the turning circle (its speed loss past the ship's
+    speed), so the turn's figures get no error and the printout says which manoeuvre and how many folds."""
+    _, path = fitted
+    document = yaml.safe_load(path.read_text())
+    record = document["fitted"]["jackknife"]
+    record["values"][0][record["terms"].index("yaw.gain")] *= 10.0
+    changed = tmp_path / "changed.yaml"
+    changed.write_text(yaml.safe_dump(document, sort_keys=False))
+    figures = tmp_path / "figures.json"
+    assert main(["manoeuvre", "--ship", str(changed), "--zigzag", "10/10", "--json", str(figures)]) == 0
+    printed = capsys.readouterr().out
+    assert "none where fold fits cannot sail the manoeuvre: turning circle 35 (1 of 3)" in printed, printed
+    turn, zigzag_10 = json.loads(figures.read_text())["manoeuvres"][:2]
+    assert all("std_error" not in figure for figure in turn["figures"].values())
+    assert zigzag_10["figures"]["first_overshoot"]["std_error"] > 0.0
+
+
 def test_a_malformed_fold_record_is_refused_naming_the_field(fitted, tmp_path):
     _, path = fitted
     document = yaml.safe_load(path.read_text())

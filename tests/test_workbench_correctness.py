@@ -16,8 +16,9 @@ from ship_env.workbench import FitOptions, ReplayModel, cross_validate, fit, sim
 from ship_env.workbench.deciding.diagnose import CandidateResult
 from ship_env.workbench.deciding.improve import Rules, _terms_at_null, verdict
 from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled, pooled_jackknife, run_errors
-from ship_env.workbench.fitting.fit import Problem, unknown_variances
+from ship_env.workbench.fitting.fit import Problem
 from ship_env.workbench.fitting.terms import with_values
+from ship_env.workbench.fitting.uncertainty import unknown_variances
 from ship_env.workbench.reporting.documents import fit_document
 from ship_env.workbench.reporting.tables import error_table, estimate_table
 from ship_env.workbench.synthetic.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all

@@ -64,6 +64,19 @@ def _actions(space: gym.Space, count: int) -> list[Any]:
     return [space.sample() for _ in range(count)]
 
 
+def _copied_and_checked(env: Any, how: str) -> tuple[Any, list[Any]]:
+    """A copy of ``env`` (single or vector) made ``BEFORE`` steps into its episode, checked to sail on and to reset
+    as the original; the copy and the actions sailed."""
+    actions = _actions(env.action_space, BEFORE + AFTER)
+    env.reset(seed=3)
+    for action in actions[:BEFORE]:
+        env.step(action)
+    copied = COPIES[how](env)
+    assert_identical([copied.step(a) for a in actions[BEFORE:]], [env.step(a) for a in actions[BEFORE:]])
+    assert_identical(copied.reset(seed=4), env.reset(seed=4))
+    return copied, actions
+
+
 @pytest.mark.parametrize("how", list(COPIES))
 @pytest.mark.parametrize("num_ships", [1, 3])
 def test_a_copied_simulator_sails_on_as_the_original(how, num_ships):
@@ -91,13 +104,7 @@ def test_a_copied_simulator_sails_on_as_the_original(how, num_ships):
 @pytest.mark.parametrize(("env_id", "options"), ENVS, ids=[f"{e}-{o}" for e, o in ENVS])
 def test_a_copied_env_sails_on_as_the_original(env_id, options, how):
     env = gym.make(env_id, **options)
-    actions = _actions(env.action_space, BEFORE + AFTER)
-    env.reset(seed=3)
-    for action in actions[:BEFORE]:
-        env.step(action)
-    copied = COPIES[how](env)
-    assert_identical([copied.step(a) for a in actions[BEFORE:]], [env.step(a) for a in actions[BEFORE:]])
-    assert_identical(copied.reset(seed=4), env.reset(seed=4))
+    copied, actions = _copied_and_checked(env, how)
     assert_identical([copied.step(a) for a in actions[:5]], [env.step(a) for a in actions[:5]])
 
 
@@ -106,13 +113,7 @@ def test_a_copied_env_sails_on_as_the_original(env_id, options, how):
 @pytest.mark.parametrize(("env_id", "options"), ENVS[:3], ids=[e for e, _ in ENVS[:3]])
 def test_a_copied_vector_env_sails_on_as_the_original(env_id, options, num_envs, how):
     vector = gym.make_vec(env_id, num_envs=num_envs, vectorization_mode="vector_entry_point", **options)
-    actions = _actions(vector.action_space, BEFORE + AFTER)
-    vector.reset(seed=3)
-    for action in actions[:BEFORE]:
-        vector.step(action)
-    copied = COPIES[how](vector)
-    assert_identical([copied.step(a) for a in actions[BEFORE:]], [vector.step(a) for a in actions[BEFORE:]])
-    assert_identical(copied.reset(seed=4), vector.reset(seed=4))
+    copied, actions = _copied_and_checked(vector, how)
     copied_info = copied.step(actions[0])[-1]
     assert_identical(copied_info, vector.step(actions[0])[-1])
     with pytest.raises(ValueError, match="read-only"):  # the masks every info shares stay read-only

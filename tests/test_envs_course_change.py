@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from env_contract import (
     DIVERGING_SHIP,
+    NO_WIND_EFFECTS,
     assert_a_diverging_ship_ends_alone,
     assert_same_steps,
     assert_vector_equals_singles,
@@ -28,10 +29,6 @@ from ship_env.model import state as S
 from ship_env.model.simulator import PARALLEL_SHIPS, batch_loop
 
 ENV_ID = "ship_env/CourseChange-v0"
-#: The preset's effects less the wind's: even in still air the model feels the apparent wind of the
-#: ship's own motion over the ground (2.74), which the closed forms below leave out.
-WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")
-NO_WIND_EFFECTS = [name for name in ShipModel("container_226m").effects if name not in WIND_EFFECTS]
 
 
 def test_vector_env_equals_single_envs_seeded_s_plus_i_across_resets():

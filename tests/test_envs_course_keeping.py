@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from env_contract import (
     DIVERGING_SHIP,
+    NO_WIND_EFFECTS,
     assert_a_diverging_ship_ends_alone,
     assert_all_core_vector_truncates_like_a_single_env,
     assert_vector_equals_singles,
@@ -20,12 +21,10 @@ from ship_env.envs.course_keeping_task import HEADING_SCALE, OBS_HEADING_ERROR, 
 from ship_env.envs.course_keeping_vector import CourseKeepingVectorEnv
 from ship_env.envs.metrics import course_keeping_metrics
 from ship_env.envs.weather import RANDOM_DISTURBANCE
-from ship_env.model import Conditions, ShipModel
+from ship_env.model import Conditions
 from ship_env.model import state as S
 
 ENV_ID = "ship_env/CourseKeeping-v0"
-WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")
-NO_WIND_EFFECTS = [name for name in ShipModel("container_226m").effects if name not in WIND_EFFECTS]
 
 
 def heading_pd(task, kp: float = 1.0, kd: float = 30.0):

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import pytest
+from env_contract import NO_WIND_EFFECTS
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.course_change import CourseChangeEnv
@@ -23,7 +24,6 @@ from ship_env.model import state as S
 
 WEATHER_ENVS = [CourseChangeEnv, CourseKeepingEnv]
 DEFAULT_EFFECTS = ShipModel("container_226m").effects
-NO_WIND_EFFECTS = [name for name in DEFAULT_EFFECTS if name not in ("wind_moment", "wind_drift", "gusts")]
 WAVES = Conditions(wind_speed=8.0, current_speed=1.0, wave_height=3.2, wave_period=8.0, wave_direction=1.0)
 
 

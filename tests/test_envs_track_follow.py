@@ -8,6 +8,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 from env_contract import (
+    NO_WIND_EFFECTS,
     assert_a_diverging_ship_ends_alone,
     assert_all_core_vector_truncates_like_a_single_env,
     assert_vector_equals_singles,
@@ -54,8 +55,6 @@ THESIS_TRACK_CHANGES_DEG = {
     track_id: [CHANGE_DEG[name] for name in changes.split()]
     for track_id, changes in (line.split(": ") for line in THESIS_TABLE_6_1_B.strip().splitlines())
 }
-WIND_EFFECTS = ("wind_moment", "wind_drift", "gusts")
-NO_WIND_EFFECTS = [name for name in ShipModel("container_226m").effects if name not in WIND_EFFECTS]
 
 
 class TrackPD:

@@ -18,7 +18,7 @@ from ship_env.model.registry import register_module
 from ship_env.workbench import write_log
 from ship_env.workbench.fitting.replay import ReplayModel
 from ship_env.workbench.fitting.terms import DEFAULT_TERMS
-from ship_env.workbench.synthetic.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
+from ship_env.workbench.synthetic.synthetic import NO_NOISE, LogSettings, model_test_programme, sail_all
 
 #: The speed loss's terms, fitted wherever the logs measure speed (the speed is an output the model predicts).
 SPEED_LOSS_TERMS = DEFAULT_TERMS["speed_loss"]
@@ -100,7 +100,7 @@ def test_a_hidden_instance_is_recovered_by_fit_add(plugin, tmp_path, capsys):
     # The logs measure speed, so the fit predicts it with the speed loss: the truth loses speed in its turns.
     # Runs that start at their service speed: one that accelerates from rest has it estimated (``replay``).
     truth = ReplayModel(_lag_model(6.0).with_effects("speed_loss"))
-    exact = LogSettings(noise=SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+    exact = LogSettings(noise=NO_NOISE)
     runs = [run for run in model_test_programme(duration=60.0) if run.start_speed == run.final_speed][:4]
     for log in sail_all(truth, runs, seed=5, settings=exact):
         write_log(log, tmp_path / f"{log.name}.csv")

@@ -16,21 +16,21 @@ from ship_env.workbench import FitOptions, ReplayModel, cross_validate, fit, sim
 from ship_env.workbench.deciding.diagnose import CandidateResult
 from ship_env.workbench.deciding.improve import Rules, _terms_at_null, verdict
 from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled, pooled_jackknife, run_errors
-from ship_env.workbench.fitting.fit import Problem, unknown_variances
+from ship_env.workbench.fitting.fit import Problem
 from ship_env.workbench.fitting.terms import with_values
+from ship_env.workbench.fitting.uncertainty import unknown_variances
 from ship_env.workbench.reporting.documents import fit_document
 from ship_env.workbench.reporting.tables import error_table, estimate_table
-from ship_env.workbench.synthetic.synthetic import LogSettings, SensorNoise, model_test_programme, sail_all
+from ship_env.workbench.synthetic.synthetic import NO_NOISE, LogSettings, model_test_programme, sail_all
 
 #: The Esso Osaka hull with the nominal coefficients these checks were designed on (not the identified preset).
 SHIP = str(Path(__file__).parent / "data" / "esso_osaka_nominal.yaml")
-SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 def windy_logs(effects: list[str], seed: int = 5) -> list:
     """Two short runs in wind, sailed by a model with ``effects``."""
     truth = ReplayModel(ShipModel(SHIP, effects))
-    return sail_all(truth, model_test_programme(duration=30.0)[:2], seed=seed, settings=LogSettings(noise=SILENT))
+    return sail_all(truth, model_test_programme(duration=30.0)[:2], seed=seed, settings=LogSettings(noise=NO_NOISE))
 
 
 def test_a_replay_with_gusts_equals_the_one_without():
@@ -88,7 +88,7 @@ def test_a_replay_that_leaves_the_models_validity_is_flagged_and_not_added():
     left validity, in its errors, the pooled row and the table, and the ladder refuses the effect."""
     base = ReplayModel(ShipModel(SHIP, ["yaw", "kinematics"]))
     programme = model_test_programme(duration=30.0)
-    logs = sail_all(base, [programme[0], programme[3]], seed=5, settings=LogSettings(noise=SILENT))
+    logs = sail_all(base, [programme[0], programme[3]], seed=5, settings=LogSettings(noise=NO_NOISE))
     stopping = with_values(ReplayModel(ShipModel(SHIP, ["yaw", "kinematics", "speed_loss"])), {"speed_loss.gain": 20.0})
     zigzag, turn = simulate(stopping, logs)
     assert zigzag.valid and not turn.valid and 0 < turn.valid_samples < len(turn.time)

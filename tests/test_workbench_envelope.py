@@ -15,16 +15,9 @@ from ship_env.model.declarations import Envelope
 from ship_env.paths import config_dir
 from ship_env.workbench import FitOptions, Log, ReplayModel, fit, write_log
 from ship_env.workbench.fitting.envelope import check_envelope, inside_logs
-from ship_env.workbench.synthetic.synthetic import (
-    HIDDEN_VALUES,
-    LogSettings,
-    SensorNoise,
-    model_test_programme,
-    sail_all,
-)
+from ship_env.workbench.synthetic.synthetic import HIDDEN_VALUES, NO_NOISE, LogSettings, model_test_programme, sail_all
 
 SHIP = "esso_osaka_model"
-SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 def test_presets_state_their_envelope_with_sources():
@@ -125,7 +118,7 @@ def corrupted(logs: list[Log], start: float, stop: float, heading_error: float) 
 
 def test_fitting_on_valid_segments_ignores_the_rest():
     truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "speed_loss"], HIDDEN_VALUES))
-    clean = sail_all(truth, model_test_programme(duration=40.0)[::2], seed=2, settings=LogSettings(noise=SILENT))
+    clean = sail_all(truth, model_test_programme(duration=40.0)[::2], seed=2, settings=LogSettings(noise=NO_NOISE))
     start = truth.model.with_parameters({"yaw.gain": 1.0, "yaw.time_constant": 1.0})
     options = FitOptions(initial_window=0.0)
     fits = []

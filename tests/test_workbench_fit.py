@@ -23,6 +23,7 @@ from ship_env.workbench.fitting.replay import initial_state, initial_window, mov
 from ship_env.workbench.fitting.terms import acts_on, default_terms, make_term, value_of, with_values
 from ship_env.workbench.synthetic.synthetic import (
     HIDDEN_VALUES,
+    NO_NOISE,
     SEA_TRIAL_NOISE,
     LogSettings,
     Manoeuvre,
@@ -34,7 +35,6 @@ from ship_env.workbench.synthetic.synthetic import (
 )
 
 SHIP = "esso_osaka_model"
-SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 EVERY_EFFECT = [
     *REQUIRED_EFFECTS,
     "steering_machine",
@@ -54,7 +54,7 @@ def short_programme() -> list[Manoeuvre]:
 
 def test_free_replay_is_the_simulator_and_the_track_replay_follows_it():
     truth = free_running(ReplayModel(ShipModel(SHIP, EVERY_EFFECT), 0.02, -0.03))
-    logs = sail_all(truth, short_programme(), seed=3, settings=LogSettings(noise=SILENT, rudder_kind="ordered"))
+    logs = sail_all(truth, short_programme(), seed=3, settings=LogSettings(noise=NO_NOISE, rudder_kind="ordered"))
     for log, replayed in zip(logs, simulate(truth, logs, window=0.0), strict=True):
         assert replayed.valid
         np.testing.assert_allclose(replayed.heading, log.heading, rtol=0.0, atol=1e-9)
@@ -66,7 +66,7 @@ def test_free_replay_is_the_simulator_and_the_track_replay_follows_it():
 
 def test_fit_finds_the_parameters_of_noise_free_logs():
     truth = ReplayModel(ShipModel(SHIP, [*REQUIRED_EFFECTS, "speed_loss", "rudder_offset"], HIDDEN_VALUES))
-    logs = sail_all(truth, short_programme(), seed=1, settings=LogSettings(noise=SILENT))
+    logs = sail_all(truth, short_programme(), seed=1, settings=LogSettings(noise=NO_NOISE))
     start = truth.model.with_parameters({"yaw.gain": 1.0, "yaw.time_constant": 1.0, "rudder_offset.angle": 0.0})
     result = fit(start, logs, options=FitOptions(initial_window=0.0))  # the first sample is the exact start
     for estimate in result.estimates:
@@ -207,13 +207,13 @@ def test_the_initial_state_of_sea_trial_logs_averages_the_compass_over_half_a_sh
     tanker = ShipModel("kvlcc2", ["yaw", "norrbin", "kinematics"])
     speed = tanker.service_speed
     run = Manoeuvre("z", "zigzag", math.radians(10.0), 600.0, approach=60.0, start_speed=speed, final_speed=speed)
-    (exact,) = sail_all(ReplayModel(tanker), [run], seed=1, settings=LogSettings(dt=1.0, noise=SILENT))
+    (exact,) = sail_all(ReplayModel(tanker), [run], seed=1, settings=LogSettings(dt=1.0, noise=NO_NOISE))
     assert initial_window(exact, tanker.length, speed) == pytest.approx(0.5 * tanker.length / speed)
     esso = ShipModel(SHIP)
     assert initial_window(exact, esso.length, esso.service_speed) == pytest.approx(5.0, rel=0.01)
     assert initial_window(exact, esso.length, 100.0) == 2.0
     short = dataclasses.replace(run, duration=30.0, approach=10.0)
-    (brief,) = sail_all(ReplayModel(tanker), [short], seed=1, settings=LogSettings(dt=1.0, noise=SILENT))
+    (brief,) = sail_all(ReplayModel(tanker), [short], seed=1, settings=LogSettings(dt=1.0, noise=NO_NOISE))
     assert initial_window(brief, tanker.length, speed) == 15.0
 
     rng = np.random.default_rng(5)

@@ -32,7 +32,7 @@ from ship_env.workbench.judging.free_running import (
 from ship_env.workbench.judging.validation import cross_validate
 from ship_env.workbench.logs.logs import load_logs, write_log
 from ship_env.workbench.reporting.presets import preset_document, write_preset
-from ship_env.workbench.synthetic.synthetic import LogSettings, Manoeuvre, SensorNoise, sail_all
+from ship_env.workbench.synthetic.synthetic import NO_NOISE, LogSettings, Manoeuvre, SensorNoise, sail_all
 
 SHIP = "container_226m"
 #: The container ship's preset without its wind effects and current: yaw, Norrbin, speed loss, sway, steering machine.
@@ -96,7 +96,7 @@ def _noise_free_logs(model: ShipModel, lengths: float = 60.0) -> list:
         Manoeuvre("turn_m30", "turn", math.radians(-30.0), lengths * unit, approach=2 * unit,
                   start_speed=speed, final_speed=speed, wind_speed=0.0),
     ]  # fmt: skip
-    exact = LogSettings(noise=SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0), dt=0.5)
+    exact = LogSettings(noise=NO_NOISE, dt=0.5)
     return sail_all(ReplayModel(model), runs, seed=3, settings=exact)
 
 

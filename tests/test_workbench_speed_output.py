@@ -19,10 +19,9 @@ from ship_env.workbench.fitting.terms import default_terms
 from ship_env.workbench.reporting.documents import fit_document
 from ship_env.workbench.reporting.presets import preset_document
 from ship_env.workbench.reporting.tables import error_table
-from ship_env.workbench.synthetic.synthetic import LogSettings, Manoeuvre, SensorNoise, noise_scales, sail_all
+from ship_env.workbench.synthetic.synthetic import NO_NOISE, LogSettings, Manoeuvre, SensorNoise, noise_scales, sail_all
 
 SHIP = "esso_osaka_model"
-SILENT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 #: The true speed loss: K_u* 3 and tau_u* 3 ship lengths (a third of the speed lost in the 35 deg turn).
 TRUE_SPEED_LOSS = {"speed_loss.gain": 3.0, "speed_loss.time_constant": 3.0}
 
@@ -45,7 +44,7 @@ def test_a_replay_predicts_the_speed_instead_of_following_the_measured_one():
     """The free replay sails at the model's own speed: a measured speed that differs after the start (here
     halved) changes neither the replayed speed nor the heading; the true model's replay is the log's speed."""
     model = truth()
-    log = sail_all(model, manoeuvres()[:1], seed=5, settings=LogSettings(noise=SILENT))[0]
+    log = sail_all(model, manoeuvres()[:1], seed=5, settings=LogSettings(noise=NO_NOISE))[0]
     replayed = simulate(model, [log], window=0.0)[0]
     later = log.time > 5.0
     halved = dataclasses.replace(log, speed=np.where(later, 0.5 * log.speed, log.speed))  # U0: the log's own

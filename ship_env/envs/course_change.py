@@ -138,18 +138,11 @@ class CourseChangeEnv(ShipEnv):
     disturbance level), ``settle_band_deg``,
     ``wind_speed_range``, ``current_speed_range``, ``wave_height_range``, ``wave_period_range``
     (default: the container ship's ranges in the sailed ship's scales,
-    :meth:`~ship_env.envs.weather.WeatherRanges.scaled`); and those every task shares
-    (:class:`~ship_env.envs.task.ShipTask`):
-    ``ship``, ``ship_parameters``, ``effects``, ``dt`` (s; default 1 s in units of L / U:
-    :mod:`ship_env.envs.ship_scales`), ``sensor_noise_scale``, ``fix_interval`` (s, default 0: a
-    fix every step), ``action_type``, ``rudder_levels``,
-    ``observation_history``, ``decision_interval``, ``observe_design_speed``, ``ship_variation``
-    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`; ``"fitted"`` on a
-    preset written by ``ship-env fit/improve --preset`` draws K* and tau* from its fit, each
-    theta ~ N(theta_hat, s^2) with s its ``std_error``, redrawn until inside the parameter's range),
-    ``dynamics`` (a ship simulated outside ship_env: :mod:`ship_env.model.external`) and ``info_keys``
-    (the Information keys each step gives, default all; ``info_keys=()`` builds none, the fastest
-    step for a learner that reads none).
+    :meth:`~ship_env.envs.weather.WeatherRanges.scaled`); and
+    the keywords every task shares, each described at :class:`~ship_env.envs.task.ShipTask`:
+    ``ship``, ``ship_parameters``, ``effects``, ``dt``, ``sensor_noise_scale``, ``fix_interval``
+    (default 0: a fix every step), ``action_type``, ``rudder_levels``, ``observation_history``,
+    ``decision_interval``, ``observe_design_speed``, ``ship_variation``, ``dynamics`` and ``info_keys``.
 
     ## Version History
 

@@ -101,17 +101,11 @@ class CourseKeepingEnv(ShipEnv):
     :class:`~ship_env.envs.course_keeping_task.CourseKeepingTask`): ``disturbance``
     (``"wind_current_waves"`` default, ``"wind_current"``, ``"calm"``, ``"random"``),
     ``rudder_limit_deg``, ``rudder_weight``, ``wind_speed_range``, ``current_speed_range``,
-    ``wave_height_range``, ``wave_period_range``; and those every task shares
-    (:class:`~ship_env.envs.task.ShipTask`): ``ship``, ``ship_parameters``, ``effects``, ``dt``
-    (s; default 1 s in units of L / U: :mod:`ship_env.envs.ship_scales`), ``sensor_noise_scale``,
-    ``fix_interval`` (s), ``action_type``, ``rudder_levels``,
-    ``observation_history``, ``decision_interval``, ``observe_design_speed``, ``ship_variation``
-    (each episode's ship drawn around the preset's: :mod:`ship_env.envs.variation`; ``"fitted"`` on a
-    preset written by ``ship-env fit/improve --preset`` draws K* and tau* from its fit, each
-    theta ~ N(theta_hat, s^2) with s its ``std_error``, redrawn until inside the parameter's range),
-    ``dynamics`` (a ship simulated outside ship_env: :mod:`ship_env.model.external`) and ``info_keys``
-    (the Information keys each step gives, default all; ``info_keys=()`` builds none, the fastest
-    step for a learner that reads none).
+    ``wave_height_range``, ``wave_period_range``; and
+    the keywords every task shares, each described at :class:`~ship_env.envs.task.ShipTask`:
+    ``ship``, ``ship_parameters``, ``effects``, ``dt``, ``sensor_noise_scale``, ``fix_interval``, ``action_type``,
+    ``rudder_levels``, ``observation_history``, ``decision_interval``, ``observe_design_speed``,
+    ``ship_variation``, ``dynamics`` and ``info_keys``.
 
     ## Version History
 

@@ -193,29 +193,19 @@ class ExternalSimulator(Simulator):
         self.sailed_conditions = [Conditions()] * len(self.adapters)
         super().__init__(model, num_ships, dt)
 
-    def reset(
-        self,
-        seed: int | Sequence[int] | None = None,
-        conditions: Conditions | Sequence[Conditions] | None = None,
-        heading: float | np.ndarray = 0.0,
-        rudder: float | np.ndarray = 0.0,
-        rate_of_turn: float | np.ndarray | None = None,
-        ships: Sequence[int] | np.ndarray | None = None,
-        speed: float | np.ndarray | None = None,
-    ) -> None:
-        """:meth:`Simulator.reset`'s ships, started by their adapters at their next step.
-
-        ``ValueError`` for conditions with K* or tau* factors: they scale ship_env's own model; and for a
-        ``speed``: an adapter starts its ship at the service speed of its conditions.
-        """
+    def _check_start_speed(self, speed: float | np.ndarray | None) -> None:
+        """``ValueError`` for a ``speed`` at :meth:`~Simulator.reset`: an adapter starts its ship at the service speed
+        of its conditions."""
         if speed is not None:
             raise ValueError(
                 f"speed: {speed!r}: a ship simulated by {adapter_name(self.adapters[0])} starts at its service "
                 "speed; give the speed as conditions' service_speed"
             )
-        super().reset(seed, conditions, heading, rudder, rate_of_turn, ships)
-        rows = np.arange(self.num_ships) if ships is None else np.asarray(ships)
-        for row, sailed in zip(rows, self._per_ship_conditions(conditions, len(rows)), strict=True):
+
+    def _started(self, rows: np.ndarray, conditions: Sequence[Conditions]) -> None:
+        """:meth:`~Simulator.reset`'s ships, started by their adapters at their next step; ``ValueError`` for
+        conditions with K* or tau* factors: they scale ship_env's own model."""
+        for row, sailed in zip(rows, conditions, strict=True):
             if sailed.yaw_gain_factor != 1.0 or sailed.yaw_time_constant_factor != 1.0:
                 raise ValueError(
                     "conditions: K* and tau* factors scale ship_env's own model; the ship simulated by "

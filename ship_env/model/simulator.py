@@ -273,6 +273,7 @@ class Simulator:
                 u* = 1 - u / U0 (2.41) and the ``speed_loss`` effect takes it towards its steady value;
                 ``None`` starts at the service speed U0 (u* = 0).
         """
+        self._check_start_speed(speed)
         rows = np.arange(self.num_ships) if ships is None else self._rows(ships)
         count = len(rows)
         seeds = self._seeds(seed, count)
@@ -307,6 +308,14 @@ class Simulator:
                 name: np.array([getattr(c, name) for c in per_ship], dtype=float) for name in S.START_CONDITION_NAMES
             }
             self.draws[rows] = self.model.draw(self.noise_keys[rows], self.conditions[rows], start)
+        self._started(rows, per_ship)
+
+    def _check_start_speed(self, speed: float | np.ndarray | None) -> None:
+        """Refuse a starting ``speed`` before :meth:`reset` starts a ship (nothing here: any positive speed sails)."""
+
+    def _started(self, rows: np.ndarray, conditions: Sequence[Conditions]) -> None:
+        """What a simulator does once :meth:`reset` has started the ships ``rows`` in their ``conditions`` (nothing
+        here: the native ships are started)."""
 
     def _check_propeller_rates(self, name: str, rates: np.ndarray) -> None:
         """Refuse a propeller astern the model does not sail (:func:`check_propeller_rates`)."""

@@ -24,7 +24,7 @@ def run_compare(args: argparse.Namespace) -> int:
     """``ship-env compare``: replay the logs with a model as it is (no fitting)."""
     from ship_env.workbench import compare, plot_comparison
     from ship_env.workbench.judging.coverage import check_coverage, fitted_coverage
-    from ship_env.workbench.reporting.tables import coverage_text, error_table
+    from ship_env.workbench.reporting.tables import coverage_sections, error_table, sections_text
 
     setup, options, runs = start_command(args, fitting=False)
     logs = [*runs.logs, *runs.validation]
@@ -35,7 +35,8 @@ def run_compare(args: argparse.Namespace) -> int:
     coverage = fitted_coverage(args.parameters) if args.parameters is not None else None
     if coverage is not None:
         checks = [check_coverage(log, coverage, setup.model) for log in logs]
-        print(coverage_text("runs", coverage, checks, logs, comparison.simulated, options.error_scales))
+        sections = coverage_sections("runs", coverage, checks, logs, comparison.simulated, options.error_scales)
+        print(sections_text(sections))
     if args.plot is not None:
         plot_comparison(comparison, args.plot, f"{setup.model.ship.name}: {', '.join(setup.model.effects)}")
         print(f"\nplots written to {args.plot}/")

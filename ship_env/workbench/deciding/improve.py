@@ -180,11 +180,12 @@ def improve(
         tried = [c for c in diagnosis.ranked if c.cross_validation is not None]
         # Whether the current model sails its hard-over turning circles, asked once per rung.
         stuck = cannot_sail(validation.fit.setup.model, logs) if logs else None
-        best = _best_paying(tried, validation, scales, rules, logs, options, say, stuck)
+        judging = Judging(validation, scales, rules, logs, options)
+        best = _best_paying(tried, judging, say, stuck)
         tried_pairs: list[CandidateResult] = []
         if best is None and pair_width >= 2:
             tried_pairs = pairs(diagnosis, logs, options, pair_width)
-            best = _best_paying(tried_pairs, validation, scales, rules, logs, options, say, stuck)
+            best = _best_paying(tried_pairs, judging, say, stuck)
         rungs.append(Rung(added, validation, diagnosis, tuple(tried_pairs)))
         for candidate in [c for c in tried + tried_pairs if c.cross_validation is not None]:
             # Say where the validation runs alone kept a better candidate out.
@@ -194,7 +195,7 @@ def improve(
                 say(f"not added: {candidate.effect}: {worse}")
         refused: list[str] = []
         if best is None and stuck is not None:
-            best, refused = _first_that_sails(diagnosis.ranked + tried_pairs, validation, scales, rules, logs, options)
+            best, refused = _first_that_sails(diagnosis.ranked + tried_pairs, judging)
             if best is not None:
                 say(f"{best.effect}: {_makes_a_ship(best, validation, scales)}")
         if best is None:
@@ -228,15 +229,20 @@ class Rules:
     validate_by: str = "replay"
 
 
+@dataclass(frozen=True)
+class Judging:
+    """What a rung's candidates are judged against: the current model's cross-validation (``current``), the error
+    scales, the rules, the runs and the fit options a candidate is refitted with."""
+
+    current: CrossValidation
+    scales: ErrorScales
+    rules: Rules
+    logs: Sequence[Log]
+    options: FitOptions
+
+
 def _best_paying(
-    tried: Sequence[CandidateResult],
-    current: CrossValidation,
-    scales: ErrorScales,
-    rules: Rules,
-    logs: Sequence[Log],
-    options: FitOptions,
-    say: Callable[[str], None],
-    current_stuck: str | None,
+    tried: Sequence[CandidateResult], judging: Judging, say: Callable[[str], None], current_stuck: str | None
 ) -> CandidateResult | None:
     """The candidate with the lowest held-out score among those that pay, or None. Each keeps only the terms that
     pay their way (:func:`_with_paying_terms`). Those that sail free
@@ -244,15 +250,16 @@ def _best_paying(
     one that cannot is refused (said); where it cannot either, the best that sails is taken before a better-scoring
     one that does not (a step towards a ship is preferred to a better replay that is none), and the best of those
     only where none sails."""
+    current, scales = judging.current, judging.scales
     refitted = [c for c in tried if c.cross_validation is not None]
-    paying = [c for c in refitted if not verdict(c, current, scales, rules)]
+    paying = [c for c in refitted if not verdict(c, current, scales, judging.rules)]
     if not paying:
         return None
-    paying = [_with_paying_terms(c, current, logs, options, scales, rules, say) for c in paying]
+    paying = [_with_paying_terms(c, judging, say) for c in paying]
     paying.sort(key=lambda c: c.refitted.score(scales))
     current_sails = current_stuck is None
     for candidate in paying:
-        stuck = cannot_sail(candidate.refitted.fit.setup.model, logs)
+        stuck = cannot_sail(candidate.refitted.fit.setup.model, judging.logs)
         if stuck is None:
             return candidate
         if current_sails:
@@ -260,14 +267,7 @@ def _best_paying(
     return None if current_sails else paying[0]
 
 
-def _first_that_sails(
-    tried: Sequence[CandidateResult],
-    current: CrossValidation,
-    scales: ErrorScales,
-    rules: Rules,
-    logs: Sequence[Log],
-    options: FitOptions,
-) -> tuple[CandidateResult | None, list[str]]:
+def _first_that_sails(tried: Sequence[CandidateResult], judging: Judging) -> tuple[CandidateResult | None, list[str]]:
     """Where the current model cannot sail a hard-over turning circle (:func:`cannot_sail`) and no candidate pays:
     the best-scoring one with which it sails, its terms clear of their nulls and material (rule 3), its replays
     valid, its held-out score no more than ``min_gain`` above the current one and the validation runs not made
@@ -276,6 +276,7 @@ def _first_that_sails(
     best). The runs cannot ask for what only a harder turn shows (a zig-zag's r* stays below a turning circle's),
     yet they must support it: a fit is a ship. Called only where the current model cannot sail (the caller
     has asked :func:`cannot_sail` once)."""
+    current, scales, rules, logs = judging.current, judging.scales, judging.rules, judging.logs
     score = current.score(scales)
     bound = (1.0 + rules.min_gain) * score
     screened = sorted(
@@ -287,7 +288,8 @@ def _first_that_sails(
         key=lambda c: c.refitted_briefly.score(scales),
     )
     sailing = [c for c in screened if cannot_sail(c.refitted_briefly.fit.setup.model, logs) is None][:CONFIRMED]
-    refitted = [c for c in tried if c.cross_validation is not None] + refit_in_full(current, logs, sailing, options)
+    in_full = refit_in_full(current, logs, sailing, judging.options)
+    refitted = [c for c in tried if c.cross_validation is not None] + in_full
     refitted = sorted((c for c in refitted if c.cross_validation is not None), key=lambda c: c.refitted.score(scales))
     refused: list[str] = []
     for candidate in refitted:
@@ -324,15 +326,7 @@ def _makes_a_ship(candidate: CandidateResult, current: CrossValidation, scales: 
     )
 
 
-def _with_paying_terms(
-    candidate: CandidateResult,
-    current: CrossValidation,
-    logs: Sequence[Log],
-    options: FitOptions,
-    scales: ErrorScales,
-    rules: Rules,
-    say: Callable[[str], None],
-) -> CandidateResult:
+def _with_paying_terms(candidate: CandidateResult, judging: Judging, say: Callable[[str], None]) -> CandidateResult:
     """The candidate with its added effects' terms that do not pay their way held at their null values.
 
     A term must pay as an effect must (rule 1, mirrored): with the added effects' terms the least clear of
@@ -341,6 +335,7 @@ def _with_paying_terms(
     Terms that trade one for the other on the runs (Norrbin's |r*| r* and r*^3 on zig-zags) are then not both
     kept to extrapolate as they please beyond the runs: the ladder keeps the one the runs need.
     """
+    current, scales, rules, options = judging.current, judging.scales, judging.rules, judging.options
     while True:
         validation = candidate.refitted
         clearance = _clearance(candidate)
@@ -351,7 +346,7 @@ def _with_paying_terms(
         null = weakest.term.null or 0.0
         job = ValidationJob(
             with_values(validation.fit.setup, {weakest.term.key: null}),
-            logs,
+            judging.logs,
             keys,
             options,
             groups=current.groups or None,

@@ -1,7 +1,8 @@
 """The workbench's second stage, fitting the model to the logs: ``replay`` (the model driven by the
 measured inputs), ``terms`` (what can be fitted), ``errors`` (RMS errors and the score),
 ``envelope`` (where the model holds), ``runs`` (the logs screened against the envelope), ``fit``
-(output-error least squares), ``threads`` and ``parallel`` (one BLAS thread, worker processes).
+(output-error least squares), ``uncertainty`` (the fitted terms' covariance from the Jacobian),
+``threads`` and ``parallel`` (one BLAS thread, worker processes).
 
 Layer rule: the workbench's stages are, in order, ``logs``, ``fitting``, ``judging``, ``deciding``,
 ``reporting`` and ``synthetic``; a stage imports only from the stages before it, from

@@ -38,7 +38,7 @@ position, speed_error)``) may be given instead, channel by channel.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -226,16 +226,7 @@ def pooled(errors: Sequence[RunErrors], name: str = "pooled") -> RunErrors:
             return math.nan
         return math.sqrt(sum(n * value**2 for n, value in pairs) / sum(n for n, _ in pairs))
 
-    return RunErrors(
-        name=name,
-        samples=sum(e.samples for e in errors),
-        heading=pool("heading"),
-        rate_of_turn=pool("rate_of_turn"),
-        position=pool("position"),
-        track=pool("track"),
-        speed=pool("speed"),
-        diverged=sum(e.diverged for e in errors),
-    )
+    return _over_runs(name, errors, pool, diverged=sum(e.diverged for e in errors))
 
 
 def pooled_jackknife(errors: Sequence[RunErrors]) -> RunErrors:
@@ -254,12 +245,10 @@ def pooled_jackknife(errors: Sequence[RunErrors]) -> RunErrors:
         values = np.array([getattr(e, channel) for e in without])
         return float(math.sqrt((count - 1) / count * np.sum((values - values.mean()) ** 2)))
 
-    return RunErrors(
-        name="jackknife",
-        samples=sum(e.samples for e in errors),
-        heading=spread("heading"),
-        rate_of_turn=spread("rate_of_turn"),
-        position=spread("position"),
-        track=spread("track"),
-        speed=spread("speed"),
-    )
+    return _over_runs("jackknife", errors, spread)
+
+
+def _over_runs(name: str, errors: Sequence[RunErrors], figure: Callable[[str], float], diverged: int = 0) -> RunErrors:
+    """A row over several runs: each channel's figure (``CHANNEL_UNITS``) from ``figure``, their samples summed."""
+    figures = {channel: figure(channel) for channel in CHANNEL_UNITS}
+    return RunErrors(name=name, samples=sum(e.samples for e in errors), diverged=diverged, **figures)

@@ -17,7 +17,7 @@ measured state.
 
 Uncertainty: cov = s^2 (J^T J)^-1 with s^2 = |residual|^2 / (m - n), the Gauss-Newton estimate at
 the optimum; a term the data do not determine (in the Jacobian's null space) gets an infinite
-standard error (:func:`unknown_variances`). Output-error residuals are correlated in time, so these
+standard error (:func:`~.uncertainty.unknown_variances`). Output-error residuals are correlated in time, so these
 standard errors are optimistic; the spread of the leave-one-run-out estimates (:mod:`.validation`) is the honest check.
 """
 
@@ -64,15 +64,13 @@ from ship_env.workbench.fitting.terms import (
     write_record,
 )
 from ship_env.workbench.fitting.threads import one_thread
+from ship_env.workbench.fitting.uncertainty import unknown_covariance, unknown_variances
 from ship_env.workbench.logs.logs import Log
 
 #: How cross-validation fits a fold (see :mod:`.validation`).
 FOLD_METHODS = ("linearised", "refit")
 #: Forward-difference step, in units of each term's scale.
 DIFFERENCE_STEP = 1e-4
-#: Share of an unknown's unit vector in the Jacobian's null space above which the data do not determine it
-#: (a singular vector's rounding error is of order sqrt(eps) where singular values lie close).
-NULL_SHARE = 1e-8
 
 
 #: A replay of a batch: (point, run, track replay?).
@@ -177,7 +175,7 @@ class FitResult:
 
     def covariance(self, keys: Sequence[str]) -> np.ndarray:
         """The Jacobian's covariance of the named terms, SI units: s^2 (J^T J)^-1 scaled by the terms' scales
-        (their standard errors are the square roots of its diagonal, :func:`unknown_covariance`)."""
+        (their standard errors are the square roots of its diagonal, :func:`~.uncertainty.unknown_covariance`)."""
         degrees_of_freedom = max(len(self.residual) - len(self.solution), 1)
         variance = float(self.residual @ self.residual) / degrees_of_freedom
         index = {estimate.term.key: j for j, estimate in enumerate(self.estimates)}
@@ -492,34 +490,6 @@ class Problem:
             message=str(message),
             warnings=tuple(self.warnings.items()),
         )
-
-
-def unknown_variances(jacobian: np.ndarray) -> np.ndarray:
-    """The diagonal of (J^T J)^-1, infinite for an unknown the data do not determine (:func:`unknown_covariance`)."""
-    return np.diag(unknown_covariance(jacobian)).copy()
-
-
-def unknown_covariance(jacobian: np.ndarray) -> np.ndarray:
-    """(J^T J)^-1, with infinite rows and columns for the unknowns the data do not determine.
-
-    From the singular value decomposition J = U S V^T: singular values below s_max max(m, n) eps
-    (numpy's rank rule) count as zero, and their right singular vectors span the null space, the
-    directions no residual sees. An unknown whose unit vector has a share above ``NULL_SHARE`` in
-    that space (a term that moves nothing, or only as another does) is not determined: infinite
-    variance, never the pseudo-inverse's 0. The others get sum_k V_jk V_lk / s_k^2 over the rest.
-    """
-    if jacobian.shape[1] == 0:
-        return np.zeros((0, 0))
-    _, singular, right = np.linalg.svd(jacobian, full_matrices=False)  # singular values in falling order
-    tolerance = (singular[0] if len(singular) else 0.0) * max(jacobian.shape) * np.finfo(float).eps
-    rank = int(np.count_nonzero(singular > tolerance))
-    null_share = 1.0 - np.sum(right[:rank] ** 2, axis=0)  # V's rows are orthonormal: the rest is the null space
-    determined = right[:rank] / singular[:rank, np.newaxis]
-    covariance = determined.T @ determined
-    undetermined = null_share > NULL_SHARE
-    covariance[undetermined, :] = math.inf
-    covariance[:, undetermined] = math.inf
-    return covariance
 
 
 def as_setup(model: ShipModel | ReplayModel) -> ReplayModel:

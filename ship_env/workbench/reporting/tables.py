@@ -286,23 +286,15 @@ def coverage_sections(
     return sections
 
 
-def coverage_text(
-    title: str,
-    coverage: Coverage,
-    checks: Sequence[CoverageCheck],
-    logs: Sequence[Log],
-    replays: Sequence[Simulated],
-    scales: ErrorScales,
-) -> str:
-    """:func:`coverage_sections` as text for the terminal."""
-    sections = coverage_sections(title, coverage, checks, logs, replays, scales)
+def sections_text(sections: Sequence[tuple[str, Table | None]]) -> str:
+    """Sections (a heading, and a table or None; :func:`coverage_sections`) as text for the terminal."""
     return "\n".join(f"\n{heading}" + ("" if table is None else f"\n{table.text()}") for heading, table in sections)
 
 
 def validation_coverage_text(validation: CrossValidation, scales: ErrorScales) -> str:
-    """The validation runs against the fitted runs' coverage (:func:`coverage_text`); empty without validation
-    runs or a coverage."""
+    """The validation runs against the fitted runs' coverage (:func:`coverage_sections`) as text; empty without
+    validation runs or a coverage."""
     if validation.coverage is None or not validation.validation_logs:
         return ""
     checks, logs, replays = validation.validation_checks(), validation.validation_logs, validation.validation_replays
-    return coverage_text("validation runs", validation.coverage, checks, logs, replays, scales)
+    return sections_text(coverage_sections("validation runs", validation.coverage, checks, logs, replays, scales))

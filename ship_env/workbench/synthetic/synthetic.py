@@ -52,6 +52,9 @@ class SensorNoise:
     rudder_resolution: float = 0.0
 
 
+#: Noise-free sensors: the logs hold the simulated truth, the rudder not rounded.
+NO_NOISE = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
 #: Sea-trial sensors: GPS of a few metres, a compass of 0.5 deg, a rate gyro, a rudder indicator read
 #: to half a degree, a speed log and a ship's anemometer.
 SEA_TRIAL_NOISE = SensorNoise(

@@ -223,7 +223,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
     observation[OBS_TURN_DIRECTION] = episode["turn_direction"]
 
 
-update_ships, update_ships_parallel = define_update_loops(globals())
+update_ships, update_ships_parallel, sail_ship = define_update_loops(globals())
 
 
 class CourseChangeBatch(ShipBatch):
@@ -240,6 +240,7 @@ class CourseChangeBatch(ShipBatch):
     metrics_dtype = METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
+    sail_one = staticmethod(sail_ship)
 
     def start_episode(self, episode: np.void, scenario: Scenario) -> None:
         episode["new_heading"] = scenario.new_heading

@@ -154,7 +154,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
     )
 
 
-update_ships, update_ships_parallel = define_update_loops(globals())
+update_ships, update_ships_parallel, sail_ship = define_update_loops(globals())
 
 
 class CourseKeepingBatch(ShipBatch):
@@ -169,6 +169,7 @@ class CourseKeepingBatch(ShipBatch):
     metrics_dtype = COURSE_KEEPING_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
+    sail_one = staticmethod(sail_ship)
 
     def start_episode(self, episode: np.void, scenario: CourseKeepingScenario) -> None:
         episode["course"] = scenario.course

@@ -384,7 +384,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
         observation[OBS_LINE_OF_SIGHT] = wrap(bearing - measured[MEASURED_HEADING]) / math.pi
 
 
-update_ships, update_ships_parallel = define_update_loops(globals())
+update_ships, update_ships_parallel, sail_ship = define_update_loops(globals())
 
 
 class TrackFollowBatch(ShipBatch):
@@ -400,6 +400,7 @@ class TrackFollowBatch(ShipBatch):
     metrics_dtype = TRACK_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
+    sail_one = staticmethod(sail_ship)
 
     def restart(self, ships: np.ndarray, scenarios: Sequence[Any]) -> None:
         """Start new episodes for ``ships``, each where its scenario starts it."""

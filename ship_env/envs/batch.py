@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar, Protocol
 
 import numpy as np
@@ -37,6 +37,9 @@ from ship_env.model.integrators import borrowed
 from ship_env.model.kernel import entry_point, kernel
 from ship_env.model.simulator import batch_loop
 
+#: The episode records a step's information reads its fields from: a structured array (a
+#: :func:`snapshot`), or the records' field views by name (one ship's, :meth:`ShipBatch.info`).
+EpisodeFields = np.ndarray | Mapping[str, np.ndarray]
 #: The keys of every task's step information (:meth:`ShipBatch.info`), before the task's own.
 INFO_KEYS = ("measurement", "state", "metrics", "envelope")
 
@@ -221,8 +224,7 @@ class ShipBatch:
         self.scenarios: list[Any] = [None] * self.num_ships
         self.episodes = np.zeros(self.num_ships, dtype=episode_dtype(task.observation_space.shape[0], self.task_fields))
         self.metrics = np.zeros(self.num_ships, dtype=self.metrics_dtype)
-        self._update = self._update_loop()
-        self._sail_ship = self._ship_sailing()
+        self._link()
         known = (*INFO_KEYS, *self.task_info_keys)
         if task.info_keys is not None:
             unknown = [key for key in task.info_keys if key not in known]
@@ -232,8 +234,14 @@ class ShipBatch:
         self.info_keys = frozenset(known if task.info_keys is None else task.info_keys)
         self._every_info_key = len(self.info_keys) == len(known)
 
-    def _update_loop(self) -> Callable[..., None]:
-        return batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
+    def _link(self) -> None:
+        """Make the compiled update loop, the sailing of one ship (:meth:`_ship_sailing`) and the
+        views of the episode records' fields that one ship's :meth:`info` reads (a view's lookup in
+        a dict costs a fifth of numpy's field access): at construction, and again where a copy or a
+        pickle (which make views independent arrays) is restored."""
+        self._update = batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
+        self._sail_ship = self._ship_sailing()
+        self._fields = {name: self.episodes[name] for name in self.episodes.dtype.names or ()}
 
     def _ship_sailing(self) -> Callable[[float], bool] | None:
         """One ship's :meth:`sail` of one simulator step in one compiled call (the task's ``sail_one``
@@ -259,18 +267,16 @@ class ShipBatch:
         return functools.partial(entry_point(type(self).sail_one, *arguments, 0.0), *arguments)
 
     def __getstate__(self) -> dict[str, Any]:
-        """The attributes a copy or a pickle carries: all but the compiled update loop and sailing, made
-        afresh where they are restored: numba rebuilds a pickled compiled function from its code, without
-        its cache, and compiles it again (a spawned worker: 11.7 s against 4.1 s,
-        ``tests/test_envs_copies.py``)."""
+        """The attributes a copy or a pickle carries: all but those :meth:`_link` makes afresh where they
+        are restored: numba rebuilds a pickled compiled function from its code, without its cache, and
+        compiles it again (a spawned worker: 11.7 s against 4.1 s, ``tests/test_envs_copies.py``)."""
         state = self.__dict__.copy()
-        del state["_update"], state["_sail_ship"]
+        del state["_update"], state["_sail_ship"], state["_fields"]
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
-        self._update = self._update_loop()
-        self._sail_ship = self._ship_sailing()
+        self._link()
 
     def restart(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
         """Start new episodes for ``ships`` (sorted indices), one scenario each; the others sail on.
@@ -475,11 +481,13 @@ class ShipBatch:
         validity envelope this episode and, once it left, where and why
         (:func:`~ship_env.envs.envelope.envelope_info`); then the task's own keys (:meth:`task_info`,
         ``task_info_keys``). Arrays are copies (the measurements and metrics views of one copy of the
-        records); one ship's measurements and metrics are Python floats, each record read in one call.
+        records); one ship's measurements and metrics are Python floats, each record read in one call,
+        and its fields from the records' field views.
         """
         if not self.info_keys:
             return {}
         names = self.metrics_dtype.names or ()
+        episodes: EpisodeFields
         if isinstance(ships, slice):
             episodes = snapshot(self.episodes, ships)
             metrics = snapshot(self.metrics, ships)
@@ -490,10 +498,10 @@ class ShipBatch:
             measurement = {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)}
             metric = {name: metrics[name][ships] for name in names}
         else:  # zip without strict=, which costs 0.3 us a call: the lengths agree by construction
-            episodes = self.episodes
+            episodes = self._fields
             measurement = dict(zip(MEASUREMENT_NAMES, episodes["measurement"][ships].tolist()))  # noqa: B905
             state = self.simulator.state[ships].copy()
-            metric = dict(zip(names, self.metrics[ships].item()))  # noqa: B905
+            metric = dict(zip(names, self.metrics.item(ships)))  # noqa: B905 (item(i) makes no record scalar)
         info = {
             "measurement": measurement,
             "state": state,
@@ -503,8 +511,9 @@ class ShipBatch:
         }
         return info if self._every_info_key else _only(info, self.info_keys)
 
-    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
-        """The task's own keys of a step's information, read from the :func:`snapshot` ``episodes``."""
+    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
+        """The task's own keys of a step's information, read from the :func:`snapshot` ``episodes`` (or,
+        for one ship, the records' field views)."""
         return {}
 
     def end_info(self, ships: int | slice) -> dict[str, Any]:

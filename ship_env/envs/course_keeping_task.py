@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe
+from ship_env.envs.batch import EpisodeFields, ShipBatch, define_update_loops, measure_and_observe
 from ship_env.envs.checks import check_number
 from ship_env.envs.metrics import (
     COURSE_KEEPING_METRICS_DTYPE,
@@ -174,6 +174,6 @@ class CourseKeepingBatch(ShipBatch):
     def start_episode(self, episode: np.void, scenario: CourseKeepingScenario) -> None:
         episode["course"] = scenario.course
 
-    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
+    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
         """``course``: the ordered course, rad."""
         return {"course": episodes["course"][ships]}

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe, pick
+from ship_env.envs.batch import EpisodeFields, ShipBatch, define_update_loops, measure_and_observe, pick
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import (
     SCORE_INTERVAL,
@@ -413,7 +413,7 @@ class TrackFollowBatch(ShipBatch):
         episode["track"] = TRACK_IDS.index(scenario.track)
         episode["leg"] = 0
 
-    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
+    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
         """``leg``: the leg being sailed (0-based); ``cross_track_error``: true, m, positive to starboard."""
         return {"leg": episodes["leg"][ships], "cross_track_error": episodes["cross_track_error"][ships]}
 

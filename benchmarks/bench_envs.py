@@ -240,8 +240,7 @@ def single_step_parts(steps: int) -> dict[str, tuple[float, float]]:
         "the same, info_keys=()": lambda: lean.step(action),
         "unwrapped step": lambda: env.step(action),
         "action to rudder order": lambda: env.task.rudder_order(action),
-        "simulator step (compiled RK4)": lambda: batch.simulator.step(order),
-        "task update (compiled)": batch.update,
+        "step and update (one compiled call)": lambda: batch.sail(order),
         "info dict": lambda: batch.info(0),
         "observation, reward, termination": lambda: (
             bool(episodes["terminated"][0]),

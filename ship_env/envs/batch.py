@@ -21,7 +21,9 @@ termination and keeps the running metrics of every ship, or only of those just r
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+import functools
+import math
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any, ClassVar, Protocol
 
 import numpy as np
@@ -32,9 +34,12 @@ from ship_env.envs.task import ShipTask
 from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
 from ship_env.model.integrators import borrowed
-from ship_env.model.kernel import kernel
+from ship_env.model.kernel import entry_point, kernel
 from ship_env.model.simulator import batch_loop
 
+#: The episode records a step's information reads its fields from: a structured array (a
+#: :func:`snapshot`), or the records' field views by name (one ship's, :meth:`ShipBatch.info`).
+EpisodeFields = np.ndarray | Mapping[str, np.ndarray]
 #: The keys of every task's step information (:meth:`ShipBatch.info`), before the task's own.
 INFO_KEYS = ("measurement", "state", "metrics", "envelope")
 
@@ -50,31 +55,50 @@ def {name}(restarted_only, ship, *arrays):
             check_envelope(states[i], conditions[i], step_index[i], episodes[i], task[0], ship[0])
             update_ship(np.int64(i), *arrays)
 """
+# One ship's simulator step and update in one compiled call: the arrays bound once and the call made
+# through its entry point (:func:`~ship_env.model.kernel.entry_point`), the order last.
+_SAIL_SHIP = """
+@kernel
+def sail_ship(draws, dt, method, work, ship, arrays, order):
+    draws, work = borrowed((draws, work))
+    states, conditions, noise_keys, step_index = borrowed(arrays[:4])
+    valid = step_ship(states[0], order, conditions[0], noise_keys[0], step_index[0], draws[0], ship, dt, method, work)
+    step_index[0] += 1
+    if valid:
+        update_ships(False, ship, *arrays)
+    return valid
+"""
 #: The loops over a batch's ships, compiled into a task module by :func:`define_update_loops`: the
 #: envelope's check (:func:`~ship_env.envs.envelope.check_envelope`: the limits in the task's parameter
 #: record, its first task array; the model's record for the sway) and its ``update_ship(i, states,
 #: conditions, noise_keys, step_index, episodes, metrics, *task_arrays)`` for every ship, or with
-#: ``restarted_only`` for those just restarted; the arrays borrowed (no reference counts).
+#: ``restarted_only`` for those just restarted; the arrays borrowed (no reference counts). And
+#: ``sail_ship(draws, dt, method, work, ship, arrays, order)``: ship 0's simulator step
+#: (:func:`~ship_env.model.integrators.step_ship`, its step counted) and, where its state stays
+#: valid, its update; it returns the step's verdict.
 UPDATE_LOOPS_SOURCE = "\n".join(
     (
         "import numpy as np",
         "from numba import prange",
         "from ship_env.envs.envelope import check_envelope",
-        "from ship_env.model.integrators import borrowed",
+        "from ship_env.model.integrators import borrowed, step_ship",
         "from ship_env.model.kernel import kernel, parallel_kernel",
         _UPDATE_LOOP.format(decorator="kernel", name="update_ships", ships="range"),
         _UPDATE_LOOP.format(decorator="parallel_kernel", name="update_ships_parallel", ships="prange"),
+        _SAIL_SHIP,
     )
 )
 
 
-def define_update_loops(module_globals: dict[str, Any]) -> tuple[Callable[..., None], Callable[..., None]]:
-    """Define ``update_ships`` and ``update_ships_parallel`` (:data:`UPDATE_LOOPS_SOURCE`) in a task
-    module around its ``update_ship`` and return them: compiled as the module's own source, they are
+def define_update_loops(
+    module_globals: dict[str, Any],
+) -> tuple[Callable[..., None], Callable[..., None], Callable[..., bool]]:
+    """Define ``update_ships``, ``update_ships_parallel`` and ``sail_ship`` (:data:`UPDATE_LOOPS_SOURCE`)
+    in a task module around its ``update_ship`` and return them: compiled as the module's own source, they are
     cached beside its other kernels (numba keys the cache by the file and the bytecode, so a change
     to the template is compiled afresh). Call it as ``define_update_loops(globals())``."""
     exec(compile(UPDATE_LOOPS_SOURCE, module_globals["__file__"], "exec"), module_globals)
-    return module_globals["update_ships"], module_globals["update_ships_parallel"]
+    return module_globals["update_ships"], module_globals["update_ships_parallel"], module_globals["sail_ship"]
 
 
 @kernel
@@ -170,7 +194,8 @@ class ShipBatch:
     Subclasses set ``task_fields`` (their episode record's own fields), ``task_info_keys`` (the keys
     :meth:`task_info` gives), ``metrics_dtype``,
     ``update_serial`` and ``update_parallel`` (compiled loops called as ``loop(restarted_only, model
-    record, state, conditions, noise_keys, step_index, episodes, metrics, *task.kernel_arguments)``), and
+    record, state, conditions, noise_keys, step_index, episodes, metrics, *task.kernel_arguments)``),
+    ``sail_one`` (the compiled step and update of a batch of one ship, :data:`UPDATE_LOOPS_SOURCE`), and
     implement :meth:`start_episode` and :meth:`task_info`.
 
     After ``restart`` or a simulator step, ``update`` fills each ship's ``episodes`` record
@@ -186,6 +211,7 @@ class ShipBatch:
     metrics_dtype: ClassVar[np.dtype]
     update_serial: ClassVar[Callable[..., None]]
     update_parallel: ClassVar[Callable[..., None]]
+    sail_one: ClassVar[Callable[..., bool]]
 
     def __init__(self, task: ShipTask, num_ships: int, end_diverged_episodes: bool = False) -> None:
         self.task = task
@@ -198,7 +224,7 @@ class ShipBatch:
         self.scenarios: list[Any] = [None] * self.num_ships
         self.episodes = np.zeros(self.num_ships, dtype=episode_dtype(task.observation_space.shape[0], self.task_fields))
         self.metrics = np.zeros(self.num_ships, dtype=self.metrics_dtype)
-        self._update = self._update_loop()
+        self._link()
         known = (*INFO_KEYS, *self.task_info_keys)
         if task.info_keys is not None:
             unknown = [key for key in task.info_keys if key not in known]
@@ -208,21 +234,49 @@ class ShipBatch:
         self.info_keys = frozenset(known if task.info_keys is None else task.info_keys)
         self._every_info_key = len(self.info_keys) == len(known)
 
-    def _update_loop(self) -> Callable[..., None]:
-        return batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
+    def _link(self) -> None:
+        """Make the compiled update loop, the sailing of one ship (:meth:`_ship_sailing`) and the
+        views of the episode records' fields that one ship's :meth:`info` reads (a view's lookup in
+        a dict costs a fifth of numpy's field access): at construction, and again where a copy or a
+        pickle (which make views independent arrays) is restored."""
+        self._update = batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
+        self._sail_ship = self._ship_sailing()
+        self._fields = {name: self.episodes[name] for name in self.episodes.dtype.names or ()}
+
+    def _ship_sailing(self) -> Callable[[float], bool] | None:
+        """One ship's :meth:`sail` of one simulator step in one compiled call (the task's ``sail_one``
+        through its entry point, every argument but the order bound), which returns the step's verdict:
+        for a batch of one ship of ship_env's simulator that ends no diverged episode, holds each
+        order one step and remembers no observations; else ``None``. Made afresh with the simulator."""
+        task = self.task
+        if (
+            self.num_ships != 1
+            or task.sailing_model is None
+            or self.end_diverged_episodes
+            or task.decision_interval != 1
+            or task.observation_history
+        ):
+            return None
+        simulator = self.simulator
+        arrays = (simulator.state, simulator.conditions, simulator.noise_keys, simulator.step_index)
+        arguments = (
+            *simulator.step_arguments(),
+            simulator.model.record,
+            (*arrays, self.episodes, self.metrics, *task.kernel_arguments),
+        )
+        return functools.partial(entry_point(type(self).sail_one, *arguments, 0.0), *arguments)
 
     def __getstate__(self) -> dict[str, Any]:
-        """The attributes a copy or a pickle carries: all but the compiled update loop, made afresh
-        where it is restored: numba rebuilds a pickled compiled function from its code, without its
-        cache, and compiles it again (a spawned worker: 11.7 s against 4.1 s,
-        ``tests/test_envs_copies.py``)."""
+        """The attributes a copy or a pickle carries: all but those :meth:`_link` makes afresh where they
+        are restored: numba rebuilds a pickled compiled function from its code, without its cache, and
+        compiles it again (a spawned worker: 11.7 s against 4.1 s, ``tests/test_envs_copies.py``)."""
         state = self.__dict__.copy()
-        del state["_update"]
+        del state["_update"], state["_sail_ship"], state["_fields"]
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         self.__dict__.update(state)
-        self._update = self._update_loop()
+        self._link()
 
     def restart(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
         """Start new episodes for ``ships`` (sorted indices), one scenario each; the others sail on.
@@ -260,6 +314,7 @@ class ShipBatch:
                     :, before.start : before.start + before.size
                 ]
         self.simulator = new
+        self._sail_ship = self._ship_sailing()
 
     def _start_simulator(self, ships: np.ndarray, scenarios: Sequence[Scenario]) -> None:
         """Start the simulator's ``ships`` as their ``scenarios`` start them."""
@@ -306,6 +361,9 @@ class ShipBatch:
         starts afresh from its scenario, so no state outside the validity is stepped or measured
         again before its restart. The other ships' numbers do not depend on it.
         """
+        if self._sail_ship is not None and restart is None and isinstance(orders, float) and math.isfinite(orders):
+            self.simulator.stepped(self._sail_ship(orders))  # the step and the update in one call
+            return
         interval = self.task.decision_interval
         if self.end_diverged_episodes:
             self.diverged[:] = False
@@ -423,11 +481,13 @@ class ShipBatch:
         validity envelope this episode and, once it left, where and why
         (:func:`~ship_env.envs.envelope.envelope_info`); then the task's own keys (:meth:`task_info`,
         ``task_info_keys``). Arrays are copies (the measurements and metrics views of one copy of the
-        records); one ship's measurements and metrics are Python floats, each record read in one call.
+        records); one ship's measurements and metrics are Python floats, each record read in one call,
+        and its fields from the records' field views.
         """
         if not self.info_keys:
             return {}
         names = self.metrics_dtype.names or ()
+        episodes: EpisodeFields
         if isinstance(ships, slice):
             episodes = snapshot(self.episodes, ships)
             metrics = snapshot(self.metrics, ships)
@@ -438,10 +498,10 @@ class ShipBatch:
             measurement = {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)}
             metric = {name: metrics[name][ships] for name in names}
         else:  # zip without strict=, which costs 0.3 us a call: the lengths agree by construction
-            episodes = self.episodes
+            episodes = self._fields
             measurement = dict(zip(MEASUREMENT_NAMES, episodes["measurement"][ships].tolist()))  # noqa: B905
             state = self.simulator.state[ships].copy()
-            metric = dict(zip(names, self.metrics[ships].item()))  # noqa: B905
+            metric = dict(zip(names, self.metrics.item(ships)))  # noqa: B905 (item(i) makes no record scalar)
         info = {
             "measurement": measurement,
             "state": state,
@@ -451,8 +511,9 @@ class ShipBatch:
         }
         return info if self._every_info_key else _only(info, self.info_keys)
 
-    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
-        """The task's own keys of a step's information, read from the :func:`snapshot` ``episodes``."""
+    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
+        """The task's own keys of a step's information, read from the :func:`snapshot` ``episodes`` (or,
+        for one ship, the records' field views)."""
         return {}
 
     def end_info(self, ships: int | slice) -> dict[str, Any]:

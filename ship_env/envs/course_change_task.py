@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe
+from ship_env.envs.batch import EpisodeFields, ShipBatch, define_update_loops, measure_and_observe
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import METRICS_DTYPE, start_metrics, update_metrics
 from ship_env.envs.sensors import MEASURED_HEADING, RATE_BOUND, SPEED_BOUND, wrap
@@ -223,7 +223,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
     observation[OBS_TURN_DIRECTION] = episode["turn_direction"]
 
 
-update_ships, update_ships_parallel = define_update_loops(globals())
+update_ships, update_ships_parallel, sail_ship = define_update_loops(globals())
 
 
 class CourseChangeBatch(ShipBatch):
@@ -240,13 +240,14 @@ class CourseChangeBatch(ShipBatch):
     metrics_dtype = METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
+    sail_one = staticmethod(sail_ship)
 
     def start_episode(self, episode: np.void, scenario: Scenario) -> None:
         episode["new_heading"] = scenario.new_heading
         episode["turn_direction"] = math.copysign(1.0, scenario.course_change)
         episode["rudder_travel_weight"] = self.task.rudder_travel_weights[scenario.disturbance]
 
-    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
+    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
         """``new_heading``: the ordered heading, rad, unwrapped; ``rudder_travel_weight``: the
         reward's weight of the episode's disturbance level."""
         return {

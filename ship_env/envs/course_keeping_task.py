@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe
+from ship_env.envs.batch import EpisodeFields, ShipBatch, define_update_loops, measure_and_observe
 from ship_env.envs.checks import check_number
 from ship_env.envs.metrics import (
     COURSE_KEEPING_METRICS_DTYPE,
@@ -154,7 +154,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
     )
 
 
-update_ships, update_ships_parallel = define_update_loops(globals())
+update_ships, update_ships_parallel, sail_ship = define_update_loops(globals())
 
 
 class CourseKeepingBatch(ShipBatch):
@@ -169,10 +169,11 @@ class CourseKeepingBatch(ShipBatch):
     metrics_dtype = COURSE_KEEPING_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
+    sail_one = staticmethod(sail_ship)
 
     def start_episode(self, episode: np.void, scenario: CourseKeepingScenario) -> None:
         episode["course"] = scenario.course
 
-    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
+    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
         """``course``: the ordered course, rad."""
         return {"course": episodes["course"][ships]}

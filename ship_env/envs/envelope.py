@@ -21,6 +21,7 @@ state is never crossed.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -113,12 +114,12 @@ def check_envelope(state, conditions, step, episode, limits, ship):
         _leave(episode, PROPELLER, step, time, propeller_rate, 0.0)
 
 
-def envelope_info(episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
+def envelope_info(episodes: np.ndarray | Mapping[str, np.ndarray], ships: int | slice) -> dict[str, Any]:
     """``info["envelope"]`` of one ship (an index: scalars) or all (``slice(None)``: arrays), read from
-    the episode records: ``inside`` (bool: never left this episode), and of the first step outside
-    ``quantity`` (:data:`ENVELOPE_QUANTITIES`), ``step`` (the simulator step of the episode),
-    ``time`` (s), ``value`` and ``limit`` (SI units); while inside ``""``, -1 and 0 (not NaN: an
-    info must equal itself, as Gymnasium's checker asks)."""
+    the episode records (or their field views by name): ``inside`` (bool: never left this episode),
+    and of the first step outside ``quantity`` (:data:`ENVELOPE_QUANTITIES`), ``step`` (the
+    simulator step of the episode), ``time`` (s), ``value`` and ``limit`` (SI units); while inside
+    ``""``, -1 and 0 (not NaN: an info must equal itself, as Gymnasium's checker asks)."""
     codes = episodes["envelope_quantity"][ships]
     if isinstance(ships, slice):
         inside = codes == INSIDE

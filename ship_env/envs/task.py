@@ -290,7 +290,9 @@ class ShipTask:
                 fraction = action.item()  # the common action, read without a conversion
             if not math.isfinite(fraction):  # any other, converted and checked (it raises where malformed)
                 fraction = self._continuous(action, (1,)).item()
-            return min(max(fraction, -1.0), 1.0) * self.rudder_limit
+            if not -1.0 <= fraction <= 1.0:  # clipped (a comparison costs less than min and max)
+                fraction = math.copysign(1.0, fraction)
+            return fraction * self.rudder_limit
         return float(self._levels[self._discrete(action, ())])
 
     def rudder_orders(self, actions: object, num_envs: int, out: np.ndarray) -> np.ndarray:

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe, pick
+from ship_env.envs.batch import EpisodeFields, ShipBatch, define_update_loops, measure_and_observe, pick
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import (
     SCORE_INTERVAL,
@@ -384,7 +384,7 @@ def update_ship(i, states, conditions, noise_keys, step_index, episodes, metrics
         observation[OBS_LINE_OF_SIGHT] = wrap(bearing - measured[MEASURED_HEADING]) / math.pi
 
 
-update_ships, update_ships_parallel = define_update_loops(globals())
+update_ships, update_ships_parallel, sail_ship = define_update_loops(globals())
 
 
 class TrackFollowBatch(ShipBatch):
@@ -400,6 +400,7 @@ class TrackFollowBatch(ShipBatch):
     metrics_dtype = TRACK_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
     update_parallel = staticmethod(update_ships_parallel)
+    sail_one = staticmethod(sail_ship)
 
     def restart(self, ships: np.ndarray, scenarios: Sequence[Any]) -> None:
         """Start new episodes for ``ships``, each where its scenario starts it."""
@@ -412,7 +413,7 @@ class TrackFollowBatch(ShipBatch):
         episode["track"] = TRACK_IDS.index(scenario.track)
         episode["leg"] = 0
 
-    def task_info(self, episodes: np.ndarray, ships: int | slice) -> dict[str, Any]:
+    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
         """``leg``: the leg being sailed (0-based); ``cross_track_error``: true, m, positive to starboard."""
         return {"leg": episodes["leg"][ships], "cross_track_error": episodes["cross_track_error"][ships]}
 

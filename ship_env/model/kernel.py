@@ -9,6 +9,9 @@ integer overflow that the random stream's hashing wraps on purpose (:mod:`ship_e
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numba
 
 from ship_env.model import compile_notice
@@ -24,3 +27,14 @@ parallel_kernel = numba.njit(cache=True, fastmath=False, error_model="numpy", pa
 #: Decorator for a compiled piece its compiled callers take in whole (numba's IR inlining): no call, and
 #: nothing passed to it is reference-counted.
 inlined_kernel = numba.njit(cache=True, fastmath=False, error_model="numpy", inline="always")
+
+
+def entry_point(function: Callable[..., Any], *args: Any) -> Callable[..., Any]:
+    """The compiled ``function``'s entry point for arguments of the types of ``args`` (compiled, or read
+    from the cache, where it is not yet): a call without numba's dispatch, which types every argument
+    afresh (about 0.3 us a call and 0.05 to 0.2 us an argument, the most for a record array; figures
+    in ``docs/results/benchmarks.md``). It checks no types: call it only with arguments of the types
+    of ``args``, best those very objects. With ``NUMBA_DISABLE_JIT=1``, the function itself."""
+    if numba.config.DISABLE_JIT:
+        return function
+    return function.compile(tuple(function.typeof_pyval(arg) for arg in args))  # type: ignore[attr-defined]

@@ -411,10 +411,7 @@ class Simulator:
                 self._work,
             )
             self.step_index[0] += 1
-            if not valid:
-                self._raise_invalid(0)
-            if self._coverage is not None:
-                self._check_coverage()
+            self.stepped(valid)
             return
         orders = np.asarray(ordered_rudder, dtype=float)
         if orders.ndim == 0:
@@ -439,6 +436,20 @@ class Simulator:
         )
         if not self._valid.all():
             self._raise_invalid(int(np.flatnonzero(~self._valid)[0]))
+        if self._coverage is not None:
+            self._check_coverage()
+
+    def step_arguments(self) -> tuple[np.ndarray, float, int, np.ndarray]:
+        """What a step of ship 0 (:func:`~ship_env.model.integrators.step_ship`) reads besides its state,
+        conditions, noise key and step count: (``draws``, ``dt``, the method's code, the scratch space),
+        for a caller that steps it in a compiled call of its own, counts the step and calls :meth:`stepped`."""
+        return self.draws, self.dt, self._method_code, self._work
+
+    def stepped(self, valid: bool) -> None:
+        """What follows ship 0's step, counted (``valid``: its verdict): ``FloatingPointError`` where its
+        state left the model's validity; a fitted preset's covered ranges checked."""
+        if not valid:
+            self._raise_invalid(0)
         if self._coverage is not None:
             self._check_coverage()
 

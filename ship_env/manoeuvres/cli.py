@@ -159,17 +159,10 @@ def _sailed_or_none(task: Callable[[ShipModel], ManoeuvreResult], ship: ShipMode
 
 def _figure_errors(sailed: list[ManoeuvreResult | None]) -> dict[str, float]:
     """Per numeric figure, its jackknife standard error over the fold fits (none where one could not sail)."""
-    from ship_env.manoeuvres.uncertainty import jackknife_error
+    from ship_env.manoeuvres.uncertainty import figure_errors
 
     results = [result for result in sailed if result is not None]
-    if len(results) < len(sailed):
-        return {}
-    values: dict[str, list[float]] = {}
-    for result in results:
-        for figure in result.figures():
-            if not isinstance(figure.value, str):
-                values.setdefault(figure.key, []).append(figure.value)
-    return {key: jackknife_error(numbers) for key, numbers in values.items()}
+    return figure_errors([result.figures() for result in results]) if len(results) == len(sailed) else {}
 
 
 def _uncertainty_line(count: int, names: list[str], fold_results: list[list[ManoeuvreResult | None]]) -> str:

@@ -35,14 +35,6 @@ def _row(header: str, cells: Sequence[str], width: int = LABEL_WIDTH) -> str:
     return f"{header:<{width}}" + "".join(f"{cell:>{COLUMN_WIDTH}}" for cell in cells)
 
 
-def _cell(figure: Figure, error: float | None) -> str:
-    """The figure as printed, with "+-" its standard error where one is given, finite and not 0 (a figure every
-    fold sails alike)."""
-    if error is None or not math.isfinite(error) or error == 0.0 or isinstance(figure.value, str):
-        return figure.text
-    return f"{figure.text} +-{fixed(error, figure.digits)}"
-
-
 def _figures_block(results: Sequence[ManoeuvreResult], errors: FigureErrors) -> list[str]:
     """Results of one kind side by side: a row per figure, a column per run (with its standard error, if any)."""
     figures_per_run = [result.figures() for result in results]
@@ -50,7 +42,7 @@ def _figures_block(results: Sequence[ManoeuvreResult], errors: FigureErrors) -> 
     for same_figure in zip(*figures_per_run, strict=True):
         unit = f" [{same_figure[0].unit}]" if same_figure[0].unit else ""
         pairs = zip(same_figure, errors, strict=True)
-        cells = [_cell(figure, run_errors.get(figure.key)) for figure, run_errors in pairs]
+        cells = [figure.text_with_error(run_errors.get(figure.key)) for figure, run_errors in pairs]
         lines.append(_row(f"  {same_figure[0].label}{unit}", cells))
     return lines
 

@@ -66,6 +66,13 @@ class Figure:
             return self.value
         return fixed(self.value, self.digits)
 
+    def text_with_error(self, error: float | None) -> str:
+        """:attr:`text` with "+-" its standard error where one is given, finite and not 0 (a figure every fold of a
+        fit sails alike, such as the rudder); a word has none."""
+        if error is None or not math.isfinite(error) or error == 0.0 or isinstance(self.value, str):
+            return self.text
+        return f"{self.text} +-{fixed(error, self.digits)}"
+
 
 Result = TypeVar("Result", bound="ManoeuvreResult")
 

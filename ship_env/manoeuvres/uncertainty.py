@@ -19,6 +19,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ship_env.manoeuvres.results import Figure
 from ship_env.model import ShipModel
 
 
@@ -43,7 +44,7 @@ def fold_models(model: ShipModel) -> list[ShipModel]:
     return [model.with_parameters({terms[i]: float(fold[i]) for i in sailed}) for fold in folds]
 
 
-def jackknife_error(values: Sequence[float]) -> float:
+def jackknife_error(values: Sequence[float] | np.ndarray) -> float:
     """sqrt((n - 1) / n * sum_i (x_i - mean x)^2) over the folds' ``values``; NaN where any is NaN (a fold that did
     not reach the figure) or fewer than two are given."""
     array = np.asarray(values, dtype=float)
@@ -52,4 +53,14 @@ def jackknife_error(values: Sequence[float]) -> float:
     return float(math.sqrt((len(array) - 1) / len(array) * np.sum((array - array.mean()) ** 2)))
 
 
-__all__ = ["fold_models", "jackknife_error"]
+def figure_errors(figures_per_fold: Sequence[Sequence[Figure]]) -> dict[str, float]:
+    """Per numeric figure (by its key), the :func:`jackknife_error` of its values over the folds' figures."""
+    values: dict[str, list[float]] = {}
+    for figures in figures_per_fold:
+        for figure in figures:
+            if not isinstance(figure.value, str):
+                values.setdefault(figure.key, []).append(figure.value)
+    return {key: jackknife_error(numbers) for key, numbers in values.items()}
+
+
+__all__ = ["figure_errors", "fold_models", "jackknife_error"]

@@ -40,11 +40,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ship_env.manoeuvres.results import Figure, fixed, metre_digits
+from ship_env.manoeuvres.results import Figure, metre_digits
 from ship_env.manoeuvres.series import first_crossing, value_at, velocity_over_ground
 from ship_env.manoeuvres.settings import TrialSettings
 from ship_env.manoeuvres.trial import run_trial
-from ship_env.manoeuvres.uncertainty import jackknife_error
+from ship_env.manoeuvres.uncertainty import figure_errors
 from ship_env.manoeuvres.zigzag import ZigZagHelmsman
 from ship_env.model import Conditions
 from ship_env.text_table import Table
@@ -354,15 +354,13 @@ def free_running_table(results: Sequence[RunFigures]) -> Table:
         spread = result.spread or (math.nan,) * len(result.predicted)
         for measured, predicted, error in zip(result.measured, result.predicted, spread, strict=True):
             difference = float(predicted.value) - float(measured.value)
-            exact = math.isnan(error) or error == 0.0  # none, or a figure every fold sails alike (the rudder)
-            shown = predicted.text if exact else f"{predicted.text} +-{fixed(error, predicted.digits)}"
             rows.append(
                 (
                     result.run,
                     result.manoeuvre.kind,
                     f"{measured.label}, {measured.unit}",
                     measured.text,
-                    shown,
+                    predicted.text_with_error(error),
                     Figure(measured.key, "", difference, measured.unit, measured.digits).text,
                 )
             )
@@ -379,15 +377,16 @@ def held_out_free_running(validation: CrossValidation, logs: Sequence[Log]) -> t
     if len(validation.folds) >= 2:
         by_fold = [compare_free_running(fold.setup, validation.validation_logs) for fold in validation.folds]
         validated = tuple(
-            replace(result, spread=_spread([results[i] for results in by_fold])) for i, result in enumerate(validated)
+            replace(result, spread=_spread(result, [results[i] for results in by_fold]))
+            for i, result in enumerate(validated)
         )
     return (*(figures for run in fitted for figures in run), *validated)
 
 
-def _spread(by_fold: Sequence[RunFigures]) -> tuple[float, ...]:
-    """Per figure of one run, the jackknife standard error of the folds' predictions of it."""
-    columns = zip(*(result.predicted for result in by_fold), strict=True)
-    return tuple(jackknife_error([float(figure.value) for figure in column]) for column in columns)
+def _spread(result: RunFigures, by_fold: Sequence[RunFigures]) -> tuple[float, ...]:
+    """Per figure of one run's ``result``, the jackknife standard error of the folds' predictions of it."""
+    errors = figure_errors([fold.predicted for fold in by_fold])
+    return tuple(errors.get(figure.key, math.nan) for figure in result.predicted)
 
 
 #: The figures judged, with the bound beyond which prediction and measurement disagree (relative to the measured

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ship_env.manoeuvres.uncertainty import jackknife_error
 from ship_env.model import ShipModel
 from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled, run_errors
 from ship_env.workbench.fitting.fit import FitError, FitOptions, FitResult, Problem, fit_setup
@@ -126,8 +127,7 @@ class CrossValidation:
                 for name in names
             ]
         )
-        count = len(names)
-        return float(math.sqrt((count - 1) / count * np.sum((values - values.mean()) ** 2)))
+        return jackknife_error(values)
 
     def jackknife_errors(self) -> dict[str, float]:
         """Standard errors of the fitted terms from the spread of the leave-one-group-out fits.

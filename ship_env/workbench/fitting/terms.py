@@ -35,7 +35,7 @@ from ship_env.model import EFFECTS, PRINCIPAL, ShipModel
 from ship_env.model.declarations import Parameter
 from ship_env.model.effects.current import STEADY_COMPONENT
 from ship_env.workbench.fitting.replay import INPUTS, ReplayModel
-from ship_env.workbench.logs.logs import Log
+from ship_env.workbench.logs.logs import CALM_AIR_DEVIATIONS, Log
 
 CURRENT_TERMS = ("current.north", "current.east")
 
@@ -349,6 +349,21 @@ def write_record(record: np.ndarray, terms: Sequence[Term], values: np.ndarray) 
             record[0][term.record_field()] = value
 
 
+#: The effects the true wind drives, which calm air leaves nothing to fit (:func:`why_not_fitted`).
+WIND_EFFECTS = ("wind_moment", "wind_drift")
+
+
+def _in_calm_air(logs: Sequence[Log]) -> tuple[bool, str]:
+    """Whether every log's wind is calm air (:attr:`~.Log.has_wind_beyond_noise`), and the words that say so."""
+    calm = not any(log.has_wind_beyond_noise for log in logs)
+    medians = [float(np.median(log.wind_speed)) for log in logs if log.wind_speed is not None]
+    largest = max(medians, default=0.0)
+    return calm, (
+        f"calm air: no log's true wind (median at most {largest:.3g} m/s) stands out of its anemometer's noise "
+        f"by {CALM_AIR_DEVIATIONS:g} deviations, so a wind effect would be fitted on the ship's own motion"
+    )
+
+
 def why_not_fitted(effect: str, model: ShipModel, logs: Sequence[Log]) -> str | None:
     """Why an effect cannot be added and fitted with these logs, or None if it can."""
     if effect in NOT_FITTED:
@@ -373,6 +388,8 @@ def why_not_fitted(effect: str, model: ShipModel, logs: Sequence[Log]) -> str | 
         ),
     }
     failed, reason = checks.get(effect, (False, ""))
+    if not failed and effect in WIND_EFFECTS:
+        failed, reason = _in_calm_air(logs)
     if failed:
         return reason
     try:

@@ -62,6 +62,9 @@ POSITION_TOLERANCE = 50.0
 #: Robust standard deviations (1.4826 MAD) of a channel's sample-to-sample change beyond which a spike warns
 #: (the Esso Osaka model tests' speed channel dips by up to 33 for one sample and back).
 OUTLIER_DEVIATIONS = 50.0
+#: Noise standard deviations within which a log's median true wind is calm air (:attr:`Log.has_wind_beyond_noise`):
+#: a wind the anemometer's own scatter could make, which no wind effect can be fitted on.
+CALM_AIR_DEVIATIONS = 3.0
 #: The channels of the ship's motion, which its inertia keeps continuous: a spike in them is an outlier.
 CONTINUOUS_CHANNELS = ("heading", "rate_of_turn", "north", "east", "speed")
 
@@ -143,6 +146,18 @@ class Log:
     @property
     def has_wind(self) -> bool:
         return self.wind_speed is not None
+
+    @property
+    def has_wind_beyond_noise(self) -> bool:
+        """Whether the log's true wind blows: its median speed exceeds ``CALM_AIR_DEVIATIONS`` times the
+        anemometer's noise, estimated from the sample-to-sample changes (white noise e_i of deviation s makes
+        changes of deviation sqrt(2) s, read robustly by :func:`change_scale`). A calm basin logged through a
+        noisy anemometer reads a wind of a few hundredths of the noise's size at its median; a wind effect fitted
+        there would fit the ship's own motion through still air instead."""
+        if self.wind_speed is None:
+            return False
+        noise = change_scale(np.diff(self.wind_speed)) / math.sqrt(2.0)
+        return float(np.median(self.wind_speed)) > CALM_AIR_DEVIATIONS * noise
 
     def channels(self) -> list[str]:
         """The names of the channels this log has."""
@@ -313,6 +328,11 @@ def _check_limits(values: dict[str, np.ndarray], table: pd.DataFrame, used: dict
                 )
 
 
+def change_scale(changes: np.ndarray) -> float:
+    """The robust standard deviation 1.4826 median |d - m| of a channel's changes d about their median m."""
+    return 1.4826 * float(np.median(np.abs(changes - np.median(changes))))
+
+
 def _spikes(values: np.ndarray) -> np.ndarray:
     """Indices of the samples that jump away from both neighbours and back (see ``OUTLIER_DEVIATIONS``).
 
@@ -325,7 +345,7 @@ def _spikes(values: np.ndarray) -> np.ndarray:
         return np.zeros(0, dtype=int)
     deviations = changes - np.median(changes)
     resolution = float(np.min(np.abs(changes[changes != 0.0])))
-    scale = max(1.4826 * float(np.median(np.abs(deviations))), resolution)
+    scale = max(change_scale(changes), resolution)
     before, after = deviations[:-1], deviations[1:]
     spikes = (np.abs(before) > OUTLIER_DEVIATIONS * scale) & (np.abs(after) > OUTLIER_DEVIATIONS * scale)
     return np.flatnonzero(spikes & (np.sign(before) != np.sign(after))) + 1

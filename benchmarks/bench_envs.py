@@ -234,7 +234,6 @@ def single_step_parts(steps: int) -> dict[str, tuple[float, float]]:
     action = np.array([0.25], dtype=np.float32)
     order = env.task.rudder_order(action)
     batch = env.batch
-    episodes = batch.episodes
     parts: dict[str, Callable[[], object]] = {
         "whole step through gym.make's wrappers": lambda: wrapped.step(action),
         "the same, info_keys=()": lambda: lean.step(action),
@@ -242,11 +241,7 @@ def single_step_parts(steps: int) -> dict[str, tuple[float, float]]:
         "action to rudder order": lambda: env.task.rudder_order(action),
         "step and update (one compiled call)": lambda: batch.sail(order),
         "info dict": lambda: batch.info(0),
-        "observation, reward, termination": lambda: (
-            bool(episodes["terminated"][0]),
-            episodes["observation"][0].copy(),
-            float(episodes["reward"][0]),
-        ),
+        "observation, reward, termination": lambda: batch.outcome(0),
     }
     return time_parts(parts, steps)
 

@@ -18,6 +18,7 @@ import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.batch import INFO_KEYS
 from ship_env.envs.course_change import CourseChangeEnv
 from ship_env.envs.course_keeping import CourseKeepingEnv
+from ship_env.envs.dict_maker import dict_maker
 from ship_env.envs.track_follow import TrackFollowEnv
 from ship_env.envs.weather import DISTURBANCES, RANDOM_DISTURBANCE
 
@@ -235,6 +236,29 @@ def test_info_keys_build_the_chosen_keys_alone_and_sail_the_same_episodes(env_id
     _, _, _, _, info = vector.step(vector.action_space.sample())
     first_metric = next(iter(info["metrics"]))
     assert set(info) == {"metrics", "_metrics"} and info["metrics"][first_metric].shape == (3,)
+
+
+@pytest.mark.parametrize("env_id", list(ENVS))
+def test_one_ships_measurements_and_metrics_are_python_numbers_of_the_records_in_field_order(env_id):
+    env = gym.make(env_id)
+    env.reset(seed=2)
+    info = env.step(env.action_space.sample())[-1]
+    batch = env.unwrapped.batch
+    metrics = batch.metrics[0]
+    assert list(info["metrics"]) == list(batch.metrics_dtype.names)
+    for name, value in info["metrics"].items():
+        assert type(value) is type(metrics[name].item()) and value == metrics[name], name
+    measured = batch.episodes["measurement"][0]
+    assert [type(value) for value in info["measurement"].values()] == [float] * len(measured)
+    assert list(info["measurement"].values()) == measured.tolist()
+
+
+def test_dict_maker_builds_what_a_dict_of_zip_builds_and_refuses_a_key_not_a_string():
+    keys = ("a", "b'", 'c"\\')
+    made = dict_maker(keys)([1, 2.0, "x", "not a value: no key"])
+    assert made == dict(zip(keys, [1, 2.0, "x"], strict=True)) and list(made) == list(keys)
+    with pytest.raises(TypeError, match="dict_maker: expected string keys, got 1"):
+        dict_maker(["a", 1])
 
 
 @pytest.mark.parametrize(

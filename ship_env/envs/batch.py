@@ -28,6 +28,7 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
+from ship_env.envs.dict_maker import dict_maker
 from ship_env.envs.envelope import ENVELOPE_FIELDS, envelope_info
 from ship_env.envs.sensors import MEASUREMENT_NAMES, MEASUREMENT_SIZE, measure, observe_motion
 from ship_env.envs.task import ShipTask
@@ -42,6 +43,8 @@ from ship_env.model.simulator import batch_loop
 EpisodeFields = np.ndarray | Mapping[str, np.ndarray]
 #: The keys of every task's step information (:meth:`ShipBatch.info`), before the task's own.
 INFO_KEYS = ("measurement", "state", "metrics", "envelope")
+#: One ship's ``info["measurement"]`` of its measurements' values in order (:data:`MEASUREMENT_NAMES`).
+_measurement_dict = dict_maker(MEASUREMENT_NAMES)
 
 # The loop over a batch's ships, written once: serially (range) or on all cores (prange). The ship's index
 # is passed signed, as range gives it, so that prange's unsigned one compiles no second ``update_ship``.
@@ -235,13 +238,15 @@ class ShipBatch:
         self._every_info_key = len(self.info_keys) == len(known)
 
     def _link(self) -> None:
-        """Make the compiled update loop, the sailing of one ship (:meth:`_ship_sailing`) and the
-        views of the episode records' fields that one ship's :meth:`info` reads (a view's lookup in
-        a dict costs a fifth of numpy's field access): at construction, and again where a copy or a
-        pickle (which make views independent arrays) is restored."""
+        """Make the compiled update loop, the sailing of one ship (:meth:`_ship_sailing`), the
+        views of the episode records' fields that one ship's :meth:`info` and :meth:`outcome` read (a
+        view's lookup in a dict costs a fifth of numpy's field access) and the maker of one ship's
+        ``info["metrics"]`` of its metrics record's values: at construction, and again where a copy or a
+        pickle (which make views independent arrays, and carry no made function) is restored."""
         self._update = batch_loop(self.num_ships, type(self).update_serial, type(self).update_parallel)
         self._sail_ship = self._ship_sailing()
         self._fields = {name: self.episodes[name] for name in self.episodes.dtype.names or ()}
+        self._metrics_dict = dict_maker(self.metrics_dtype.names or ())
 
     def _ship_sailing(self) -> Callable[[float], bool] | None:
         """One ship's :meth:`sail` of one simulator step in one compiled call (the task's ``sail_one``
@@ -271,7 +276,7 @@ class ShipBatch:
         are restored: numba rebuilds a pickled compiled function from its code, without its cache, and
         compiles it again (a spawned worker: 11.7 s against 4.1 s, ``tests/test_envs_copies.py``)."""
         state = self.__dict__.copy()
-        del state["_update"], state["_sail_ship"], state["_fields"]
+        del state["_update"], state["_sail_ship"], state["_fields"], state["_metrics_dict"]
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
@@ -470,6 +475,12 @@ class ShipBatch:
         _read_outcomes(self.episodes, observations, rewards, terminated)
         return observations, rewards, terminated
 
+    def outcome(self, ship: int) -> tuple[np.ndarray, float, bool]:
+        """Ship ``ship``'s last update's observation (a copy), reward and termination (Python numbers),
+        read from the records' field views."""
+        fields = self._fields
+        return fields["observation"][ship].copy(), fields["reward"].item(ship), fields["terminated"].item(ship)
+
     def info(self, ships: int | slice) -> dict[str, Any]:
         """The step's information for one ship (an index: scalars) or all (``slice(None)``: arrays), its
         keys those of the task's ``info_keys`` (all by default, in this order; none built with ``()``).
@@ -481,12 +492,12 @@ class ShipBatch:
         validity envelope this episode and, once it left, where and why
         (:func:`~ship_env.envs.envelope.envelope_info`); then the task's own keys (:meth:`task_info`,
         ``task_info_keys``). Arrays are copies (the measurements and metrics views of one copy of the
-        records); one ship's measurements and metrics are Python floats, each record read in one call,
-        and its fields from the records' field views.
+        records); one ship's measurements and metrics are Python numbers, each record read in one call
+        and its dict made by a compiled literal (:func:`~ship_env.envs.dict_maker.dict_maker`), and its
+        fields from the records' field views.
         """
         if not self.info_keys:
             return {}
-        names = self.metrics_dtype.names or ()
         episodes: EpisodeFields
         if isinstance(ships, slice):
             episodes = snapshot(self.episodes, ships)
@@ -496,12 +507,12 @@ class ShipBatch:
             if self.diverged.any():
                 state[self.diverged] = self.diverged_states[self.diverged]
             measurement = {name: measurements[k] for k, name in enumerate(MEASUREMENT_NAMES)}
-            metric = {name: metrics[name][ships] for name in names}
-        else:  # zip without strict=, which costs 0.3 us a call: the lengths agree by construction
+            metric = {name: metrics[name][ships] for name in self.metrics_dtype.names or ()}
+        else:
             episodes = self._fields
-            measurement = dict(zip(MEASUREMENT_NAMES, episodes["measurement"][ships].tolist()))  # noqa: B905
+            measurement = _measurement_dict(episodes["measurement"][ships].tolist())
             state = self.simulator.state[ships].copy()
-            metric = dict(zip(names, self.metrics.item(ships)))  # noqa: B905 (item(i) makes no record scalar)
+            metric = self._metrics_dict(self.metrics.item(ships))  # item(i) makes no record scalar
         info = {
             "measurement": measurement,
             "state": state,

@@ -71,12 +71,11 @@ class ShipEnv(Env[np.ndarray, Any]):
             self._track.append(batch.simulator.position[0].copy())
         if self.render_mode == "human":
             self.render()
-        episodes = batch.episodes  # each field read at the index (faster than reading the record's fields)
-        terminated = bool(episodes["terminated"][0])
+        observation, reward, terminated = batch.outcome(0)
         info = batch.info(0)
         if terminated:
             info.update(batch.end_info(0))
-        return episodes["observation"][0].copy(), float(episodes["reward"][0]), terminated, False, info
+        return observation, reward, terminated, False, info
 
     def render_guides(self) -> list[Guide]:
         """The task's lines drawn beside the ship (a new heading, a reference track)."""

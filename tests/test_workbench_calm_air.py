@@ -12,8 +12,9 @@ import numpy as np
 import pytest
 
 from ship_env.model import ShipModel
+from ship_env.workbench.fitting.fit import fit_setup
 from ship_env.workbench.fitting.replay import ReplayModel
-from ship_env.workbench.fitting.terms import WIND_EFFECTS, why_not_fitted
+from ship_env.workbench.fitting.terms import WIND_EFFECTS, effect_terms, not_identified, why_not_fitted
 from ship_env.workbench.logs.logs import Log
 from ship_env.workbench.synthetic.synthetic import (
     NO_NOISE,
@@ -68,3 +69,16 @@ def test_a_wind_effect_is_no_candidate_in_calm_air_and_is_one_in_a_wind(effect):
 def test_one_windy_run_among_calm_ones_makes_the_wind_effects_candidates():
     calm, windy = logs_in(0.0, SensorNoise()), logs_in(1.8, SensorNoise())
     assert why_not_fitted("wind_moment", ShipModel(SHIP), [*calm[1:], windy[0]]) is None
+
+
+def test_a_fit_in_calm_air_holds_the_wind_effects_of_its_starting_model_and_says_so():
+    """A model that starts with the wind effects on (a preset's weather) fits their terms in a wind and holds them at
+    the preset's values in calm air, where they would be fitted on the ship's own motion through still air."""
+    model = ShipModel(SHIP).with_effects(*WIND_EFFECTS)
+    wind_terms = {key for name in WIND_EFFECTS for key in effect_terms(name)}
+    calm, windy = logs_in(0.0, SensorNoise()), logs_in(1.8, SensorNoise())
+    assert wind_terms <= set(fit_setup(model, windy, None, None).keys)
+    assert not wind_terms & set(fit_setup(model, calm, None, None).keys)
+    words = not_identified(model, calm)
+    assert any(line.startswith("wind_moment, wind_drift: calm air") for line in words)
+    assert not any("calm air" in line for line in not_identified(model, windy))

@@ -251,8 +251,11 @@ def measures_speed(logs: Sequence[Log]) -> bool:
 
 def default_terms(effects: Sequence[str], logs: Sequence[Log] | None = None) -> list[str]:
     """The terms fitted by default for a set of effects, in the order of ``EFFECTS``; with ``logs`` of which
-    none measures the speed, without the speed loss's (the logs do not identify it)."""
-    unidentified = () if logs is None or measures_speed(logs) else ("speed_loss",)
+    none measures the speed, without the speed loss's, and with ``logs`` in calm air (:func:`in_calm_air`), without
+    the wind effects' (the logs do not identify them)."""
+    unidentified = [] if logs is None or measures_speed(logs) else ["speed_loss"]
+    if logs is not None and in_calm_air(logs):
+        unidentified += WIND_EFFECTS
     return [key for name in EFFECTS if name in effects and name not in unidentified for key in effect_terms(name)]
 
 
@@ -274,6 +277,11 @@ def not_identified(model: ShipModel, logs: Sequence[Log]) -> list[str]:
             else "it sails at constant speed (the speed loss is off)"
         )
         words.append(f"speed loss: no log measures the speed, so the fit does not identify the speed loss; {kept}")
+    blowing = [name for name in WIND_EFFECTS if model.has(name)]
+    if blowing and in_calm_air(logs):
+        words.append(
+            f"{', '.join(blowing)}: {calm_air_words(logs)}; the fit holds their terms at the starting preset's values"
+        )
     sailed = sailing_model(model, logs)
     if sailed.has("steering_machine") and not model.has("steering_machine"):
         rate = math.degrees(sailed.parameter("steering_machine.rudder_rate"))
@@ -353,12 +361,17 @@ def write_record(record: np.ndarray, terms: Sequence[Term], values: np.ndarray) 
 WIND_EFFECTS = ("wind_moment", "wind_drift")
 
 
-def _in_calm_air(logs: Sequence[Log]) -> tuple[bool, str]:
-    """Whether every log's wind is calm air (:attr:`~.Log.has_wind_beyond_noise`), and the words that say so."""
-    calm = not any(log.has_wind_beyond_noise for log in logs)
+def in_calm_air(logs: Sequence[Log]) -> bool:
+    """Whether no log's true wind stands out of its anemometer's noise (:attr:`~.Log.has_wind_beyond_noise`; a
+    log without a wind channel has none): the wind effects would be fitted on the ship's own motion."""
+    return not any(log.has_wind_beyond_noise for log in logs)
+
+
+def calm_air_words(logs: Sequence[Log]) -> str:
+    """Why the logs are calm air, in words."""
     medians = [float(np.median(log.wind_speed)) for log in logs if log.wind_speed is not None]
     largest = max(medians, default=0.0)
-    return calm, (
+    return (
         f"calm air: no log's true wind (median at most {largest:.3g} m/s) stands out of its anemometer's noise "
         f"by {CALM_AIR_DEVIATIONS:g} deviations, so a wind effect would be fitted on the ship's own motion"
     )
@@ -388,8 +401,8 @@ def why_not_fitted(effect: str, model: ShipModel, logs: Sequence[Log]) -> str | 
         ),
     }
     failed, reason = checks.get(effect, (False, ""))
-    if not failed and effect in WIND_EFFECTS:
-        failed, reason = _in_calm_air(logs)
+    if not failed and effect in WIND_EFFECTS and in_calm_air(logs):
+        failed, reason = True, calm_air_words(logs)
     if failed:
         return reason
     try:

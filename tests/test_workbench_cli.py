@@ -188,10 +188,24 @@ def test_bad_arguments_name_the_argument(arguments, message, capsys):
     assert message in capsys.readouterr().err
 
 
-def test_fixing_a_term_that_is_not_fitted_names_it(log_folder, capsys):
+@pytest.mark.parametrize("command", ["fit", "improve"])
+def test_fixing_a_term_that_is_not_fitted_names_it(log_folder, capsys, command):
     with pytest.raises(SystemExit):
-        main(["fit", str(log_folder), "--fix", "rudder_offset.angle"])
+        main([command, str(log_folder), "--fix", "rudder_offset.angle"])
     assert "argument --fix: rudder_offset.angle not among the fitted terms" in capsys.readouterr().err
+
+
+def test_improve_holds_a_fixed_term_on_every_rung(log_folder, capsys):
+    """``improve --fix`` holds a starting model's term at the preset's value on every rung (it was accepted and the
+    term fitted all the same); ``--free`` fits one the defaults leave out."""
+    ladder = ["improve", str(log_folder), "--ship", SHIP, "--candidates", "rudder_offset", "--max-steps", "1"]
+    arguments = [*ladder, "--pairs", "0", "--workers", "1", "--fix", "yaw.time_constant", "--free", "yaw.linear"]
+    assert main(arguments) == 0
+    captured = capsys.readouterr()
+    assert "added rudder_offset" in captured.err
+    final = captured.out.split("final model, fitted to all runs")[1]
+    rows = {line.split()[0] for line in final.splitlines()[2:] if line.strip()}
+    assert {"yaw.gain", "yaw.linear", "rudder_offset.angle"} <= rows and "yaw.time_constant" not in rows
 
 
 def test_json_onto_an_existing_file_fails_without_force(log_folder, tmp_path, capsys):

@@ -18,6 +18,7 @@ from ship_env.workbench.cli import (
     add_candidate_arguments,
     add_preset_argument,
     add_workbench_arguments,
+    fitted_terms,
     model_line,
     start_command,
     write_fitted_preset,
@@ -38,6 +39,7 @@ def run_improve(args: argparse.Namespace) -> int:
     setup, options, runs = start_command(args)
     logs = runs.logs
     print(model_line(setup, logs))
+    terms = fitted_terms(args, setup, logs) if args.fix or args.free else None
     ladder = improve(
         setup,
         logs,
@@ -53,6 +55,7 @@ def run_improve(args: argparse.Namespace) -> int:
         require_validation=args.require_validation,
         allow_worse_validation=args.allow_worse_validation,
         validate_by=args.validate_by,
+        terms=terms,
     )
     print("\nerror ladder (held out: leave one run out)")
     print(ladder_table(ladder).text())

@@ -136,11 +136,12 @@ def improve(
     require_validation: bool = False,
     allow_worse_validation: bool = False,
     validate_by: str = "replay",
+    terms: Sequence[str] | None = None,
 ) -> Ladder:
     """Climb the error ladder greedily (see the module docstring).
 
     Args:
-        model: the starting model; its effects' default terms are fitted.
+        model: the starting model; its effects' default terms are fitted (or ``terms``).
         logs: the runs (at least two: the error is held out); a run wholly outside the model's envelope is
             left out with a :class:`~.logs.LogWarning`, as the command line does (:func:`~.runs.screen_runs`).
         options: fit options (error scales, default scale-free for the runs kept; nuisance terms).
@@ -158,6 +159,8 @@ def improve(
         validate_by: how the validation runs are scored in rules 4 and 5: ``"replay"``, their held-out replay
             score, or ``"figures"``, their manoeuvres sailed free and judged by their IMO figures
             (:func:`~.free_running.figure_score`).
+        terms: the starting model's terms to fit (default: its effects' default terms for the logs); a term left
+            out keeps the starting model's value on every rung, and each rung fits its added effect's terms.
     """
     if validate_by not in VALIDATE_BY:
         raise ValueError(f"validate_by: expected one of {', '.join(VALIDATE_BY)}, got {validate_by!r}")
@@ -167,7 +170,7 @@ def improve(
     start_workers(options.workers)
     say = progress or (lambda text: None)
     scales = options.error_scales
-    validation = cross_validate(setup, logs, options=options, groups=groups, validate_on=validate_on)
+    validation = cross_validate(setup, logs, terms, options=options, groups=groups, validate_on=validate_on)
     say(f"start: {', '.join(validation.fit.setup.model.effects)}; held-out score {validation.score(scales):.3g}")
     rungs: list[Rung] = []
     added: tuple[str, ...] = ()

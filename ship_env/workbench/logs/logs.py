@@ -28,6 +28,7 @@ The user's file is only read, never written.
 from __future__ import annotations
 
 import difflib
+import functools
 import math
 import warnings
 from collections.abc import Iterable, Sequence
@@ -46,7 +47,13 @@ from ship_env.workbench.logs.formats import (
 )
 
 #: File endings the loader reads.
-READERS = {".csv": pd.read_csv, ".parquet": pd.read_parquet, ".pq": pd.read_parquet}
+#: Readers by file ending; a CSV's numbers read exactly as written (pandas' default parser may be a unit in the
+#: last place off, and ``write_log`` writes the shortest text that reads back exactly).
+READERS = {
+    ".csv": functools.partial(pd.read_csv, float_precision="round_trip"),
+    ".parquet": pd.read_parquet,
+    ".pq": pd.read_parquet,
+}
 #: No ship turns faster than this, rad/s; a heading in "rad" that seems to is in degrees.
 MAX_PLAUSIBLE_RATE = 1.0
 #: Fewest samples a log must keep.

@@ -30,7 +30,7 @@ from ship_env.leaderboard.suites import COURSE_CHANGE, NOMINAL, SuiteSpec
 from ship_env.manoeuvres.turning_circle import turning_circle
 from ship_env.model import Conditions, ShipModel, Simulator
 from ship_env.model import state as S
-from ship_env.model.operating_point import CoverageWarning
+from ship_env.model.operating_point import CoverageWarning, FittedRanges
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, simulate
 from ship_env.workbench.fitting.errors import ErrorScales
 from ship_env.workbench.reporting.presets import fitted_current, preset_document, site_conditions, write_preset
@@ -162,6 +162,18 @@ def test_sailing_beyond_the_fitted_runs_warns_once_naming_the_quantity_the_value
     assert "sailed at rudder 35 deg" in rudder[0]
     assert f"(|rudder| <= {math.degrees(ranges['rudder']['high']):.3g} deg)" in rudder[0]
     assert str(model.ship.path) in rudder[0]
+
+
+def test_a_value_just_beyond_the_range_is_shown_apart_from_it():
+    ranges = FittedRanges("just_beyond.yaml", {"rate": (None, 0.2371), "propeller": (10.2, 10.2)})
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ranges.check("rate", 0.23718, 0.23718)
+        ranges.check("propeller", 10.2, 10.2)  # at the runs' constant rate: inside
+        ranges.check("propeller", 10.2 * (1.0 + 1e-12), 10.2 * (1.0 + 1e-12))
+    first, second = (str(w.message) for w in caught)
+    assert "sailed at r* 0.2372, beyond the range its fitted runs covered (|r*| <= 0.2371)" in first
+    assert "sailed at propeller rate 10.20000000001 rps" in second and "(propeller rate 10.2 to 10.2 rps)" in second
 
 
 @pytest.fixture(scope="module")

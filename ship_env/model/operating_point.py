@@ -56,16 +56,24 @@ class Quantity:
     factor: float
     two_sided: bool
 
-    def value_words(self, value: float) -> str:
-        """A value in the display unit: '35 deg', '0.62' (r*)."""
-        return f"{value * self.factor:.3g}" + (f" {self.unit}" if self.unit else "")
+    def value_words(self, value: float, digits: int = 3) -> str:
+        """A value in the display unit: '35 deg', '0.62' (r*), to ``digits`` significant digits."""
+        return f"{value * self.factor:.{digits}g}" + (f" {self.unit}" if self.unit else "")
 
-    def range_words(self, low: float | None, high: float) -> str:
+    def range_words(self, low: float | None, high: float, digits: int = 3) -> str:
         """A range in the display unit: 'propeller rate 10.1 to 10.3 rps', '|r*| <= 0.35'."""
         unit = f" {self.unit}" if self.unit else ""
         if low is None:
-            return f"|{self.words}| <= {high * self.factor:.3g}{unit}"
-        return f"{self.words} {low * self.factor:.3g} to {high * self.factor:.3g}{unit}"
+            return f"|{self.words}| <= {high * self.factor:.{digits}g}{unit}"
+        return f"{self.words} {low * self.factor:.{digits}g} to {high * self.factor:.{digits}g}{unit}"
+
+    def digits_apart(self, value: float, limit: float) -> int:
+        """The fewest significant digits, 3 or more, that show ``value`` and ``limit`` apart (a turn that just
+        passes the runs' r* 0.237 reads 'r* 0.2372 beyond |r*| <= 0.2371', not '0.237 beyond 0.237')."""
+        for digits in range(3, 17):
+            if f"{value * self.factor:.{digits}g}" != f"{limit * self.factor:.{digits}g}":
+                return digits
+        return 17
 
 
 #: The quantities of a fit's coverage, by key (:mod:`ship_env.workbench.judging.coverage`).
@@ -141,17 +149,18 @@ class FittedRanges:
             return
         covered_low, covered_high = self.ranges[quantity]
         if high > covered_high:
-            value = high
+            value, limit = high, covered_high
         elif covered_low is not None and low < covered_low:
-            value = low
+            value, limit = low, covered_low
         else:
             return
         _WARNED.add((self.preset, quantity))
         words = COVERAGE_QUANTITIES[quantity]
+        digits = words.digits_apart(value, limit)
         warnings.warn(
-            f"{self.preset}: sailed at {words.words} {words.value_words(value)}, beyond the range its fitted "
-            f"runs covered ({words.range_words(covered_low, covered_high)}): the model extrapolates there "
-            "(said once per preset and quantity)",
+            f"{self.preset}: sailed at {words.words} {words.value_words(value, digits)}, beyond the range its "
+            f"fitted runs covered ({words.range_words(covered_low, covered_high, digits)}): the model extrapolates "
+            "there (said once per preset and quantity)",
             CoverageWarning,
             stacklevel=stacklevel + 1,
         )

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from ship_env.envs.batch import EpisodeFields, ShipBatch, define_update_loops, measure_and_observe
+from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import METRICS_DTYPE, start_metrics, update_metrics
 from ship_env.envs.sensors import MEASURED_HEADING, RATE_BOUND, SPEED_BOUND, wrap
@@ -236,6 +236,8 @@ class CourseChangeBatch(ShipBatch):
 
     task: CourseChangeTask
     task_fields = TASK_FIELDS
+    #: ``new_heading``: the ordered heading, rad, unwrapped; ``rudder_travel_weight``: the reward's weight
+    #: of the episode's disturbance level.
     task_info_keys = ("new_heading", "rudder_travel_weight")
     metrics_dtype = METRICS_DTYPE
     update_serial = staticmethod(update_ships)
@@ -246,11 +248,3 @@ class CourseChangeBatch(ShipBatch):
         episode["new_heading"] = scenario.new_heading
         episode["turn_direction"] = math.copysign(1.0, scenario.course_change)
         episode["rudder_travel_weight"] = self.task.rudder_travel_weights[scenario.disturbance]
-
-    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
-        """``new_heading``: the ordered heading, rad, unwrapped; ``rudder_travel_weight``: the
-        reward's weight of the episode's disturbance level."""
-        return {
-            "new_heading": episodes["new_heading"][ships],
-            "rudder_travel_weight": episodes["rudder_travel_weight"][ships],
-        }

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from ship_env.envs.batch import EpisodeFields, ShipBatch, define_update_loops, measure_and_observe
+from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe
 from ship_env.envs.checks import check_number
 from ship_env.envs.metrics import (
     COURSE_KEEPING_METRICS_DTYPE,
@@ -165,6 +165,7 @@ class CourseKeepingBatch(ShipBatch):
     """
 
     task_fields = TASK_FIELDS
+    #: ``course``: the ordered course, rad.
     task_info_keys = ("course",)
     metrics_dtype = COURSE_KEEPING_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
@@ -173,7 +174,3 @@ class CourseKeepingBatch(ShipBatch):
 
     def start_episode(self, episode: np.void, scenario: CourseKeepingScenario) -> None:
         episode["course"] = scenario.course
-
-    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
-        """``course``: the ordered course, rad."""
-        return {"course": episodes["course"][ships]}

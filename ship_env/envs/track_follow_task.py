@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from ship_env.envs.batch import EpisodeFields, ShipBatch, define_update_loops, measure_and_observe, pick
+from ship_env.envs.batch import ShipBatch, define_update_loops, measure_and_observe, pick
 from ship_env.envs.checks import check_choice, check_number
 from ship_env.envs.metrics import (
     SCORE_INTERVAL,
@@ -396,6 +396,7 @@ class TrackFollowBatch(ShipBatch):
     """
 
     task_fields = TASK_FIELDS
+    #: ``leg``: the leg being sailed (0-based); ``cross_track_error``: true, m, positive to starboard.
     task_info_keys = ("leg", "cross_track_error")
     metrics_dtype = TRACK_METRICS_DTYPE
     update_serial = staticmethod(update_ships)
@@ -412,10 +413,6 @@ class TrackFollowBatch(ShipBatch):
     def start_episode(self, episode: np.void, scenario: TrackScenario) -> None:
         episode["track"] = TRACK_IDS.index(scenario.track)
         episode["leg"] = 0
-
-    def task_info(self, episodes: EpisodeFields, ships: int | slice) -> dict[str, Any]:
-        """``leg``: the leg being sailed (0-based); ``cross_track_error``: true, m, positive to starboard."""
-        return {"leg": episodes["leg"][ships], "cross_track_error": episodes["cross_track_error"][ships]}
 
     def end_info(self, ships: int | slice) -> dict[str, Any]:
         """``score``: the episode's ``rms_cross_track_error`` (m, eq. 6.5) beside the thesis's

@@ -32,11 +32,11 @@ MOTION_SIZE = 7
 MOTION_STATES = ("time", "north", "east", "heading", "rate_of_turn", "speed_loss", "rudder")
 
 # Where the built-in effects' own states land (``effects/__init__`` checks it as they register):
-# the disturbance states of the wave filter and of the gusts.
+# the disturbance states of the wave filter and of the gusts, then the lagging drift.
 WAVE_HEADING = 7  # rad, HF wave-induced heading (Fig. 2.13), not part of the track (wave_filter)
 WAVE_RATE = 8  # rad/s, HF wave-induced rate of turn (Fig. 2.13) (wave_filter)
 GUST = 9  # m/s, random component on the relative wind speed (2.5.3) (gusts)
-LIBRARY_STATES = (*MOTION_STATES, "wave_heading", "wave_rate", "gust")
+LIBRARY_STATES = (*MOTION_STATES, "wave_heading", "wave_rate", "gust", "lagging_drift")
 
 # Conditions: held constant over one step, one row per ship, set by the caller (a scenario, an
 # environment, or a measured log replayed step by step).

@@ -10,7 +10,8 @@ effect's name to its declaration: these built-ins, then the effects registered f
 
 The contributions to one quantity are applied in this order (the asymmetry's part of H(r*) before
 Norrbin's, then the hull's cross-flow drag; the speed loss's rate before the turning resistance's and
-the rudder drag's).
+the rudder drag's; the lagging sway's velocity, registered last so that its state follows the others', in
+place of the settled one).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from ship_env.model.effects import (
     speed_loss,
     steering_machine,
     sway,
+    sway_lag,
     turning_resistance,
     wave_filter,
     wave_spectrum,
@@ -60,6 +62,7 @@ LIBRARY = (
     wave_filter,
     gusts,
     wave_spectrum,
+    sway_lag,
 )
 for _module in LIBRARY:
     register_module(_module, "ship_env")

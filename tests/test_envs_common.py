@@ -15,10 +15,10 @@ from env_contract import assert_same_steps, sail
 from gymnasium.utils.env_checker import check_env
 
 import ship_env  # noqa: F401  (registers the environments)
-from ship_env.envs.batch import INFO_KEYS
+from ship_env.envs.batch import INFO_KEYS, ship_info_maker
 from ship_env.envs.course_change import CourseChangeEnv
 from ship_env.envs.course_keeping import CourseKeepingEnv
-from ship_env.envs.dict_maker import dict_maker
+from ship_env.envs.sensors import MEASUREMENT_NAMES
 from ship_env.envs.track_follow import TrackFollowEnv
 from ship_env.envs.weather import DISTURBANCES, RANDOM_DISTURBANCE
 
@@ -253,12 +253,13 @@ def test_one_ships_measurements_and_metrics_are_python_numbers_of_the_records_in
     assert list(info["measurement"].values()) == measured.tolist()
 
 
-def test_dict_maker_builds_what_a_dict_of_zip_builds_and_refuses_a_key_not_a_string():
+def test_the_info_literal_builds_what_a_dict_of_zip_builds_and_refuses_a_key_not_a_string():
     keys = ("a", "b'", 'c"\\')
-    made = dict_maker(keys)([1, 2.0, "x", "not a value: no key"])
+    measurement = [0.0] * len(MEASUREMENT_NAMES)
+    made = ship_info_maker(keys, ())(measurement, None, [1, 2.0, "x", "not a value: no key"], None, {}, 0)["metrics"]
     assert made == dict(zip(keys, [1, 2.0, "x"], strict=True)) and list(made) == list(keys)
-    with pytest.raises(TypeError, match="dict_maker: expected string keys, got 1"):
-        dict_maker(["a", 1])
+    with pytest.raises(TypeError, match="dict_literal: expected string keys, got 1"):
+        ship_info_maker(["a", 1], ())
 
 
 @pytest.mark.parametrize(

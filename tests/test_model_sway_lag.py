@@ -1,7 +1,7 @@
 """Sway that lags the rate of turn (``effects/sway_lag.py``) against its closed forms.
 
 The drift's step response behind a first-order Nomoto ship against its closed form, a steady turn that
-is the model's without the effect whatever the couplings, and the hidden-effect check: logs sailed with
+is the model's without the effect whatever the coupling, and the hidden-effect check: logs sailed with
 the lag and its coupling, the model fitted with the effect added, its terms recovered.
 """
 

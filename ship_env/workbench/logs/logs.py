@@ -46,9 +46,8 @@ from ship_env.workbench.logs.formats import (
     resolve_format,
 )
 
-#: File endings the loader reads.
-#: Readers by file ending; a CSV's numbers read exactly as written (pandas' default parser may be a unit in the
-#: last place off, and ``write_log`` writes the shortest text that reads back exactly).
+#: The loader's readers by file ending; a CSV's numbers read exactly as written (pandas' default parser may be
+#: a unit in the last place off, and ``write_log`` writes the shortest text that reads back exactly).
 READERS = {
     ".csv": functools.partial(pd.read_csv, float_precision="round_trip"),
     ".parquet": pd.read_parquet,

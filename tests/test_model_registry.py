@@ -27,7 +27,7 @@ ELEMENTARY_ULP = 4
 #: trajectory amplifies none: after all the steps, at most this far from the recorded doubles.
 CROSS_CPU_TOLERANCE = SNAPSHOTS * STEPS_BETWEEN * ELEMENTARY_ULP * float(np.finfo(float).eps)  # 3.6e-13
 #: Effects added to the library after the reference was recorded (each checked against its closed form).
-NEWER_EFFECTS = ("propeller_astern", "sway_lag")
+NEWER_EFFECTS = ("propeller_astern", "sway_lag", "drift_resistance")
 #: Presets whose values changed after the reference was recorded: the file holding the values it was recorded with.
 RECORDED_WITH = {"esso_osaka_model": str(Path(__file__).parent / "data" / "esso_osaka_nominal.yaml")}
 

@@ -279,9 +279,9 @@ def test_the_figures_that_disagree_are_named_with_the_effects_that_shape_them():
         "tactical diameter: 2 of 2 runs beyond 5 % (median +96 %); effects that shape it, not in the model: "
         "hull_crossflow, norrbin",
         "speed loss in steady turn: 2 of 2 runs beyond 10 % (median -75 %); effects that shape it, not in the model: "
-        "turning_resistance, rudder_drag",
+        "turning_resistance, rudder_drag, drift_resistance",
     ]
-    every = ("yaw", "speed_loss", "turning_resistance", "rudder_drag", "kinematics")
+    every = ("yaw", "speed_loss", "turning_resistance", "rudder_drag", "drift_resistance", "kinematics")
     assert disagreements([run], every)[-1] == (
         "speed loss in steady turn: 1 of 1 runs beyond 10 % (median -75 %); the model has every effect the library "
         "knows to shape it: their terms extrapolate"

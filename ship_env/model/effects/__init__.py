@@ -10,8 +10,8 @@ effect's name to its declaration: these built-ins, then the effects registered f
 
 The contributions to one quantity are applied in this order (the asymmetry's part of H(r*) before
 Norrbin's, then the hull's cross-flow drag; the speed loss's rate before the turning resistance's and
-the rudder drag's; the lagging sway's velocity, registered last so that its state follows the others', in
-place of the settled one).
+the rudder drag's and, registered last, the drift's resistance's; the lagging sway's velocity, registered
+after the disturbances so that its state follows theirs, in place of the settled one).
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from __future__ import annotations
 from ship_env.model.effects import (
     asymmetry,
     current,
+    drift_resistance,
     gusts,
     hull_crossflow,
     kinematics,
@@ -63,6 +64,7 @@ LIBRARY = (
     gusts,
     wave_spectrum,
     sway_lag,
+    drift_resistance,
 )
 for _module in LIBRARY:
     register_module(_module, "ship_env")

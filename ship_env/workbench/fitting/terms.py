@@ -51,6 +51,7 @@ DEFAULT_TERMS: dict[str, tuple[str, ...]] = {
     "rudder_drag": ("rudder_drag.drag_coefficient",),
     "sway": ("sway.linear",),
     "sway_lag": ("sway_lag.time_constant", "sway_lag.coupling"),
+    "drift_resistance": ("drift_resistance.gain",),
     "steering_machine": ("steering_machine.rudder_rate",),
     "rudder_offset": ("rudder_offset.angle",),
     "propeller_slipstream": ("propeller_slipstream.coefficient",),
@@ -117,6 +118,7 @@ _RULES: dict[str, TermRule] = {
     "sway.cubic": TermRule(-3.0, 3.0, 0.0, 0.1),
     "sway_lag.time_constant": TermRule(1e-3, 20.0, None, 0.1),
     "sway_lag.coupling": TermRule(-50.0, 50.0, 0.0, 0.1),
+    "drift_resistance.gain": TermRule(0.0, 20.0, 0.0, 0.3),
     "steering_machine.rudder_rate": TermRule(0.2 * _DEG, 500.0 * _DEG, None, 1.0 * _DEG),
     "rudder_offset.angle": TermRule(-20.0 * _DEG, 20.0 * _DEG, 0.0, 1.0 * _DEG),
     "propeller_slipstream.coefficient": TermRule(0.0, 10.0, 0.0, 0.05),
@@ -392,6 +394,12 @@ def why_not_fitted(effect: str, model: ShipModel, logs: Sequence[Log]) -> str | 
         "rudder_drag": (
             not measures_speed(logs),
             "no log measures the speed: the rudder's drag shows only in the speed",
+        ),
+        "drift_resistance": (
+            not measures_speed(logs) or "sway" not in model.effects,
+            "no log measures the speed: the drift's resistance shows only in the speed"
+            if not measures_speed(logs)
+            else "the model has no sway: the drift's resistance is forced by the drift",
         ),
         "steering_machine": (records_actual_rudder(logs), "every log records the actual rudder"),
         "propeller_slipstream": (any(log.propeller_rate is None for log in logs), "a log has no propeller rate"),

@@ -398,7 +398,7 @@ JUDGED_FIGURES: dict[str, tuple[float, bool, tuple[str, ...]]] = {
     "advance_lengths": (0.05, True, ("steering_machine", "speed_loss", "hull_crossflow", "norrbin")),
     "tactical_diameter_lengths": (0.05, True, ("hull_crossflow", "norrbin", "sway", "speed_loss")),
     "steady_rate_of_turn": (0.10, True, ("hull_crossflow", "norrbin", "propeller_slipstream", "asymmetry")),
-    "speed_loss": (0.10, True, ("speed_loss", "turning_resistance", "rudder_drag")),
+    "speed_loss": (0.10, True, ("speed_loss", "turning_resistance", "rudder_drag", "drift_resistance")),
     "first_overshoot": (2.0, False, ("steering_machine", "norrbin", "hull_crossflow")),
 }
 

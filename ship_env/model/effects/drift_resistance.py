@@ -5,11 +5,11 @@ This effect goes beyond the thesis.
 The thesis's speed loss (2.55) is forced by the rate of turn alone, K_u* r*^2. In a manoeuvring model the
 turn's added resistance comes mostly from the drift: the surge equation of the MMG standard (Yasukawa &
 Yoshimura 2015, (m + m_x) du/dt = X_H + X_R + X_P + (m + m_y) v r) carries the centripetal (m + m_y) v r
-and the hull's X_vr v r, together half of KVLCC2's m' (m' + m_y' + X'_vr = 0.51, Tables 1-3), against
+and the hull's X_vr v r, together 0.51 for KVLCC2 (m' + m_y' + X'_vr in the primes of Tables 1-3), against
 X'_rr = 0.011 and X'_vv v'^2 at most 0.005 in a hard-over turn. In a steady turn the drift is settled
 (v* = -gamma1* r*, 2.47) and v r goes as r*^2, the thesis's forcing; in a zig-zag the drift lags the rate of
-turn (``sway_lag``) and v r is smaller than r*^2 at the same rate, so a K_u* fitted on zig-zags underpredicts
-the speed a hard-over turn loses. This effect adds the drift's forcing to (2.55):
+turn (``sway_lag``) and v r departs from r*^2, so a K_u* fitted on zig-zags carries their mix of lagging and
+settled drift into a hard-over turn, where the drift is settled. This effect adds the drift's forcing to (2.55):
 
     tau_u* (L/u) du*/dt + H_u(u*) = K_u* r*^2 + K_vr* (-v r*) / U0
 
@@ -17,6 +17,10 @@ where -v r* / U0 = (u / U0) (-v* r*) = (1 - u*) (-v* r*) (2.53): the force (m + 
 (2.55)'s forcing, as the rudder's drag is (``rudder_drag``). v is the sway velocity every effect reads
 (``sway``, or ``sway_lag``'s lagging drift where it is on); without sway the effect does nothing. It reads the
 ``speed_loss`` effect's tau_u* and acts only with it on.
+
+On the basin truth's zig-zags (MMG's KVLCC2 as a 7 m model) the default ladder does not add it while H_u's cubic
+is held at the preset's; with the cubic fitted the fit puts the whole speed loss on the drift (K_u* 0, K_vr* 9),
+as MMG's surge equation does (docs/results/free_running.md).
 
 Symbols: u* relative speed loss, u forward speed, U0 service speed, v sway velocity (+ to starboard),
 v* = v / u, r* normalised rate of turn (2.40), K_u* and tau_u* the speed loss's gain and time constant

@@ -61,9 +61,29 @@ def test_the_rudder_drag_makes_a_ship_of_a_fit_whose_speed_loss_stops_it_in_a_ha
 
 
 @pytest.mark.slow
+def test_named_among_the_candidates_the_drifts_resistance_makes_a_ship_where_the_rudders_drag_may_not(
+    load_script, tmp_path
+):
+    """The same sea trial with every effect but the rudder's drag named as a candidate (the drift's resistance, which
+    a ladder tries only where named, among them): the ladder adds the drift's resistance, with which the model sails
+    the judged hard-over turns."""
+    pytest.importorskip("shipmmg", reason='shipmmg is not installed (pip install shipmmg or -e ".[bench]")')
+    bench = load_script(BENCH, "bench_free_running")
+    truth = bench.make_truth(bench.MMG)
+    bench.write_zigzag_logs(truth, tmp_path / "zigzag", 3)
+    candidates = ",".join(name for name in EFFECTS if name != "rudder_drag")
+    preset = tmp_path / "fitted.yaml"
+    arguments = ["--ship", "kvlcc2", "--candidates", candidates, "--preset", str(preset)]
+    assert main(["improve", str(tmp_path / "zigzag"), *arguments]) == 0
+    assert ShipModel(preset).has("drift_resistance")
+    judged = bench.sail_truth(truth, bench.JUDGED_RUNS, bench.TURNING_LENGTHS, 0, bench.EXACT)
+    assert bench.figures(judged, ShipModel(preset))[2] == ""
+
+
+@pytest.mark.slow
 def test_a_ladder_whose_final_model_cannot_sail_says_so_and_why_no_candidate_helps(load_script, tmp_path):
     """The same sea trial with the rudder's drag and the drift's resistance left out of the candidates (with the
-    rudder's drag alone left out, the ladder adds the drift's resistance, with which the model sails): the candidates
+    drift's resistance among them the ladder adds it, and the model sails: the test above): the candidates
     with which the model would sail are refused (the lagging drift with the hull's cross-flow drag or Norrbin's terms,
     the cross-flow drag alone: their terms within 2 standard errors of their nulls, rule 3; with a current: one that
     absorbs a mismatch): nothing is added, and the ladder's stop says that the final model cannot sail and why each

@@ -17,7 +17,8 @@ from conftest import run
 from speed_loss_checks import HARD_OVER, assert_same_hard_over_turn, steady_turn
 
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
-from ship_env.workbench import FitOptions
+from ship_env.workbench import FitOptions, cross_validate, diagnose
+from ship_env.workbench.defaults import ON_REQUEST
 from ship_env.workbench.fitting.fit import fit
 from ship_env.workbench.fitting.replay import ReplayModel
 from ship_env.workbench.fitting.terms import effect_terms, make_term, why_not_fitted
@@ -116,3 +117,16 @@ def test_hidden_drift_resistance_is_told_from_the_rate_of_turn_s_forcing_by_the_
     # well-conditioned fit (1e-6, test_model_effect_states): 6e-5 here, against 1e-3 allowed.
     for key in values:
         assert found[key] == pytest.approx(truth.model.parameter(key), rel=1e-3), key
+
+
+def test_a_ladder_tries_it_only_where_named():
+    """By default ``diagnose`` leaves it out and says why (``defaults.ON_REQUEST``); named among the candidates it is
+    weighed like any other (its evidence computed; no refits here: ``refit=0``)."""
+    model = ShipModel(HIDDEN_SHIP, [*REQUIRED_EFFECTS, "speed_loss", "sway"])
+    runs = [run for run in model_test_programme(duration=40.0, ship=HIDDEN_SHIP) if run.kind == "turn"][:2]
+    logs = sail_all(ReplayModel(model), runs, seed=1)
+    current = cross_validate(model, logs)
+    by_default = {c.effects: c for c in diagnose(current, logs, FitOptions(), refit=0).candidates}
+    assert by_default[("drift_resistance",)].skipped == ON_REQUEST["drift_resistance"]
+    named = {c.effects: c for c in diagnose(current, logs, FitOptions(), ["drift_resistance"], refit=0).candidates}
+    assert not named[("drift_resistance",)].skipped and named[("drift_resistance",)].evidence is not None

@@ -38,6 +38,7 @@ manoeuvrability, Hy-5, Hydro- og Aerodynamisk Laboratorium, Lyngby (the term (m 
 from __future__ import annotations
 
 from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
+from ship_env.model.effects.speed_loss import added_forcing_rate
 
 EFFECT = Effect(
     "drift_resistance",
@@ -71,7 +72,7 @@ def rate(
 ):
     """du*/dt with the drift's forcing K_vr* (-v r*) / U0 added to (2.55)'s."""
     forcing = -gain * sway_velocity * normalised_rate / max(service_speed, minimum_speed)
-    return speed_loss_derivative + scheduling_speed / length * forcing / speed_loss_time_constant
+    return speed_loss_derivative + added_forcing_rate(forcing, scheduling_speed, length, speed_loss_time_constant)
 
 
 CONTRIBUTIONS = (Contribution("speed_loss_derivative", rate),)

@@ -38,6 +38,7 @@ from __future__ import annotations
 import math
 
 from ship_env.model.effect_api import Contribution, Effect, Parameter, kernel
+from ship_env.model.effects.speed_loss import added_forcing_rate
 
 EFFECT = Effect(
     "rudder_drag",
@@ -73,7 +74,7 @@ def rate(
     sine = math.sin(effective_rudder)
     reference_speed_squared = scheduling_speed * max(service_speed, minimum_speed)  # u U0, each floored alike
     drag = drag_coefficient * sine * sine * inflow_speed_squared / reference_speed_squared
-    return speed_loss_derivative + scheduling_speed / length * drag / speed_loss_time_constant
+    return speed_loss_derivative + added_forcing_rate(drag, scheduling_speed, length, speed_loss_time_constant)
 
 
 CONTRIBUTIONS = (Contribution("speed_loss_derivative", rate),)

@@ -36,6 +36,13 @@ def rate(scheduling_speed, normalised_rate, speed_loss, gain, time_constant, cub
     return scheduling_speed / length * (gain * normalised_rate * normalised_rate - restoring_value) / time_constant
 
 
+@kernel
+def added_forcing_rate(forcing, scheduling_speed, length, time_constant):
+    """(u / L) forcing / tau_u*, 1/s: the part of du*/dt that a forcing added to (2.55)'s K_u* r*^2 drives
+    (the rudder's drag, the drift's resistance)."""
+    return scheduling_speed / length * forcing / time_constant
+
+
 CONTRIBUTIONS = (Contribution("speed_loss_derivative", rate),)
 #: The effect governs the rate of the motion's speed loss u* (it stays 0, u = U0, where the effect is off).
 STATES = (State("speed_loss", "-", "u* = dU / U0, the relative loss of forward speed (2.41)"),)

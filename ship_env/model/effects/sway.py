@@ -24,9 +24,15 @@ EFFECT = Effect(
 
 
 @kernel
+def settled_drift(normalised_rate, linear, cubic):
+    """v* = -H_v(r*) = -(gamma1* r* + gamma3* r*^3) (2.47)-(2.49)."""
+    return -(linear * normalised_rate + cubic * normalised_rate * normalised_rate * normalised_rate)
+
+
+@kernel
 def velocity(speed, normalised_rate, linear, cubic):
-    """v from (2.47)-(2.49), m/s, positive to starboard."""
-    return -speed * (linear * normalised_rate + cubic * normalised_rate * normalised_rate * normalised_rate)
+    """v = u v* from (2.47)-(2.49), m/s, positive to starboard."""
+    return speed * settled_drift(normalised_rate, linear, cubic)
 
 
 CONTRIBUTIONS = (Contribution("sway_velocity", velocity),)

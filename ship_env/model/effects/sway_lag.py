@@ -45,6 +45,7 @@ forces in v' and r', and Tables 1-3 for KVLCC2: m' + m_y' = 0.51, Y_v' = -0.315)
 from __future__ import annotations
 
 from ship_env.model.effect_api import Contribution, Effect, Parameter, State, kernel
+from ship_env.model.effects.sway import settled_drift as quasi_static_drift
 
 EFFECT = Effect(
     "sway_lag",
@@ -77,9 +78,7 @@ EFFECT = Effect(
 @kernel
 def settled_drift(normalised_rate, sway_on, sway_linear, sway_cubic):
     """v*_s = -(gamma1* r* + gamma3* r*^3) (2.47-2.49) where the ``sway`` effect is on, else 0."""
-    if not sway_on:
-        return 0.0
-    return -(sway_linear * normalised_rate + sway_cubic * normalised_rate * normalised_rate * normalised_rate)
+    return quasi_static_drift(normalised_rate, sway_linear, sway_cubic) if sway_on else 0.0
 
 
 @kernel

@@ -386,19 +386,17 @@ def why_not_fitted(effect: str, model: ShipModel, logs: Sequence[Log]) -> str | 
     """Why an effect cannot be added and fitted with these logs, or None if it can."""
     if effect in NOT_FITTED:
         return NOT_FITTED[effect]
+    speedless = not measures_speed(logs)
     checks = {
         "speed_loss": (
-            not measures_speed(logs),
+            speedless,
             "no log measures the speed: the speed loss is not identified (the preset keeps its values)",
         ),
-        "rudder_drag": (
-            not measures_speed(logs),
-            "no log measures the speed: the rudder's drag shows only in the speed",
-        ),
+        "rudder_drag": (speedless, "no log measures the speed: the rudder's drag shows only in the speed"),
         "drift_resistance": (
-            not measures_speed(logs) or "sway" not in model.effects,
+            speedless or not model.has("sway"),
             "no log measures the speed: the drift's resistance shows only in the speed"
-            if not measures_speed(logs)
+            if speedless
             else "the model has no sway: the drift's resistance is forced by the drift",
         ),
         "steering_machine": (records_actual_rudder(logs), "every log records the actual rudder"),

@@ -43,7 +43,6 @@ from scipy.optimize import lsq_linear
 
 from ship_env.model import EFFECTS, ShipModel
 from ship_env.workbench.deciding.signals import ResidualSignals, residual_signals
-from ship_env.workbench.defaults import ON_REQUEST
 from ship_env.workbench.fitting.errors import ErrorScales, RunErrors
 from ship_env.workbench.fitting.fit import FitOptions, Problem
 from ship_env.workbench.fitting.replay import ReplayModel
@@ -264,15 +263,11 @@ def diagnose(
         current: the current model's cross-validation (its all-run fit is the one diagnosed).
         logs: the runs, as fitted.
         options: the fit options (the same as the current fit's).
-        effects: the candidate effects (default: every effect the model lacks that the logs can show, less those
-            tried only on request, ``defaults.ON_REQUEST``).
+        effects: the candidate effects (default: every effect the model lacks that the logs can show).
         refit: refit only this many candidates, those with the most evidence (default: all).
     """
     options = (options or FitOptions()).for_runs(current.fit.setup.model, logs)
     possible, reasons = candidate_effects(current.fit.setup, logs)
-    if effects is None:
-        reasons.update({effect: ON_REQUEST[effect] for effect in possible if effect in ON_REQUEST})
-        possible = [effect for effect in possible if effect not in ON_REQUEST]
     chosen = possible if effects is None else [effect for effect in effects if effect in possible]
     skipped = [
         CandidateResult((effect,), skipped=reasons.get(effect, "already in the model"))

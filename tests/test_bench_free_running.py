@@ -61,9 +61,12 @@ def test_the_rudder_drag_makes_a_ship_of_a_fit_whose_speed_loss_stops_it_in_a_ha
 
 
 @pytest.mark.slow
-def test_without_the_rudders_drag_among_the_candidates_the_drifts_resistance_makes_a_ship(load_script, tmp_path):
-    """The same sea trial with every effect but the rudder's drag named as a candidate: the ladder adds the drift's
-    resistance, with which the model sails the judged hard-over turns."""
+def test_named_among_the_candidates_the_drifts_resistance_makes_a_ship_where_the_rudders_drag_may_not(
+    load_script, tmp_path
+):
+    """The same sea trial with every effect but the rudder's drag named as a candidate (the drift's resistance, which
+    a ladder tries only where named, among them): the ladder adds the drift's resistance, with which the model sails
+    the judged hard-over turns."""
     pytest.importorskip("shipmmg", reason='shipmmg is not installed (pip install shipmmg or -e ".[bench]")')
     bench = load_script(BENCH, "bench_free_running")
     truth = bench.make_truth(bench.MMG)

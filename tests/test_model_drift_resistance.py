@@ -12,14 +12,13 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-import numpy as np
 import pytest
 from conftest import run
 from speed_loss_checks import HARD_OVER, assert_same_hard_over_turn, steady_turn
 
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
 from ship_env.workbench import FitOptions, cross_validate, diagnose
-from ship_env.workbench.deciding.diagnose import explained_within_ranges
+from ship_env.workbench.defaults import ON_REQUEST
 from ship_env.workbench.fitting.fit import fit
 from ship_env.workbench.fitting.replay import ReplayModel
 from ship_env.workbench.fitting.terms import effect_terms, make_term, why_not_fitted
@@ -120,46 +119,14 @@ def test_hidden_drift_resistance_is_told_from_the_rate_of_turn_s_forcing_by_the_
         assert found[key] == pytest.approx(truth.model.parameter(key), rel=1e-3), key
 
 
-@pytest.fixture(scope="module")
-def two_turns_fitted():
-    """Two turns of the hidden ship (speed loss and sway, no drift resistance) and their cross-validated fit."""
+def test_a_ladder_tries_it_only_where_named():
+    """By default ``diagnose`` leaves it out and says why (``defaults.ON_REQUEST``); named among the candidates it is
+    weighed like any other (its evidence computed; no refits here: ``refit=0``)."""
     model = ShipModel(HIDDEN_SHIP, [*REQUIRED_EFFECTS, "speed_loss", "sway"])
     runs = [run for run in model_test_programme(duration=40.0, ship=HIDDEN_SHIP) if run.kind == "turn"][:2]
     logs = sail_all(ReplayModel(model), runs, seed=1)
-    return logs, cross_validate(model, logs)
-
-
-def test_a_ladder_weighs_it_and_a_gain_below_its_bound_is_no_evidence(two_turns_fitted):
-    """By default ``diagnose`` weighs it like any candidate (no refits here: ``refit=0``). On these turns the residual
-    asks for a drift resistance of -82 scales (the free regression explains 2.7 % of it), which the gain's bound of 0
-    forbids: the evidence is the regression within the range, nothing, so it takes no place among the candidates
-    a ladder pairs (on the basin truth's seed 1 such evidence displaced the slipstream + rudder drag it adds)."""
-    logs, current = two_turns_fitted
+    current = cross_validate(model, logs)
     by_default = {c.effects: c for c in diagnose(current, logs, FitOptions(), refit=0).candidates}
-    assert not by_default[("drift_resistance",)].skipped
-    found = by_default[("drift_resistance",)].evidence
-    assert found is not None
-    assert found.variance_explained == 0.0
-    assert found.linearised == {"drift_resistance.gain": 0.0}
-
-
-def test_the_regression_within_ranges_is_the_free_one_inside_them_and_the_bounded_one_outside():
-    """Two regressors against a target built from steps (2, -1): with both ranges open the steps and the share are
-    numpy's least squares (bit for bit); with the second step held at or above 0 it sits at 0 and the first is the
-    regression on the first column alone, the share the fall of the sum of squares."""
-    rng = np.random.default_rng(3)
-    regressors = rng.normal(size=(200, 2))
-    residual = -(regressors @ np.array([2.0, -1.0]) + 0.1 * rng.normal(size=200))
-    offset = make_term("rudder_offset.angle", ReplayModel(ShipModel(HIDDEN_SHIP, [*REQUIRED_EFFECTS, "rudder_offset"])))
-    wide = [replace(offset, lower=-1e9, upper=1e9, null=0.0, scale=1.0)] * 2
-    steps, share = explained_within_ranges(residual, regressors, wide)
-    free = np.linalg.lstsq(regressors, -residual, rcond=None)[0]
-    assert np.array_equal(steps, free)
-    assert share == pytest.approx(float((regressors @ free) @ (regressors @ free) / (residual @ residual)), rel=1e-15)
-    held = [wide[0], replace(wide[1], lower=0.0)]
-    steps, share = explained_within_ranges(residual, regressors, held)
-    alone = np.linalg.lstsq(regressors[:, :1], -residual, rcond=None)[0][0]
-    assert steps == pytest.approx([alone, 0.0], abs=1e-12)
-    remaining = residual + regressors[:, 0] * alone
-    assert share == pytest.approx(1.0 - remaining @ remaining / (residual @ residual), rel=1e-12)
-    assert 0.0 < share < 0.9  # the first column explains part of what both did
+    assert by_default[("drift_resistance",)].skipped == ON_REQUEST["drift_resistance"]
+    named = {c.effects: c for c in diagnose(current, logs, FitOptions(), ["drift_resistance"], refit=0).candidates}
+    assert not named[("drift_resistance",)].skipped and named[("drift_resistance",)].evidence is not None

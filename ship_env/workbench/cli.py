@@ -25,7 +25,7 @@ from ship_env.command_line import UsageError, positive_number, whole_number
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
 from ship_env.model.arguments import EFFECT_SETS, effect_names, effect_set, ship_name
 from ship_env.text_table import WIDTH
-from ship_env.workbench.defaults import MIN_SEGMENT, NUISANCE, PAIR_WIDTH
+from ship_env.workbench.defaults import MIN_SEGMENT, NUISANCE, ON_REQUEST, PAIR_WIDTH
 from ship_env.workbench.fitting.parallel import usable_cores
 from ship_env.workbench.outputs import claim_file, claim_folder
 
@@ -392,7 +392,8 @@ def add_candidate_arguments(parser: argparse.ArgumentParser) -> None:
         type=effect_names,
         default=None,
         metavar="EFFECT[,EFFECT]",
-        help="effects that may be added (default: every effect the logs can show)",
+        help="effects that may be added (default: every effect the logs can show, less those tried only where "
+        f"named here: {', '.join(ON_REQUEST)})",
     )
     parser.add_argument(
         "--refit",

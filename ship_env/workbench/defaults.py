@@ -20,4 +20,15 @@ MIN_GAIN = 0.05
 #: Where no single effect pays, pairs of this many candidates (those with most evidence) are tried.
 PAIR_WIDTH = 4
 
-__all__ = ["MIN_GAIN", "MIN_SEGMENT", "NUISANCE", "PAIR_WIDTH"]
+#: Effects a ladder (``diagnose``, ``improve``) tries only where asked by name (``--candidates``), and why not by
+#: default.
+ON_REQUEST: dict[str, str] = {
+    "drift_resistance": (
+        "tried only where named (--candidates): its forcing -v r* is (2.55)'s r*^2 times gamma1* wherever the drift "
+        "has settled, so on the basin truth's zig-zags its residual evidence ranked it among the four strongest while "
+        "its refit went to its null, and it crowded the pair that the ladder would add out of the pairs it tries "
+        "(docs/results/free_running.md)"
+    ),
+}
+
+__all__ = ["MIN_GAIN", "MIN_SEGMENT", "NUISANCE", "ON_REQUEST", "PAIR_WIDTH"]

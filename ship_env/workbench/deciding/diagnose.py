@@ -8,9 +8,7 @@ For each effect the model lacks (and the logs can show, see :func:`~.terms.why_n
    from the effect off to the effect on at the preset's value). Their part that the fitted terms
    could already produce is projected out (columns of the fit's Jacobian); what remains is
    correlated with the residual. ``variance_explained`` is the share of the residual's sum of
-   squares the regressors take up, ``correlation`` its square root (the multiple correlation),
-   each term's step kept within its range (a residual that asks for a negative drag coefficient is
-   no evidence for a drag).
+   squares the regressors take up, ``correlation`` its square root (the multiple correlation).
    The regression's coefficients also give the linearised estimate the refit starts from.
 2. **Screening**: the effect is added and the model refitted cheaply -- a few Gauss-Newton
    iterations (``SCREENING_EVALUATIONS``) from the current fit with the new terms at their
@@ -39,10 +37,10 @@ from dataclasses import dataclass, replace
 from itertools import combinations
 
 import numpy as np
-from scipy.optimize import lsq_linear
 
 from ship_env.model import EFFECTS, ShipModel
 from ship_env.workbench.deciding.signals import ResidualSignals, residual_signals
+from ship_env.workbench.defaults import ON_REQUEST
 from ship_env.workbench.fitting.errors import ErrorScales, RunErrors
 from ship_env.workbench.fitting.fit import FitOptions, Problem
 from ship_env.workbench.fitting.replay import ReplayModel
@@ -202,25 +200,6 @@ def preset_values(setup: ReplayModel, keys: Sequence[str]) -> dict[str, float]:
     return {key: value_of(fresh, key) for key in keys}
 
 
-def explained_within_ranges(
-    residual: np.ndarray, regressors: np.ndarray, terms: Sequence[Term]
-) -> tuple[np.ndarray, float]:
-    """The regression of ``-residual`` on ``regressors`` (one column per term, a step of one scale from its null),
-    each step kept within its term's range, and the share of the residual's sum of squares it takes away. A
-    residual that asks for a drag below its bound of 0 is evidence of nothing the effect can do. The bounded
-    regression runs only where the free one leaves a range; elsewhere the numbers are the free regression's."""
-    total = float(residual @ residual)
-    steps = np.linalg.lstsq(regressors, -residual, rcond=None)[0]
-    lower = np.array([-np.inf if t.null is None else (t.lower - t.null) / t.scale for t in terms])
-    upper = np.array([np.inf if t.null is None else (t.upper - t.null) / t.scale for t in terms])
-    if np.all((steps >= lower) & (steps <= upper)):
-        explained = regressors @ steps
-        return steps, float(explained @ explained / total) if total > 0 else 0.0
-    steps = lsq_linear(regressors, -residual, bounds=(lower, upper), method="bvls").x
-    remaining = residual + regressors @ steps
-    return steps, float(1.0 - remaining @ remaining / total) if total > 0 else 0.0
-
-
 def evidence(current: CrossValidation, logs: Sequence[Log], effect: str, options: FitOptions) -> Evidence:
     """The score-test evidence for adding ``effect`` to the current fit (see the module docstring)."""
     fitted = current.fit
@@ -241,7 +220,9 @@ def evidence(current: CrossValidation, logs: Sequence[Log], effect: str, options
     jacobian = fitted.jacobian
     if jacobian.shape[1]:
         regressors = regressors - jacobian @ np.linalg.lstsq(jacobian, regressors, rcond=None)[0]
-    coefficients, share = explained_within_ranges(without, regressors, terms)
+    coefficients = np.linalg.lstsq(regressors, -without, rcond=None)[0]
+    explained = regressors @ coefficients
+    share = float(explained @ explained / (without @ without)) if without @ without > 0 else 0.0
     linearised = {}
     for term, step in zip(terms, coefficients, strict=True):
         if term.null is not None:
@@ -263,11 +244,15 @@ def diagnose(
         current: the current model's cross-validation (its all-run fit is the one diagnosed).
         logs: the runs, as fitted.
         options: the fit options (the same as the current fit's).
-        effects: the candidate effects (default: every effect the model lacks that the logs can show).
+        effects: the candidate effects (default: every effect the model lacks that the logs can show, less those
+            tried only on request, ``defaults.ON_REQUEST``).
         refit: refit only this many candidates, those with the most evidence (default: all).
     """
     options = (options or FitOptions()).for_runs(current.fit.setup.model, logs)
     possible, reasons = candidate_effects(current.fit.setup, logs)
+    if effects is None:
+        reasons.update({effect: ON_REQUEST[effect] for effect in possible if effect in ON_REQUEST})
+        possible = [effect for effect in possible if effect not in ON_REQUEST]
     chosen = possible if effects is None else [effect for effect in effects if effect in possible]
     skipped = [
         CandidateResult((effect,), skipped=reasons.get(effect, "already in the model"))

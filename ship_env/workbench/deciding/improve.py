@@ -145,7 +145,8 @@ def improve(
         logs: the runs (at least two: the error is held out); a run wholly outside the model's envelope is
             left out with a :class:`~.logs.LogWarning`, as the command line does (:func:`~.runs.screen_runs`).
         options: fit options (error scales, default scale-free for the runs kept; nuisance terms).
-        candidates: effects that may be added (default: all that the logs can show).
+        candidates: effects that may be added (default: all that the logs can show, less those tried only where
+            named, ``defaults.ON_REQUEST``).
         min_gain: an effect is added if it lowers the held-out score by at least this fraction.
         max_steps: most effects to add.
         refit: per step, refit only this many candidates with the most evidence.

@@ -23,6 +23,7 @@ from ship_env.envs.checks import check_choice, check_number, check_whole_number
 from ship_env.envs.envelope import envelope_limits
 from ship_env.envs.sensors import sensors_record
 from ship_env.envs.ship_scales import ship_scales
+from ship_env.envs.uniform_box import UniformBox
 from ship_env.envs.variation import FITTED, FittedShipVariation, ShipFactors, ShipVariation, sailed_conditions
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
 from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory
@@ -202,7 +203,7 @@ class ShipTask:
         self.full_rudder_rate_per_speed = self.model.parameter("yaw.gain") * self.rudder_limit / self.model.length
 
         if self.action_type == "continuous":
-            self.action_space: spaces.Space = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
+            self.action_space: spaces.Space = UniformBox(-1.0, 1.0, shape=(1,), dtype=np.float32)
             self._levels = np.zeros(0)
         else:
             self.action_space = spaces.Discrete(levels)

@@ -9,7 +9,8 @@ those and from the pickles' *opcodes*, which :mod:`pickletools` reads without ex
 
 - the observation and action spaces from their readable fields (:data:`SPACE_READERS`): a ``Box``
   from ``dtype``, ``_shape``, ``low`` and ``high`` (the bounds as numpy prints them: exact for
-  bounds of up to 8 decimals, such as every ship_env environment's), a ``Discrete`` from ``n`` and
+  bounds of up to 8 decimals, such as every ship_env environment's), ship_env's continuous action space
+  (:class:`~ship_env.envs.uniform_box.UniformBox`) from the same fields, a ``Discrete`` from ``n`` and
   ``start``; the pickle beside them must refer only to that space's class and numpy's arrays and
   random generators (:data:`NUMPY_PICKLE_GLOBALS`), so what is read is what SB3 would unpickle;
 - the policy class from its pickle, which must be one reference to a class of
@@ -40,6 +41,8 @@ from typing import Any
 import numpy as np
 import torch
 from gymnasium import spaces
+
+from ship_env.envs.uniform_box import UniformBox
 
 #: The policy classes a policy file may name: ship_env's (:mod:`ship_env.rl.features`), SB3's
 #: (PPO and A2C, SAC, TD3, DQN) and sb3-contrib's RecurrentPPO's.
@@ -201,6 +204,14 @@ def _box(name: str, entry: Mapping[str, Any]) -> spaces.Box:
     return spaces.Box(low, high, shape, dtype)
 
 
+def _uniform_box(name: str, entry: Mapping[str, Any]) -> UniformBox:
+    box = _box(name, entry)
+    low, high = box.low.flat[0], box.high.flat[0]
+    if not (np.all(box.low == low) and np.all(box.high == high)):
+        raise UnreadableEntry(f"{name}: a UniformBox whose bounds are not one value each: {box}")
+    return UniformBox(float(low), float(high), box.shape, box.dtype)
+
+
 def _discrete(name: str, entry: Mapping[str, Any]) -> spaces.Discrete:
     return spaces.Discrete(int(_field(name, entry, "n")), start=int(_field(name, entry, "start")))
 
@@ -208,6 +219,7 @@ def _discrete(name: str, entry: Mapping[str, Any]) -> spaces.Discrete:
 #: The spaces read from their readable fields: their ``:type:`` -> (their class, reader).
 SPACE_READERS: dict[str, tuple[str, Callable[[str, Mapping[str, Any]], spaces.Space]]] = {
     "<class 'gymnasium.spaces.box.Box'>": ("gymnasium.spaces.box.Box", _box),
+    "<class 'ship_env.envs.uniform_box.UniformBox'>": ("ship_env.envs.uniform_box.UniformBox", _uniform_box),
     "<class 'gymnasium.spaces.discrete.Discrete'>": ("gymnasium.spaces.discrete.Discrete", _discrete),
 }
 

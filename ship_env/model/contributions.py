@@ -134,9 +134,10 @@ class State:
         unit: its SI unit.
         description: what it holds, with the thesis symbol where there is one.
         initial: its value where a ship starts (a reset, the first sample of a replayed log): a
-            number, or a function whose argument names read the motion's states, the conditions,
-            principal particulars and parameters as a contribution's do (a lag that starts settled at
-            the actual rudder: ``lambda rudder: rudder``).
+            number, or a function whose argument names read the motion's states, the conditions, the
+            :data:`INPUTS` (u, r*), principal particulars and parameters as a contribution's do (a lag
+            that starts settled at the actual rudder: ``lambda rudder: rudder``; a drift settled at its
+            r*'s value: ``sway_lag``'s).
         white_noise: None, or a function (arguments as a contribution's) of the intensity with which
             unit white noise ``<name>_white_noise`` drives the state: the effect's contributions read
             that input; a step draws the noise only where an intensity is not zero.

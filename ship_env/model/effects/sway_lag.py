@@ -102,15 +102,10 @@ def drift_rate(
     return scheduling_speed / length * (settled - lagging_drift) / time_constant
 
 
-def settled_start(rate_of_turn, speed_loss, service_speed, length, minimum_speed, sway_on, sway_linear, sway_cubic):
-    """A ship starts with its drift settled at (2.47)'s value."""
-    normalised_rate = length * rate_of_turn / max(service_speed * (1.0 - speed_loss), minimum_speed)
-    return settled_drift(normalised_rate, sway_on, sway_linear, sway_cubic)
-
-
 CONTRIBUTIONS = (
     Contribution("sway_velocity", velocity),
     Contribution("restoring", restoring),
     Contribution("lagging_drift_derivative", drift_rate),
 )
-STATES = (State("lagging_drift", "-", "v* = v / u, the drift lagging its settled value (2.47)", initial=settled_start),)
+#: A ship starts with its drift settled at (2.47)'s value.
+STATES = (State("lagging_drift", "-", "v* = v / u, the drift lagging its settled value (2.47)", initial=settled_drift),)

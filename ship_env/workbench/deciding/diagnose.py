@@ -172,13 +172,18 @@ class Diagnosis:
         return best if best is not None and best.cross_validation is not None else None
 
 
-def candidate_effects(setup: ReplayModel, logs: Sequence[Log]) -> tuple[list[str], dict[str, str]]:
-    """The effects that could be added (in ``EFFECTS`` order) and, for the rest, why not."""
+def candidate_effects(
+    setup: ReplayModel, logs: Sequence[Log], named: Sequence[str] | None = None
+) -> tuple[list[str], dict[str, str]]:
+    """The effects that could be added (in ``EFFECTS`` order) and, for the rest, why not; an effect tried only on
+    request (``defaults.ON_REQUEST``) is one only where ``named`` names it."""
     possible, reasons = [], {}
     for effect in EFFECTS:
         if setup.model.has(effect):
             continue
         reason = why_not_fitted(effect, setup.model, logs)
+        if reason is None and effect in ON_REQUEST and effect not in (named or ()):
+            reason = ON_REQUEST[effect]
         if reason is None:
             possible.append(effect)
         else:
@@ -249,10 +254,7 @@ def diagnose(
         refit: refit only this many candidates, those with the most evidence (default: all).
     """
     options = (options or FitOptions()).for_runs(current.fit.setup.model, logs)
-    possible, reasons = candidate_effects(current.fit.setup, logs)
-    if effects is None:
-        reasons.update({effect: ON_REQUEST[effect] for effect in possible if effect in ON_REQUEST})
-        possible = [effect for effect in possible if effect not in ON_REQUEST]
+    possible, reasons = candidate_effects(current.fit.setup, logs, effects)
     chosen = possible if effects is None else [effect for effect in effects if effect in possible]
     skipped = [
         CandidateResult((effect,), skipped=reasons.get(effect, "already in the model"))

@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 import yaml
 
+import ship_env
 from ship_env.baselines.filter_health import FilterDivergenceError
 from ship_env.baselines.presys import indirect_adaptive_controller
 from ship_env.cli import main
@@ -162,6 +163,52 @@ def test_sailing_beyond_the_fitted_runs_warns_once_naming_the_quantity_the_value
     assert "sailed at rudder 35 deg" in rudder[0]
     assert f"(|rudder| <= {math.degrees(ranges['rudder']['high']):.3g} deg)" in rudder[0]
     assert str(model.ship.path) in rudder[0]
+
+
+def _with_speed_coverage(folder: Path, low: float, high: float) -> Path:
+    """The ``kvlcc2`` preset (with its speed loss) as a fit whose runs sailed at ``low`` to ``high`` times its service
+    speed."""
+    document = yaml.safe_load((Path(ship_env.__file__).parent / "configs" / "ships" / "kvlcc2.yaml").read_text())
+    service_speed = ShipModel("kvlcc2").service_speed
+    speed = {"low": low * service_speed, "high": high * service_speed}
+    document["fitted"] = {"coverage": {"ranges": {"speed": speed}}}
+    path = folder / f"speeds_{low}_{high}.yaml"
+    path.write_text(yaml.safe_dump(document))
+    return path
+
+
+def test_a_turn_that_slows_the_ship_below_the_fitted_runs_speeds_warns_once(tmp_path):
+    """A hard-over turn that loses more speed than the fitted zig-zags did sails a speed loss, a rudder inflow and a
+    slipstream share the fit never saw: the speed is checked after every step as r* is."""
+    model = ShipModel(_with_speed_coverage(tmp_path, 0.8, 1.01))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        simulator = Simulator(model, dt=1.0)
+        for _ in range(100):
+            simulator.step(math.radians(10.0))  # a 10 deg turn keeps 98 % of the speed: inside
+        assert not caught
+        for seed in range(2):
+            simulator.reset(seed=seed)
+            for _ in range(600):
+                simulator.step(HARD_OVER)
+            speed_loss = float(simulator.state[0, S.SPEED_LOSS])
+    (message,) = (str(w.message) for w in caught if issubclass(w.category, CoverageWarning))
+    service_speed = model.service_speed
+    assert speed_loss > 0.2  # the turn loses more than the runs' 20 %
+    assert (
+        "sailed at speed " in message
+        and f"(speed {0.8 * service_speed:.3g} to {1.01 * service_speed:.3g} m/s)" in message
+    )
+    assert float(message.split("sailed at speed ")[1].split(" m/s")[0]) < 0.8 * service_speed
+
+
+def test_a_ship_faster_than_the_fitted_runs_warns_at_its_first_step(tmp_path):
+    model = ShipModel(_with_speed_coverage(tmp_path, 0.5, 0.9))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        Simulator(model, dt=1.0).step(0.0)
+    (message,) = (str(w.message) for w in caught if issubclass(w.category, CoverageWarning))
+    assert f"sailed at speed {model.service_speed:.3g} m/s" in message
 
 
 def test_a_value_just_beyond_the_range_is_shown_apart_from_it():

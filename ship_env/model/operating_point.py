@@ -13,8 +13,11 @@ manoeuvres and the leaderboard, not at 0 rps where the rudder is weaker.
 
 A fitted preset also records the ranges its runs covered (``fitted.coverage``,
 :mod:`ship_env.workbench.judging.coverage`): the propeller rate, ``r* = L |r| / max(u, u_min)``, the drift angle
-``|atan2(-v, u)|`` and the rudder angle ``|delta|``. A :class:`~ship_env.model.Simulator` sailing it beyond
-them (:class:`FittedRanges`: the propeller rate where a ship starts, the others after every step)
+``|atan2(-v, u)|``, the rudder angle ``|delta|`` and, where the logs measure it, the speed through the water
+``u`` (a hard-over turn that slows the ship below the speeds of the zig-zags it was fitted to sails where the
+rudder's inflow, the slipstream's share of it and the speed loss were never seen). A
+:class:`~ship_env.model.Simulator` sailing it beyond them (:class:`FittedRanges`: the propeller rate where a
+ship starts, the others after every step)
 warns with a :class:`CoverageWarning` naming the quantity, its value and the range, once per preset
 file and quantity in a process (a training loop is not flooded): the model extrapolates there. A
 preset without ``fitted.coverage`` (every built-in) never warns. The propeller rate is checked only
@@ -84,22 +87,28 @@ COVERAGE_QUANTITIES: dict[str, Quantity] = {
     "rudder": Quantity("rudder", "deg", math.degrees(1.0), False),
     "propeller": Quantity("propeller rate", "rps", 1.0, True),
 }
-#: The motion's quantities a simulator checks after each step, in the order of :func:`largest_motion`'s output.
-MOTION_QUANTITIES = ("rate", "drift", "rudder")
+#: The motion's quantities a simulator checks after each step: their largest values, then the speed's smallest and
+#: largest, in the order of :func:`motion_extremes`'s output.
+MOTION_QUANTITIES = ("rate", "drift", "rudder", "speed")
+#: The motion's quantities with an upper limit alone (magnitudes).
+_MAGNITUDES = MOTION_QUANTITIES[:3]
 
 #: (preset, quantity) pairs warned of in this process.
 _WARNED: set[tuple[str, str]] = set()
 
 
 @kernel
-def largest_motion(states, conditions, record, limits, out):
-    """The largest r* = L |r| / max(u, u_min), drift angle |atan2(-v, u)| and rudder angle |delta| over the
-    ships (``MOTION_QUANTITIES``), written to ``out``; ``record`` the model's parameter record. Whether any
-    exceeds its entry of ``limits``."""
+def motion_extremes(states, conditions, record, limits, out):
+    """Over the ships, the largest r* = L |r| / max(u, u_min), drift angle |atan2(-v, u)| and rudder angle |delta|,
+    and the smallest and largest speed u = U0 (1 - u*) (2.53), written to ``out`` (``MOTION_QUANTITIES``, the
+    speed's two last); ``record`` the model's parameter record. Whether any lies beyond ``limits``: the three
+    magnitudes' upper limits, then the speed's lower and upper ones."""
     p = record[0]
     out[0] = 0.0
     out[1] = 0.0
     out[2] = 0.0
+    out[3] = math.inf
+    out[4] = 0.0
     for i in range(states.shape[0]):
         state = states[i]
         speed = conditions[i, S.SERVICE_SPEED] * (1.0 - state[S.SPEED_LOSS])
@@ -107,7 +116,9 @@ def largest_motion(states, conditions, record, limits, out):
         if limits[1] < math.inf and speed >= p["minimum_speed"]:
             out[1] = max(out[1], abs(math.atan2(-sway_velocity(state, conditions[i], p), speed)))
         out[2] = max(out[2], abs(state[S.RUDDER]))
-    return out[0] > limits[0] or out[1] > limits[1] or out[2] > limits[2]
+        out[3] = min(out[3], speed)
+        out[4] = max(out[4], speed)
+    return out[0] > limits[0] or out[1] > limits[1] or out[2] > limits[2] or out[3] < limits[3] or out[4] > limits[4]
 
 
 @dataclass
@@ -125,14 +136,18 @@ class FittedRanges:
     propeller: bool = True
 
     def __post_init__(self) -> None:
-        self._motion = np.zeros(len(MOTION_QUANTITIES))
-        self._motion_limits = np.full(len(MOTION_QUANTITIES), math.inf)
+        self._motion = np.zeros(len(MOTION_QUANTITIES) + 1)
+        self._motion_limits = np.full(len(MOTION_QUANTITIES) + 1, math.inf)
         self._update_limits()
 
     def _update_limits(self) -> None:
-        """The motion's upper limits still to be warned of (inf: none, or warned of already)."""
-        for k, quantity in enumerate(MOTION_QUANTITIES):
+        """The motion's limits still to be warned of (inf, or -inf for the speed's lower one: none, or warned of
+        already), in the order of :func:`motion_extremes`'s."""
+        for k, quantity in enumerate(_MAGNITUDES):
             self._motion_limits[k] = self.ranges[quantity][1] if self._open(quantity) else math.inf
+        low, high = self.ranges["speed"] if self._open("speed") else (None, math.inf)
+        self._motion_limits[3] = -math.inf if low is None else low
+        self._motion_limits[4] = high
 
     def _open(self, quantity: str) -> bool:
         return quantity in self.ranges and (self.preset, quantity) not in _WARNED
@@ -172,10 +187,11 @@ class FittedRanges:
             self.check("propeller", float(rates.min()), float(rates.max()), stacklevel=3)  # the reset's caller
 
     def check_motion(self, states: np.ndarray, conditions: np.ndarray, record: np.ndarray) -> bool:
-        """Check the ships' r*, drift and rudder; whether any of them is still to be warned of."""
-        if largest_motion(states, conditions, record, self._motion_limits, self._motion):
-            for quantity, value in zip(MOTION_QUANTITIES, self._motion, strict=True):
+        """Check the ships' r*, drift, rudder and speed; whether any of them is still to be warned of."""
+        if motion_extremes(states, conditions, record, self._motion_limits, self._motion):
+            for quantity, value in zip(_MAGNITUDES, self._motion, strict=False):
                 self.check(quantity, float(value), float(value), stacklevel=4)  # the step's caller
+            self.check("speed", float(self._motion[3]), float(self._motion[4]), stacklevel=4)
             self._update_limits()
             return self.checking_motion
         return True
@@ -218,5 +234,5 @@ __all__ = [
     "FittedRanges",
     "Quantity",
     "fitted_ranges",
-    "largest_motion",
+    "motion_extremes",
 ]

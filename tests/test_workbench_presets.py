@@ -365,3 +365,22 @@ def test_a_ship_that_leaves_its_models_validity_leaves_the_suite_out_in_one_line
     (line,) = board.left_out
     assert "every controller fails" in line and "left the model's validity" in line and "not ranked" in line
     assert board.suites == () and board.results == ()
+
+
+def test_the_manoeuvres_say_how_far_they_sail_beyond_the_fitted_runs(fitted, tmp_path, capsys):
+    """Fitted on 20 deg zig-zags, the preset's 35 deg turn sails beyond its runs' rudder and r*; the printout and
+    the JSON say how far, each against the runs' range. The turn's largest r* is its steady one, K* (delta +
+    delta_0) for this Nomoto ship (2.26): r* rises to it without overshoot (thesis Fig. 2.7)."""
+    _, path = fitted
+    model = ShipModel(path)
+    ranges = yaml.safe_load(path.read_text())["fitted"]["coverage"]["ranges"]
+    figures = tmp_path / "figures.json"
+    assert main(["manoeuvre", "--ship", str(path), "--zigzag", "10/10", "--json", str(figures)]) == 0
+    printed = capsys.readouterr().out
+    steady = model.parameter("yaw.gain") * (math.radians(35.0) + model.parameter("rudder_offset.angle"))
+    rudder = f"rudder up to 35 deg (|rudder| <= {math.degrees(ranges['rudder']['high']):.3g} deg)"
+    rate = f"r* up to {steady:.3g} (|r*| <= {ranges['rate']['high']:.3g})"
+    assert f"  turning circle 35 deg stbd: {rate}; {rudder}" in printed, printed
+    turn, zigzag_10 = json.loads(figures.read_text())["manoeuvres"][:2]
+    assert turn["beyond_coverage"] == [rate, rudder]
+    assert zigzag_10["beyond_coverage"] == []  # a 10/10 zig-zag stays inside the 20/20 runs

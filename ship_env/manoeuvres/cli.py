@@ -139,6 +139,9 @@ def run_manoeuvres(args: argparse.Namespace) -> int:
     print(format_report(ship_line(model, settings.approach_speed(model)), results, checks, errors))
     if folds:
         print(_uncertainty_line(len(folds), [name for name, _ in tasks], fold_results))
+    beyond = _extrapolation_block(model, results)
+    if beyond:
+        print(beyond)
     if args.plot is not None:
         for result in results:
             plot_manoeuvre(result, args.plot / f"{result.slug}.png")
@@ -163,6 +166,18 @@ def _figure_errors(sailed: list[ManoeuvreResult | None]) -> dict[str, float]:
 
     results = [result for result in sailed if result is not None]
     return figure_errors([result.figures() for result in results]) if len(results) == len(sailed) else {}
+
+
+def _extrapolation_block(model: ShipModel, results: list[ManoeuvreResult]) -> str:
+    """How far each manoeuvre sailed beyond the fitted runs (nothing for a preset without a coverage)."""
+    from ship_env.manoeuvres.extrapolation import beyond_coverage
+
+    beyond = [(result.title, words) for result in results if (words := beyond_coverage(result, model))]
+    if not beyond:
+        return ""
+    lines = ["", "beyond the fitted runs (the preset's fitted.coverage: a figure there rests on the model's form):"]
+    lines += [f"  {title}: {'; '.join(words)}" for title, words in beyond]
+    return "\n".join(lines)
 
 
 def _uncertainty_line(count: int, names: list[str], fold_results: list[list[ManoeuvreResult | None]]) -> str:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 
+from ship_env.manoeuvres.extrapolation import beyond_coverage
 from ship_env.manoeuvres.imo import CriterionCheck
 from ship_env.manoeuvres.results import KNOT, Figure, ManoeuvreResult, fixed
 from ship_env.manoeuvres.spiral import SpiralTest
@@ -123,6 +124,8 @@ def report_dict(
             "label": result.label,
             "figures": {f.key: _figure_entry(f, run_errors.get(f.key)) for f in result.figures()},
         }
+        if model.fitted_ranges is not None:
+            entry["beyond_coverage"] = beyond_coverage(result, model)
         if isinstance(result, SpiralTest):
             entry["table"] = [
                 {

@@ -1,0 +1,48 @@
+"""How far a fitted preset's manoeuvres sail beyond the ranges its runs covered.
+
+A fitted preset records the ranges its runs covered (``fitted.coverage``: r*, rudder angle, speed through the
+water, drift, propeller rate; :mod:`ship_env.model.operating_point`), and a simulator sailing it warns once per
+quantity where it first crosses one, with the value at that step: a hard-over turn fitted on zig-zags warns at
+r* 0.5844 against the runs' 0.5842 as it passes, whatever r* it then settles at. A figure read where the ship has
+gone far beyond its runs rests on the model's form, not on the runs, and its jackknife band
+(:mod:`ship_env.manoeuvres.uncertainty`) does not cover that. This module says, for each manoeuvre, how far it went:
+the largest r* = L |r| / max(u, u_min) (2.40) and rudder angle, and the lowest and highest speed along its time
+series, against the runs' ranges.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ship_env.manoeuvres.results import ManoeuvreResult
+from ship_env.model import ShipModel
+from ship_env.model.operating_point import COVERAGE_QUANTITIES
+
+
+def beyond_coverage(result: ManoeuvreResult, model: ShipModel) -> list[str]:
+    """Each quantity the manoeuvre sailed beyond the fitted runs' range, in words ("r* up to 0.594 (|r*| <=
+    0.584)", "speed down to 0.631 m/s (speed 0.737 to 1.18 m/s)"); none for a preset without a coverage."""
+    if model.fitted_ranges is None:
+        return []
+    ranges = model.fitted_ranges.ranges
+    series = result.time_series
+    speed = series["speed"].to_numpy()
+    scheduling_speed = np.maximum(speed, model.parameter("minimum_speed"))
+    rate = model.length * np.abs(series["rate_of_turn"].to_numpy()) / scheduling_speed
+    sailed = {
+        "rate": (float(rate.min()), float(rate.max())),
+        "rudder": (0.0, float(np.abs(series["rudder"].to_numpy()).max())),
+        "speed": (float(speed.min()), float(speed.max())),
+    }
+    words = []
+    for quantity, (lowest, highest) in sailed.items():
+        if quantity not in ranges:
+            continue
+        covered_low, covered_high = ranges[quantity]
+        shown = COVERAGE_QUANTITIES[quantity]
+        covered = shown.range_words(covered_low, covered_high)
+        if highest > covered_high:
+            words.append(f"{shown.words} up to {shown.value_words(highest)} ({covered})")
+        if covered_low is not None and lowest < covered_low:
+            words.append(f"{shown.words} down to {shown.value_words(lowest)} ({covered})")
+    return words

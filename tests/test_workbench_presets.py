@@ -267,6 +267,12 @@ def test_fit_writes_a_preset_that_compare_sails_and_never_overwrites_without_for
     assert main(fit) == 0
     document = yaml.safe_load(preset.read_text())
     assert document["fitted"]["command"] == "ship-env " + " ".join(fit)
+    rudder_covered = math.degrees(document["fitted"]["coverage"]["ranges"]["rudder"]["high"])
+    assert (
+        "its hard-over turning circle sails beyond the fitted runs: r* up to "  # fitted on 20/20 zig-zags
+        in (printed := capsys.readouterr().out)
+    ), printed
+    assert f"rudder up to 35 deg (|rudder| <= {rudder_covered:.3g} deg)" in printed
     assert document["effects"]["rudder_offset"]["enabled"] is True
     capsys.readouterr()
     assert main(["compare", str(folder), "--ship", str(preset), "--model", "default"]) == 0
@@ -278,6 +284,20 @@ def test_fit_writes_a_preset_that_compare_sails_and_never_overwrites_without_for
     assert "fitted terms" not in output.out  # refused before any fitting
     assert preset.read_text() == written
     assert main([*fit, "--force"]) == 0
+
+
+def test_a_preset_whose_hard_over_turn_diverges_is_written_and_says_so(sailed, tmp_path, capsys, monkeypatch):
+    _, folder, _ = sailed
+    preset = tmp_path / "ship.yaml"
+
+    def diverging(model: ShipModel) -> list[str]:
+        raise FloatingPointError("ship 0 left the model's validity at t = 47.5 s: speed_loss u* = 1.010 > 1")
+
+    monkeypatch.setattr("ship_env.manoeuvres.extrapolation.hard_over_turn_beyond", diverging)
+    assert main(["fit", str(folder), "--ship", SHIP, "--workers", "1", "--preset", str(preset)]) == 0
+    printed = capsys.readouterr().out
+    assert "its hard-over turning circle leaves the model's validity: ship 0 left the model's validity" in printed
+    assert ShipModel(preset).has("yaw")
 
 
 @pytest.mark.slow

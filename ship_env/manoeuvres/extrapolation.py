@@ -12,11 +12,13 @@ series, against the runs' ranges.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 
 from ship_env.manoeuvres.results import ManoeuvreResult
 from ship_env.model import ShipModel
-from ship_env.model.operating_point import COVERAGE_QUANTITIES
+from ship_env.model.operating_point import COVERAGE_QUANTITIES, CoverageWarning
 
 
 def beyond_coverage(result: ManoeuvreResult, model: ShipModel) -> list[str]:
@@ -46,3 +48,15 @@ def beyond_coverage(result: ManoeuvreResult, model: ShipModel) -> list[str]:
         if covered_low is not None and lowest < covered_low:
             words.append(f"{shown.words} down to {shown.value_words(lowest)} ({covered})")
     return words
+
+
+def hard_over_turn_beyond(model: ShipModel) -> list[str]:
+    """How far ``model``'s turning circle at its rudder limit, to starboard, sails beyond its runs
+    (:func:`beyond_coverage`); the simulator's own warnings of it are left out (their place is a sailing user's)."""
+    from ship_env.manoeuvres.turning_circle import turning_circle
+
+    if model.fitted_ranges is None:
+        return []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoverageWarning)
+        return beyond_coverage(turning_circle(model, model.rudder_limit), model)

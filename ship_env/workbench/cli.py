@@ -224,6 +224,7 @@ def start_command(args: argparse.Namespace, fitting: bool = True) -> tuple[Repla
 
 def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, runs: WorkbenchRuns) -> None:
     """``--preset FILE``: the fitted model as a ship preset (claimed before any work)."""
+    from ship_env.manoeuvres.extrapolation import hard_over_turn_beyond
     from ship_env.workbench.reporting.presets import preset_document, write_preset
 
     if args.preset is None:
@@ -231,6 +232,16 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
     command = "ship-env " + shlex.join(args.argv)
     write_preset(preset_document(validation, runs.logs, command, args.preset.stem, runs.validation), args.preset)
     print(f"fitted preset written to {args.preset} (sail it: ShipModel({str(args.preset)!r}), --ship {args.preset})")
+    try:
+        beyond = hard_over_turn_beyond(ShipModel(args.preset))
+    except FloatingPointError as error:
+        print(f"  its hard-over turning circle leaves the model's validity: {error}")
+        return
+    if beyond:
+        print(
+            f"  its hard-over turning circle sails beyond the fitted runs: {'; '.join(beyond)}; its figures rest on "
+            f"the model's form there (ship-env manoeuvre --ship {args.preset})"
+        )
 
 
 # -- the arguments and examples ---------------------------------------------------------------

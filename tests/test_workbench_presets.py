@@ -23,6 +23,7 @@ from ship_env.leaderboard.board import run_leaderboard
 from ship_env.leaderboard.suites import NOMINAL, SuiteSpec
 from ship_env.manoeuvres.uncertainty import fold_models, jackknife_error
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
+from ship_env.model.operating_point import CoverageWarning
 from ship_env.workbench import FitOptions, ReplayModel, compare, cross_validate, load_logs, simulate, write_log
 from ship_env.workbench.fitting.errors import ErrorScales
 from ship_env.workbench.reporting.presets import (
@@ -273,6 +274,8 @@ def test_fit_writes_a_preset_that_compare_sails_and_never_overwrites_without_for
         in (printed := capsys.readouterr().out)
     ), printed
     assert f"rudder up to 35 deg (|rudder| <= {rudder_covered:.3g} deg)" in printed
+    with pytest.warns(CoverageWarning, match="sailed at rudder 35 deg"):  # left for the user's own sailing
+        Simulator(ShipModel(preset)).step(math.radians(35.0))
     assert document["effects"]["rudder_offset"]["enabled"] is True
     capsys.readouterr()
     assert main(["compare", str(folder), "--ship", str(preset), "--model", "default"]) == 0

@@ -12,13 +12,13 @@ series, against the runs' ranges.
 
 from __future__ import annotations
 
-import warnings
+import copy
 
 import numpy as np
 
 from ship_env.manoeuvres.results import ManoeuvreResult
 from ship_env.model import ShipModel
-from ship_env.model.operating_point import COVERAGE_QUANTITIES, CoverageWarning
+from ship_env.model.operating_point import COVERAGE_QUANTITIES
 
 
 def beyond_coverage(result: ManoeuvreResult, model: ShipModel) -> list[str]:
@@ -52,11 +52,12 @@ def beyond_coverage(result: ManoeuvreResult, model: ShipModel) -> list[str]:
 
 def hard_over_turn_beyond(model: ShipModel) -> list[str]:
     """How far ``model``'s turning circle at its rudder limit, to starboard, sails beyond its runs
-    (:func:`beyond_coverage`); the simulator's own warnings of it are left out (their place is a sailing user's)."""
+    (:func:`beyond_coverage`). The turn is sailed by a copy that does not check the coverage, so that the
+    simulator's warnings, said once per preset and quantity in a process, are left for a user's own sailing."""
     from ship_env.manoeuvres.turning_circle import turning_circle
 
     if model.fitted_ranges is None:
         return []
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", CoverageWarning)
-        return beyond_coverage(turning_circle(model, model.rudder_limit), model)
+    unchecked = copy.copy(model)
+    unchecked.fitted_ranges = None
+    return beyond_coverage(turning_circle(unchecked, model.rudder_limit), model)

@@ -24,9 +24,9 @@ from ship_env.model.operating_point import COVERAGE_QUANTITIES
 def beyond_coverage(result: ManoeuvreResult, model: ShipModel) -> list[str]:
     """Each quantity the manoeuvre sailed beyond the fitted runs' range, in words ("r* up to 0.594 (|r*| <=
     0.584)", "speed down to 0.631 m/s (speed 0.737 to 1.18 m/s)"); none for a preset without a coverage."""
-    if model.fitted_ranges is None:
+    ranges = model.fitted_ranges
+    if ranges is None:
         return []
-    ranges = model.fitted_ranges.ranges
     series = result.time_series
     speed = series["speed"].to_numpy()
     scheduling_speed = np.maximum(speed, model.parameter("minimum_speed"))
@@ -38,15 +38,10 @@ def beyond_coverage(result: ManoeuvreResult, model: ShipModel) -> list[str]:
     }
     words = []
     for quantity, (lowest, highest) in sailed.items():
-        if quantity not in ranges:
-            continue
-        covered_low, covered_high = ranges[quantity]
         shown = COVERAGE_QUANTITIES[quantity]
-        covered = shown.range_words(covered_low, covered_high)
-        if highest > covered_high:
-            words.append(f"{shown.words} up to {shown.value_words(highest)} ({covered})")
-        if covered_low is not None and lowest < covered_low:
-            words.append(f"{shown.words} down to {shown.value_words(lowest)} ({covered})")
+        for value, limit in ranges.beyond(quantity, lowest, highest):
+            covered = shown.range_words(*ranges.ranges[quantity])
+            words.append(f"{shown.words} {'up' if value > limit else 'down'} to {shown.value_words(value)} ({covered})")
     return words
 
 

@@ -157,18 +157,22 @@ class FittedRanges:
         """Whether any motion quantity is still to be warned of for this preset."""
         return any(self._open(quantity) for quantity in MOTION_QUANTITIES)
 
-    def check(self, quantity: str, low: float, high: float, stacklevel: int = 2) -> None:
-        """Warn (once per preset and quantity) where values from ``low`` to ``high`` (SI) leave the range;
-        ``stacklevel`` as ``warnings.warn``'s, counted from this method's caller."""
-        if not self._open(quantity):
-            return
+    def beyond(self, quantity: str, low: float, high: float) -> list[tuple[float, float]]:
+        """Where values from ``low`` to ``high`` (SI) leave ``quantity``'s range: (value, limit) above its upper
+        limit, then below its lower one; none inside it or for a quantity the ranges do not hold."""
+        if quantity not in self.ranges:
+            return []
         covered_low, covered_high = self.ranges[quantity]
-        if high > covered_high:
-            value, limit = high, covered_high
-        elif covered_low is not None and low < covered_low:
-            value, limit = low, covered_low
-        else:
+        above = [(high, covered_high)] if high > covered_high else []
+        return above + ([(low, covered_low)] if covered_low is not None and low < covered_low else [])
+
+    def check(self, quantity: str, low: float, high: float, stacklevel: int = 2) -> None:
+        """Warn (once per preset and quantity) where values from ``low`` to ``high`` (SI) leave the range (the
+        first of :meth:`beyond`); ``stacklevel`` as ``warnings.warn``'s, counted from this method's caller."""
+        if not self._open(quantity) or not (left := self.beyond(quantity, low, high)):
             return
+        value, limit = left[0]
+        covered_low, covered_high = self.ranges[quantity]
         _WARNED.add((self.preset, quantity))
         words = COVERAGE_QUANTITIES[quantity]
         digits = words.digits_apart(value, limit)

@@ -34,6 +34,7 @@ from ship_env.model import state as S
 from ship_env.model.operating_point import CoverageWarning, FittedRanges
 from ship_env.workbench import FitOptions, ReplayModel, cross_validate, simulate
 from ship_env.workbench.fitting.errors import ErrorScales
+from ship_env.workbench.judging.free_running import compare_free_running
 from ship_env.workbench.reporting.presets import fitted_current, preset_document, site_conditions, write_preset
 from ship_env.workbench.synthetic.synthetic import Manoeuvre, hidden_effect_logs
 
@@ -209,6 +210,23 @@ def test_a_ship_faster_than_the_fitted_runs_warns_at_its_first_step(tmp_path):
         Simulator(model, dt=1.0).step(0.0)
     (message,) = (str(w.message) for w in caught if issubclass(w.category, CoverageWarning))
     assert f"sailed at speed {model.service_speed:.3g} m/s" in message
+
+
+def test_the_workbench_sails_a_new_fit_beyond_its_starting_presets_runs_without_their_warning(tmp_path):
+    """The workbench's free-running validation sails each fit through the runs. A fit's values are new, so the
+    coverage its starting preset records is not theirs (the preset the fit writes records its own): that sailing
+    warns of nothing, and the user's own sailing of the starting preset still warns."""
+    model = ShipModel(_with_speed_coverage(tmp_path, 0.5, 0.9))  # its service speed beyond the runs
+    speed = model.service_speed
+    zigzag = Manoeuvre("zigzag_20", "zigzag", math.radians(20.0), 1000.0, 50.0, start_speed=speed, final_speed=speed)
+    _, logs = hidden_effect_logs((), "kvlcc2", manoeuvres=[zigzag])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        (result,) = compare_free_running(ReplayModel(model), logs)
+        assert result.manoeuvre.kind == "zig-zag" and not result.cannot_sail
+        assert not caught
+        Simulator(model, dt=1.0).step(0.0)
+    assert [warning.category for warning in caught] == [CoverageWarning]
 
 
 def test_a_value_just_beyond_the_range_is_shown_apart_from_it():

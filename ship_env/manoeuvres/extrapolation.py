@@ -12,19 +12,18 @@ series, against the runs' ranges.
 
 from __future__ import annotations
 
-import copy
-
 import numpy as np
 
 from ship_env.manoeuvres.results import ManoeuvreResult
 from ship_env.model import ShipModel
-from ship_env.model.operating_point import COVERAGE_QUANTITIES
+from ship_env.model.operating_point import COVERAGE_QUANTITIES, FittedRanges
 
 
-def beyond_coverage(result: ManoeuvreResult, model: ShipModel) -> list[str]:
+def beyond_coverage(result: ManoeuvreResult, model: ShipModel, ranges: FittedRanges | None = None) -> list[str]:
     """Each quantity the manoeuvre sailed beyond the fitted runs' range, in words ("r* up to 0.594 (|r*| <=
-    0.584)", "speed down to 0.631 m/s (speed 0.737 to 1.18 m/s)"); none for a preset without a coverage."""
-    ranges = model.fitted_ranges
+    0.584)", "speed down to 0.631 m/s (speed 0.737 to 1.18 m/s)"); none for a preset without a coverage.
+    ``ranges``: the runs' ranges (default: ``model``'s preset's, ``fitted_ranges``)."""
+    ranges = model.fitted_ranges if ranges is None else ranges
     if ranges is None:
         return []
     series = result.time_series
@@ -53,6 +52,4 @@ def hard_over_turn_beyond(model: ShipModel) -> list[str]:
 
     if model.fitted_ranges is None:
         return []
-    unchecked = copy.copy(model)
-    unchecked.fitted_ranges = None
-    return beyond_coverage(turning_circle(unchecked, model.rudder_limit), model)
+    return beyond_coverage(turning_circle(model.without_coverage_check(), model.rudder_limit), model)

@@ -415,6 +415,15 @@ class ShipModel:
         """This model with some parameter values replaced (keys as in the constructor)."""
         return ShipModel(self.ship, self.effects, {**self.overrides, **parameters})
 
+    def without_coverage_check(self) -> ShipModel:
+        """This model, sailed without checking its preset's fitted ranges (:attr:`fitted_ranges` None): for the
+        sailing a tool does on the user's behalf and judges itself (how far a manoeuvre goes beyond the runs, the
+        workbench's validation of a new fit). The simulator's warnings, said once per preset and quantity in a
+        process, are then left for the user's own sailing."""
+        unchecked = copy.copy(self)
+        unchecked.fitted_ranges = None
+        return unchecked
+
     def scaled(self, factor: float | None = None, *, length: float | None = None) -> ShipModel:
         """This ship Froude-scaled by ``factor`` (lambda, new length / old) or to ``length`` (m), its preset
         rewritten with each number's source saying so (:func:`ship_env.model.froude.scaled_model`)."""

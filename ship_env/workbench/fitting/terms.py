@@ -314,7 +314,8 @@ def sailing_model(model: ShipModel, logs: Sequence[Log]) -> ShipModel:
     rate as its service condition, where they measure it, as the preset's ``service_conditions``) and with the
     starting preset's steering machine where every log records the actual rudder (the replay takes it as an
     input, so the fit leaves the machine out, but a preset ordered to put the rudder over must move it at the
-    machine's rate)."""
+    machine's rate). It sails without the starting preset's coverage check: its values are a new fit, whose ranges
+    the preset it writes records (:meth:`~ship_env.model.ShipModel.without_coverage_check`)."""
     machine = "steering_machine"
     effects = model.effects
     if machine in model.ship.enabled and not model.has(machine) and records_actual_rudder(logs):
@@ -323,9 +324,9 @@ def sailing_model(model: ShipModel, logs: Sequence[Log]) -> ShipModel:
     ship = model.ship
     if rates is not None:
         ship = replace(ship, service_conditions={**ship.service_conditions, "propeller_rate": float(np.median(rates))})
-    if ship is model.ship and effects == model.effects:
-        return model
-    return ShipModel(ship, effects, model.overrides)
+    if ship is not model.ship or effects != model.effects:
+        model = ShipModel(ship, effects, model.overrides)
+    return model.without_coverage_check()
 
 
 def replay_inputs(logs: Sequence[Log]) -> list[str]:

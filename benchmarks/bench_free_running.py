@@ -27,7 +27,12 @@ diameter within 5 %, steady rate of turn and speed loss within 10 % (the means o
 overshoot within 2 deg. Prints one table with PASS or FAIL per figure and the time the fit took, for each of five
 trials (the sensors' noise drawn from another seed) and how many pass every bound.
 
+``--fit fit-mmg`` fits the MMG standard's 3-DOF forces by inverse dynamics instead (``ship-env fit-mmg LOGS/zigzag
+--ship PRESET -o fitted_mmg.yaml``); the fitted model and the truth sail the judged manoeuvres from the same
+approach with the same rudder programme, and each side's figures are read from its time series by the same code.
+
 Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...] [--truth PRESET|mmg|mmg-basin]
+          [--fit improve|fit-mmg]
 """
 
 from __future__ import annotations
@@ -38,7 +43,7 @@ import math
 import tempfile
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 from ship_env.cli import main
@@ -109,6 +114,10 @@ JUDGED = (
 CRITERIA = tuple((name, *JUDGED_FIGURES[key][:2]) for name, key in JUDGED)
 
 
+#: ``--fit``: the workbench's error ladder (``ship-env improve``, the default) or the MMG standard's forces by
+#: inverse dynamics (``ship-env fit-mmg``).
+IMPROVE = "improve"
+FIT_MMG = "fit-mmg"
 #: ``--truth mmg``: shipmmg's MMG KVLCC2, sailed through the external-dynamics protocol; the workbench starts from
 #: the ``kvlcc2`` preset.
 MMG = "mmg"
@@ -222,20 +231,54 @@ class Verdict:
     cannot_turn: str = ""
 
 
-def judge(seed: int, folder: Path, truth: Truth | None = None, truth_logs: Sequence[Log] | None = None) -> Verdict:
-    """Sail the truth's zig-zags with this seed's sensor noise, fit them with ``improve``'s defaults, and judge the
-    fitted preset's manoeuvres against the truth's (``truth_logs``: the judged runs, sailed once for every seed)."""
+def mmg_figures(truth: Truth, truth_logs: Sequence[Log], fitted: Path) -> tuple[dict[str, float], dict[str, float]]:
+    """The judged figures of the truth's runs and of the fitted MMG model (``ship-env fit-mmg``'s file) sailing the
+    same manoeuvres from the same approach, each read by the same code from its time series."""
+    from ship_env.model.mmg_fitted import MmgFitted, read_mmg
+    from ship_env.workbench.judging.free_running import Series, manoeuvre_figures, read_manoeuvre
+
+    predicted_logs = sail_truth(
+        replace(truth, dynamics=functools.partial(MmgFitted, read_mmg(fitted))), JUDGED_RUNS, TURNING_LENGTHS, 0, EXACT
+    )
+    sides = []
+    for logs in (truth_logs, predicted_logs):
+        values: dict[str, list[float]] = {}
+        for log in logs:
+            series = Series.of_log(log)
+            for figure in manoeuvre_figures(series, read_manoeuvre(series), truth.model.length):
+                values.setdefault(figure.key, []).append(figure.value)
+        sides.append({name: sum(values[key]) / len(values[key]) for name, key in JUDGED})
+    return sides[0], sides[1]
+
+
+def judge(
+    seed: int, folder: Path, truth: Truth | None = None, truth_logs: Sequence[Log] | None = None, fit: str = IMPROVE
+) -> Verdict:
+    """Sail the truth's zig-zags with this seed's sensor noise, fit them with ``improve``'s defaults (or ``fit-mmg``'s,
+    ``fit`` :data:`FIT_MMG`), and judge the fitted ship's manoeuvres against the truth's (``truth_logs``: the judged
+    runs, sailed once for every seed)."""
     truth = make_truth() if truth is None else truth
     truth_logs = sail_truth(truth, JUDGED_RUNS, TURNING_LENGTHS, 0, EXACT) if truth_logs is None else truth_logs
     write_zigzag_logs(truth, folder / "zigzag", seed)
-    preset = folder / "fitted.yaml"
+    preset = folder / ("fitted.yaml" if fit == IMPROVE else "fitted_mmg.yaml")
     start = time.perf_counter()
-    command = ["improve", str(folder / "zigzag"), "--ship", truth.ship, "--preset", str(preset)]
-    status = main([*command, "--report", str(folder / "report")])
+    if fit == IMPROVE:
+        command = ["improve", str(folder / "zigzag"), "--ship", truth.ship, "--preset", str(preset)]
+        command += ["--report", str(folder / "report")]
+    else:
+        command = ["fit-mmg", str(folder / "zigzag"), "--ship", truth.ship, "-o", str(preset)]
+    status = main(command)
     seconds = time.perf_counter() - start
     if status != 0:
         raise RuntimeError(f"ship-env {' '.join(command)} failed ({status})")
-    expected, predicted, cannot = figures(truth_logs, ShipModel(preset))
+    if fit == FIT_MMG:
+        try:
+            expected, predicted = mmg_figures(truth, truth_logs, preset)
+        except FloatingPointError as error:  # the fitted model left its validity in a judged manoeuvre
+            return Verdict(seed, seconds, (), len(CRITERIA), str(error))
+        cannot = ""
+    else:
+        expected, predicted, cannot = figures(truth_logs, ShipModel(preset))
     if cannot:
         return Verdict(seed, seconds, (), len(CRITERIA), cannot)
     rows = []
@@ -249,11 +292,11 @@ def judge(seed: int, folder: Path, truth: Truth | None = None, truth_logs: Seque
     return Verdict(seed, seconds, tuple(rows), sum(row[-1] == "FAIL" for row in rows))
 
 
-def main_benchmark(keep: Path | None, seeds: Sequence[int], truth_name: str = SHIP) -> int:
+def main_benchmark(keep: Path | None, seeds: Sequence[int], truth_name: str = SHIP, fit: str = IMPROVE) -> int:
     folder = Path(tempfile.mkdtemp(prefix="free_running_")) if keep is None else keep
     truth = make_truth(truth_name, folder)
     truth_logs = sail_truth(truth, JUDGED_RUNS, TURNING_LENGTHS, 0, EXACT)
-    verdicts = [judge(seed, folder / f"seed_{seed}", truth, truth_logs) for seed in seeds]
+    verdicts = [judge(seed, folder / f"seed_{seed}", truth, truth_logs, fit) for seed in seeds]
     header = ("figure (mean of 35 deg stbd and port)", "truth", "fitted preset", "error", "within", "")
     for verdict in verdicts:
         print(f"\nseed {verdict.seed}: the fit on {len(truth.zigzags)} zig-zags ({truth_name}) took "
@@ -279,5 +322,12 @@ if __name__ == "__main__":
         default=SHIP,
         help=f"the preset the truth is made from, {MMG!r} or {MMG_BASIN!r} (default: %(default)s)",
     )
+    parser.add_argument(
+        "--fit",
+        choices=(IMPROVE, FIT_MMG),
+        default=IMPROVE,
+        help="how the zig-zags are fitted: the error ladder (ship-env improve) or the MMG standard's forces by inverse "
+        "dynamics (ship-env fit-mmg) (default: %(default)s)",
+    )
     arguments = parser.parse_args()
-    raise SystemExit(main_benchmark(arguments.keep, arguments.seeds, arguments.truth))
+    raise SystemExit(main_benchmark(arguments.keep, arguments.seeds, arguments.truth, arguments.fit))

@@ -27,6 +27,10 @@ from pathlib import Path
 SUBCOMMANDS: dict[str, tuple[str, str]] = {
     "manoeuvre": ("sail the standard manoeuvres and print their IMO figures", "ship_env.manoeuvres.cli:COMMAND"),
     "fit": ("fit the model to measured logs and validate it leaving one run out", "ship_env.workbench.cli_fit:COMMAND"),
+    "fit-mmg": (
+        "fit the MMG standard's 3-DOF forces to measured logs by inverse dynamics, and sail the fit free",
+        "ship_env.workbench.cli_fit_mmg:COMMAND",
+    ),
     "compare": ("replay logs with a model and print its RMS errors", "ship_env.workbench.cli_compare:COMMAND"),
     "diagnose": ("rank the physical effects the model lacks", "ship_env.workbench.cli_diagnose:COMMAND"),
     "improve": (

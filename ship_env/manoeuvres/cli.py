@@ -13,7 +13,10 @@ import json
 import math
 import re
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from functools import partial
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from tqdm import tqdm
@@ -30,7 +33,9 @@ from ship_env.model import EFFECTS, ShipModel, list_ships
 from ship_env.model.arguments import EFFECT_SETS, effect_set, ship_name
 
 if TYPE_CHECKING:
-    from ship_env.manoeuvres import ManoeuvreResult
+    from ship_env.manoeuvres import CriterionCheck, ManoeuvreResult, TrialSettings
+    from ship_env.model.mmg_fitted import MmgRecord
+    from ship_env.model.operating_point import FittedRanges
 
 #: Rudder of the steady turns before the pull-out, deg (or the rudder limit, if smaller).
 PULL_OUT_RUDDER_DEG = 20.0
@@ -82,12 +87,88 @@ def _check_rudder(model: ShipModel, argument: str, degrees: float, shown: str) -
         raise UsageError(argument, f"{shown} exceeds the rudder limit of {limit:g} deg of {model.ship.name}")
 
 
+#: A manoeuvre to sail: its name, and how a ship (its model and trial settings) sails it.
+Task = tuple[str, "Callable[[ShipModel, TrialSettings], ManoeuvreResult]"]
+
+
+@dataclass(frozen=True)
+class Sailing:
+    """Who sails the manoeuvres: the ship, the jackknife's ships (each a model and its settings: a fitted preset's
+    folds, or a fitted MMG model's) and the ranges the fit's runs covered (None: not a fit)."""
+
+    model: ShipModel
+    settings: TrialSettings
+    folds: list[tuple[ShipModel, TrialSettings]]
+    ranges: FittedRanges | None
+
+    @classmethod
+    def of(cls, model: ShipModel, settings: TrialSettings) -> Sailing:
+        """``model`` sailed with ``settings``: its preset's folds and coverage, or, where ``settings.dynamics`` is a
+        fitted MMG model's file, that model's (:meth:`fitted`)."""
+        from ship_env.manoeuvres.uncertainty import fold_models
+        from ship_env.model.mmg_fitted import read_mmg
+
+        dynamics = settings.dynamics
+        if isinstance(dynamics, (str, Path)) and str(dynamics).endswith((".yaml", ".yml")):
+            return cls.fitted(model, settings, read_mmg(dynamics))
+        if dynamics is not None:
+            return cls(model, settings, [], None)
+        return cls(model, settings, [(fold, settings) for fold in fold_models(model)], model.fitted_ranges)
+
+    @classmethod
+    def fitted(cls, model: ShipModel, settings: TrialSettings, record: MmgRecord) -> Sailing:
+        """The fitted MMG model ``record`` sailed with ``settings`` (its dynamics replaced), its folds and its
+        runs' coverage; ``model`` the preset of its particulars."""
+        from ship_env.model.mmg_fitted import MmgFitted
+
+        folds = [(model, replace(settings, dynamics=partial(MmgFitted, fold))) for fold in record.fold_records()]
+        return cls(model, replace(settings, dynamics=partial(MmgFitted, record)), folds, record.fitted_ranges())
+
+
+@dataclass(frozen=True)
+class SailedReport:
+    """The manoeuvres sailed: their results, the criteria, the figures' jackknife errors (None without folds) and
+    the report's text."""
+
+    results: list[ManoeuvreResult]
+    checks: list[CriterionCheck]
+    errors: list[dict[str, float]] | None
+    text: str
+
+
+def sail_report(sailing: Sailing, tasks: Sequence[Task], title: str) -> SailedReport:
+    """Sail ``tasks`` with the ship and each of its folds; the report (``title`` its first line), the jackknife's
+    line and how far each manoeuvre went beyond the fit's runs.
+
+    Raises:
+        FloatingPointError: the ship left its model's validity in a manoeuvre (named).
+    """
+    from ship_env.manoeuvres import check_criteria, format_report
+
+    results = []
+    fold_results: list[list[ManoeuvreResult | None]] = []
+    with tqdm(tasks, desc="manoeuvres", unit="manoeuvre", file=sys.stderr, leave=False) as progress:
+        for name, task in progress:
+            progress.set_postfix_str(name)
+            try:
+                results.append(task(sailing.model, sailing.settings))
+            except FloatingPointError as error:
+                raise FloatingPointError(f"{name} failed: {error}") from None
+            fold_results.append([_sailed_or_none(task, *fold) for fold in sailing.folds])
+    checks = check_criteria(results)
+    errors = [_figure_errors(sailed) for sailed in fold_results] if sailing.folds else None
+    lines = [format_report(title, results, checks, errors)]
+    if sailing.folds:
+        lines.append(_uncertainty_line(len(sailing.folds), [name for name, _ in tasks], fold_results))
+    if beyond := _extrapolation_block(sailing, results):
+        lines.append(beyond)
+    return SailedReport(results, checks, errors, "\n".join(lines))
+
+
 def run_manoeuvres(args: argparse.Namespace) -> int:
     """``ship-env manoeuvre``: sail the standard manoeuvres, print the figures and IMO criteria."""
     from ship_env.manoeuvres import (
         TrialSettings,
-        check_criteria,
-        format_report,
         plot_manoeuvre,
         pull_out,
         report_dict,
@@ -97,65 +178,65 @@ def run_manoeuvres(args: argparse.Namespace) -> int:
         zigzag,
     )
     from ship_env.manoeuvres.results import KNOT
-    from ship_env.manoeuvres.uncertainty import fold_models
 
     model = _build_model(args.ship, args.effects)
     for angle in args.turn_angle:
         _check_rudder(model, "--turn-angle", angle, f"{angle:g} deg")
     for rudder, heading in args.zigzag:
         _check_rudder(model, "--zigzag", rudder, f"{rudder:g}/{heading:g}")
+    dynamics = _dynamics(args.dynamics)
     prepare_outputs(args.plot, args.json)
-    settings = TrialSettings(speed=None if args.speed is None else args.speed * KNOT, dt=args.dt)
+    settings = TrialSettings(speed=None if args.speed is None else args.speed * KNOT, dt=args.dt, dynamics=dynamics)
     pull_out_rudder = min(math.radians(PULL_OUT_RUDDER_DEG), model.rudder_limit)
-    tasks: list[tuple[str, Callable[[ShipModel], ManoeuvreResult]]] = [
+    tasks: list[Task] = [
         *(
-            (f"turning circle {a:g}", lambda ship, a=a: turning_circle(ship, math.radians(a), settings))
+            (f"turning circle {a:g}", lambda ship, how, a=a: turning_circle(ship, math.radians(a), how))
             for a in args.turn_angle
         ),
         *(
-            (
-                f"zig-zag {a:g}/{b:g}",
-                lambda ship, a=a, b=b: zigzag(ship, math.radians(a), math.radians(b), settings),
-            )
+            (f"zig-zag {a:g}/{b:g}", lambda ship, how, a=a, b=b: zigzag(ship, math.radians(a), math.radians(b), how))
             for a, b in args.zigzag
         ),
-        ("pull-out", lambda ship: pull_out(ship, pull_out_rudder, settings)),
-        ("reversed spiral", lambda ship: reversed_spiral(ship, settings=settings)),
+        ("pull-out", lambda ship, how: pull_out(ship, pull_out_rudder, how)),
+        ("reversed spiral", lambda ship, how: reversed_spiral(ship, settings=how)),
     ]
-    folds = fold_models(model)
-    results = []
-    fold_results: list[list[ManoeuvreResult | None]] = []
-    with tqdm(tasks, desc="manoeuvres", unit="manoeuvre", file=sys.stderr, leave=False) as progress:
-        for name, task in progress:
-            progress.set_postfix_str(name)
-            try:
-                results.append(task(model))
-            except FloatingPointError as error:
-                print(f"ship-env manoeuvre: {name} failed: {error}", file=sys.stderr)
-                return 1
-            fold_results.append([_sailed_or_none(task, fold) for fold in folds])
-    checks = check_criteria(results)
-    errors = [_figure_errors(sailed) for sailed in fold_results] if folds else None
-    print(format_report(ship_line(model, settings.approach_speed(model)), results, checks, errors))
-    if folds:
-        print(_uncertainty_line(len(folds), [name for name, _ in tasks], fold_results))
-    beyond = _extrapolation_block(model, results)
-    if beyond:
-        print(beyond)
+    sailing = Sailing.of(model, settings)
+    try:
+        report = sail_report(sailing, tasks, ship_line(model, settings.approach_speed(model), args.dynamics))
+    except FloatingPointError as error:
+        print(f"ship-env manoeuvre: {error}", file=sys.stderr)
+        return 1
+    print(report.text)
     if args.plot is not None:
-        for result in results:
+        for result in report.results:
             plot_manoeuvre(result, args.plot / f"{result.slug}.png")
         print(f"\nplots written to {args.plot}/")
     if args.json is not None:
-        args.json.write_text(json.dumps(report_dict(model, results, checks, errors), indent=2) + "\n")
+        document = report_dict(model, report.results, report.checks, report.errors)
+        args.json.write_text(json.dumps(document, indent=2) + "\n")
         print(f"figures written to {args.json}")
     return 0
 
 
-def _sailed_or_none(task: Callable[[ShipModel], ManoeuvreResult], ship: ShipModel) -> ManoeuvreResult | None:
+def _dynamics(text: str | None) -> str | None:
+    """``--dynamics``, checked now (a fitted MMG model's file read, an import path imported); a UsageError
+    naming the option where it cannot be sailed."""
+    from ship_env.model.external import dynamics_factory
+
+    if text is not None:
+        try:
+            dynamics_factory(text)
+        except (ValueError, TypeError) as error:
+            raise UsageError("--dynamics", str(error)) from None
+    return text
+
+
+def _sailed_or_none(
+    task: Callable[[ShipModel, TrialSettings], ManoeuvreResult], ship: ShipModel, settings: TrialSettings
+) -> ManoeuvreResult | None:
     """The manoeuvre sailed by ``ship``, or None where it leaves the model's validity."""
     try:
-        return task(ship)
+        return task(ship, settings)
     except FloatingPointError:
         return None
 
@@ -168,14 +249,18 @@ def _figure_errors(sailed: list[ManoeuvreResult | None]) -> dict[str, float]:
     return figure_errors([result.figures() for result in results]) if len(results) == len(sailed) else {}
 
 
-def _extrapolation_block(model: ShipModel, results: list[ManoeuvreResult]) -> str:
-    """How far each manoeuvre sailed beyond the fitted runs (nothing for a preset without a coverage)."""
+def _extrapolation_block(sailing: Sailing, results: list[ManoeuvreResult]) -> str:
+    """How far each manoeuvre sailed beyond the fitted runs (nothing for a ship without a coverage)."""
     from ship_env.manoeuvres.extrapolation import beyond_coverage
 
-    beyond = [(result.title, words) for result in results if (words := beyond_coverage(result, model))]
+    if sailing.ranges is None:
+        return ""
+    beyond = [
+        (result.title, words) for result in results if (words := beyond_coverage(result, sailing.model, sailing.ranges))
+    ]
     if not beyond:
         return ""
-    lines = ["", "beyond the fitted runs (the preset's fitted.coverage: a figure there rests on the model's form):"]
+    lines = ["", "beyond the fitted runs (the fit's coverage: a figure there rests on the model's form):"]
     lines += [f"  {title}: {'; '.join(words)}" for title, words in beyond]
     return "\n".join(lines)
 
@@ -184,7 +269,7 @@ def _uncertainty_line(count: int, names: list[str], fold_results: list[list[Mano
     """What +- means, and which manoeuvres some fold fits could not sail."""
     line = (
         f"\n+- the fit's jackknife standard error: each figure sailed by the {count} ships fitted with one run (group) "
-        "left out (the preset's fitted.jackknife)"
+        "left out (the fit's jackknife)"
     )
     failed = [
         f"{name} ({missing} of {count})"
@@ -248,6 +333,14 @@ def _manoeuvre_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="A/B",
         help="zig-zag tests as rudder/heading change in deg, -A/-B starts to port (default: 10/10 20/20)",
     )
+    parser.add_argument(
+        "--dynamics",
+        default=None,
+        metavar="SOURCE",
+        help="sail a ship simulated elsewhere: a fitted MMG model written by 'ship-env fit-mmg' (a .yaml file; its "
+        "jackknife gives the figures' errors) or the 'module:attribute' path of a ship-dynamics adapter "
+        "(ship_env.model.external); --ship then gives the particulars, rudder limit and approach speed",
+    )
     add_plot_argument(parser, "a PNG per manoeuvre")
     add_json_argument(parser, "the figures and criteria")
 
@@ -264,6 +357,7 @@ COMMAND = Command(
         "ship-env manoeuvre",
         "ship-env manoeuvre --effects minimal --turn-angle 35 -35 20 --zigzag 10/10 -10/-10",
         "ship-env manoeuvre --speed 15 --plot plots/ --json figures.json",
+        "ship-env manoeuvre --ship kvlcc2_model.yaml --dynamics hull.yaml --turn-angle 35 -35 --zigzag 10/10",
     ),
     handler=run_manoeuvres,
     arguments=_manoeuvre_arguments,

@@ -22,30 +22,32 @@ COLUMN_WIDTH = 12
 FigureErrors = Sequence[Mapping[str, float]]
 
 
-def ship_line(model: ShipModel, approach_speed: float) -> str:
-    """The ship, its test speed and the effects of its model, in one line."""
+def ship_line(model: ShipModel, approach_speed: float, dynamics: str | None = None) -> str:
+    """The ship, its test speed and the effects of its model (or the external ``dynamics`` that sail it), in one
+    line."""
+    sailed_by = f"sailed by {dynamics}" if dynamics is not None else f"effects: {', '.join(model.effects)}"
     return (
         f"{model.ship.name}: L = {model.length:.1f} m, V = {approach_speed / KNOT:.1f} kn "
-        f"({approach_speed:.2f} m/s), L/V = {model.length / approach_speed:.1f} s; "
-        f"effects: {', '.join(model.effects)}"
+        f"({approach_speed:.2f} m/s), L/V = {model.length / approach_speed:.1f} s; {sailed_by}"
     )
 
 
-def _row(header: str, cells: Sequence[str], width: int = LABEL_WIDTH) -> str:
-    """A header left-aligned in ``width`` characters, then the cells right-aligned in columns."""
-    return f"{header:<{width}}" + "".join(f"{cell:>{COLUMN_WIDTH}}" for cell in cells)
+def _row(header: str, cells: Sequence[str], width: int = LABEL_WIDTH, column: int = COLUMN_WIDTH) -> str:
+    """A header left-aligned in ``width`` characters, then the cells right-aligned in columns ``column`` wide."""
+    return f"{header:<{width}}" + "".join(f"{cell:>{column}}" for cell in cells)
 
 
 def _figures_block(results: Sequence[ManoeuvreResult], errors: FigureErrors) -> list[str]:
-    """Results of one kind side by side: a row per figure, a column per run (with its standard error, if any)."""
+    """Results of one kind side by side: a row per figure, a column per run (with its standard error, if any), the
+    columns widened where a figure with its error would fill one."""
     figures_per_run = [result.figures() for result in results]
-    lines = [_row(results[0].manoeuvre.capitalize(), [result.label for result in results])]
+    rows = [(results[0].manoeuvre.capitalize(), [result.label for result in results])]
     for same_figure in zip(*figures_per_run, strict=True):
         unit = f" [{same_figure[0].unit}]" if same_figure[0].unit else ""
         pairs = zip(same_figure, errors, strict=True)
-        cells = [figure.text_with_error(run_errors.get(figure.key)) for figure, run_errors in pairs]
-        lines.append(_row(f"  {same_figure[0].label}{unit}", cells))
-    return lines
+        rows.append((f"  {same_figure[0].label}{unit}", [f.text_with_error(e.get(f.key)) for f, e in pairs]))
+    column = max(COLUMN_WIDTH, *(len(cell) + 2 for _, cells in rows for cell in cells))
+    return [_row(header, cells, column=column) for header, cells in rows]
 
 
 def _spiral_table(spiral: SpiralTest) -> list[str]:

@@ -8,8 +8,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ship_env.model import ShipModel
+
+if TYPE_CHECKING:
+    from ship_env.model.external import DynamicsSource
 
 
 @dataclass(frozen=True)
@@ -20,11 +24,16 @@ class TrialSettings:
         speed: the approach speed V through the water, m/s; ``None`` takes the ship's service speed.
         dt: the integration step, s.
         method: the integrator, ``"rk4"`` or ``"euler"``.
+        dynamics: who sails the ship: ``None``, ship_env's own simulator of the model; else an external
+            ship's dynamics (:mod:`ship_env.model.external`: an adapter's class or factory, its
+            ``"module:attribute"`` path, or a fitted MMG file of ``ship-env fit-mmg``), the model then giving
+            the particulars, the rudder limit and the approach speed.
     """
 
     speed: float | None = None
     dt: float = 0.5
     method: str = "rk4"
+    dynamics: DynamicsSource | None = None
 
     def __post_init__(self) -> None:
         if self.speed is not None and not (math.isfinite(self.speed) and self.speed > 0.0):

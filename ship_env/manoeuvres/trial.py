@@ -23,6 +23,7 @@ import pandas as pd
 from ship_env.manoeuvres.results import TIME_SERIES_COLUMNS, degrees_label
 from ship_env.manoeuvres.settings import TrialSettings
 from ship_env.model import Conditions, ShipModel, Simulator
+from ship_env.model.external import ExternalSimulator, dynamics_factory
 
 
 class RudderLaw(Protocol):
@@ -48,7 +49,7 @@ def run_trial(
 
     Args:
         model: the ship model.
-        settings: approach speed and integration step.
+        settings: approach speed, integration step and who sails the ship (:class:`TrialSettings`).
         rudder_law: orders the rudder each step (clipped at the rudder limit, as the steering
             machine's limiter does; the recorded ``ordered_rudder`` is the clipped order).
         labels: one name per ship of the batch, the ``run`` column of the result.
@@ -65,7 +66,10 @@ def run_trial(
     Returns:
         The time series, columns :data:`~ship_env.manoeuvres.results.TIME_SERIES_COLUMNS`.
     """
-    simulator = Simulator(model, num_ships=len(labels), dt=settings.dt, method=settings.method)
+    if settings.dynamics is None:
+        simulator = Simulator(model, num_ships=len(labels), dt=settings.dt, method=settings.method)
+    else:
+        simulator = ExternalSimulator(model, dynamics_factory(settings.dynamics), len(labels), settings.dt)
     simulator.reset(
         seed=0,
         conditions=replace(Conditions() if conditions is None else conditions, service_speed=settings.speed),

@@ -51,10 +51,12 @@ simulator behind the protocol: the reference) and :class:`ship_env.model.mmg_kvl
 from __future__ import annotations
 
 import dataclasses
+import functools
 import importlib
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -107,7 +109,7 @@ class ShipDynamics(Protocol):
 
 
 #: What an environment's ``dynamics`` keyword takes: an adapter, a callable making one, or its import path.
-DynamicsSource = ShipDynamics | Callable[[], ShipDynamics] | str
+DynamicsSource = ShipDynamics | Callable[[], ShipDynamics] | str | Path
 
 
 class ExternalDynamicsError(FloatingPointError):
@@ -126,9 +128,16 @@ def dynamics_factory(source: DynamicsSource) -> Callable[[], ShipDynamics]:
     """A callable making one adapter per ship from an environment's ``dynamics`` keyword.
 
     ``source``: an adapter (it sails one ship: the factory gives it once), a class or other
-    zero-argument callable making one, or ``"module:attribute"``, the import path of such a callable.
+    zero-argument callable making one, ``"module:attribute"``, the import path of such a callable, or the path
+    of a fitted MMG model written by ``ship-env fit-mmg`` (a ``.yaml`` file:
+    :class:`~ship_env.model.mmg_fitted.MmgFitted`).
     ``ValueError`` or ``TypeError`` names what is wrong with it.
     """
+    if isinstance(source, Path) or (isinstance(source, str) and source.endswith((".yaml", ".yml"))):
+        from ship_env.model.mmg_fitted import MmgFitted, read_mmg
+
+        record = read_mmg(source)  # read once here: a bad file is named now, not at each ship's start
+        return functools.partial(MmgFitted, record)
     if isinstance(source, str):
         module_name, _, attribute = source.partition(":")
         if not module_name or not attribute:

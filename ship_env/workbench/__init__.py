@@ -15,14 +15,15 @@ physical effect is missing, add it and watch the held-out error fall.
 Its modules are in subpackages by stage, in order: ``logs`` (``formats`` and ``logs``: reading and
 checking logs), ``fitting`` (``replay``, the model driven by the measured inputs; ``terms``, what can
 be fitted; ``errors``, the RMS errors and the score; ``envelope`` and ``runs``, where the model holds;
-``fit``, output-error least squares; ``threads`` and ``parallel``), ``judging`` (``coverage``,
+``fit``, output-error least squares; ``threads`` and ``parallel``; ``smoothing`` and
+``inverse_dynamics``, the MMG standard's 3-DOF forces fitted by equation error), ``judging`` (``coverage``,
 ``validation`` leaving one run out, ``materiality``, ``bands``, ``compare`` and ``free_running``),
 ``deciding`` (``signals``, ``diagnose`` and ``improve``, the error ladder), ``reporting``
 (``tables``, ``report``, ``documents`` and ``presets``) and ``synthetic`` (``synthetic``, logs made
 by the simulator, for checking the workbench on a known truth; ``demo_logs``, ``ship-env
 demo-logs``). A stage imports only from the stages before it, and from ``defaults`` and ``outputs``
-here; the commands (``cli`` and ``cli_fit``, ``cli_compare``, ``cli_diagnose``, ``cli_improve``)
-from every stage.
+here; the commands (``cli`` and ``cli_fit``, ``cli_fit_mmg``, ``cli_compare``, ``cli_diagnose``,
+``cli_improve``) from every stage.
 
 This is off-line identification for a naval engineer with logs: whole runs, output-error fits,
 a ladder of physical effects. The recursive estimators that run sample by sample on board (the

@@ -1,0 +1,248 @@
+"""A 3-DOF MMG-form model identified from logs (``ship-env fit-mmg``), sailed behind the external-dynamics protocol.
+
+``ship-env fit-mmg LOGS --ship PRESET -o hull.yaml`` fits the MMG standard's hull, propeller and rudder forces
+(:mod:`ship_env.model.mmg_form`) to measured runs by inverse dynamics
+(:mod:`ship_env.workbench.inverse_dynamics`) and writes them to a YAML file. :class:`MmgFitted` sails that file
+wherever ship_env takes external dynamics (:mod:`ship_env.model.external`)::
+
+    import gymnasium as gym
+
+    env = gym.make("ship_env/CourseChange-v0", ship="kvlcc2_model.yaml", dynamics="hull.yaml")
+
+and ``ship-env manoeuvre --ship PRESET --dynamics hull.yaml`` sails it through the standard manoeuvres.
+
+The file holds what the model needs to sail (:func:`read_mmg`): the rigid body, the force coefficients, the
+steering machine's rate and limit, and the runs' propeller rate, at which the ship sails unless a rate is
+ordered; and what it does not need, for the reader: the coefficients' standard errors, the runs it was fitted
+to and the ranges of v', r', speed and rudder they covered (a manoeuvre beyond them extrapolates the
+polynomials). The model has no wind or wave forces: a reset in wind or waves raises ``ValueError``; a current
+carries the ship over the ground.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from ship_env.model.external import ShipMotion
+from ship_env.model.mmg_form import INFLOW_TERMS, SURGE_TERMS, SWAY_TERMS, YAW_TERMS, MmgForm, RigidBody, rk4_step
+from ship_env.model.operating_point import COVERAGE_QUANTITIES, FittedRanges
+from ship_env.model.simulator import Conditions
+
+#: The file's ``kind``: what reads it.
+KIND = "mmg_3dof"
+#: The longest integration step, in ship lengths sailed at the runs' speed (L / U).
+MAX_STEP_LENGTHS = 0.1
+#: The fastest a sailed ship may go, in times its runs' speed: beyond it the polynomials have diverged.
+FASTEST = 5.0
+#: The rigid body's fields in the file (:class:`~ship_env.model.mmg_form.RigidBody`'s).
+BODY_FIELDS = ("length", "breadth", "draught", "block_coefficient", "centre_of_gravity", "gyration")
+#: The force coefficients' sections in the file and their names.
+SECTIONS = {"inflow": INFLOW_TERMS, "surge": SURGE_TERMS, "sway": SWAY_TERMS, "yaw": YAW_TERMS}
+
+
+@dataclass(frozen=True)
+class MmgRecord:
+    """What a fitted MMG file gives to sail the ship.
+
+    Attributes:
+        form: the model.
+        rudder_rate: the steering machine's rate, rad/s.
+        rudder_limit: the hard-over angle, rad.
+        propeller_rate: the runs' propeller rate, rps (median): the ship's unless one is ordered.
+        service_speed: the runs' straight-course speed, m/s (sets the integration step).
+        source: the file.
+        folds: the models fitted with each run left out (the jackknife), for the spread of what they predict.
+        coverage: the ranges the runs covered, by :data:`~ship_env.model.operating_point.COVERAGE_QUANTITIES`
+            key ("rate" r* = L |r| / u, "drift", "rudder" in rad, "speed" in m/s): (low or None, high).
+    """
+
+    form: MmgForm
+    rudder_rate: float
+    rudder_limit: float
+    propeller_rate: float
+    service_speed: float
+    source: str = ""
+    folds: tuple[MmgForm, ...] = ()
+    coverage: Mapping[str, tuple[float | None, float]] = field(default_factory=dict)
+
+    def fold_records(self) -> list[MmgRecord]:
+        """Each fold's model, sailed as this one (no folds of its own)."""
+        return [replace(self, form=fold, folds=()) for fold in self.folds]
+
+    def fitted_ranges(self) -> FittedRanges | None:
+        """The runs' ranges as a preset's (:class:`~ship_env.model.operating_point.FittedRanges`); None without."""
+        return FittedRanges(self.source, dict(self.coverage), propeller=False) if self.coverage else None
+
+
+def _number(section: Mapping[str, Any], key: str, where: str) -> float:
+    entry = section.get(key) if isinstance(section, Mapping) else None
+    value = entry.get("value") if isinstance(entry, Mapping) else entry
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise ValueError(f"{where}.{key}: expected a finite number (or a mapping with one as 'value'), got {entry!r}")
+    return float(value)
+
+
+def read_mmg(path: str | Path) -> MmgRecord:
+    """The fitted model in ``path``; ``ValueError`` naming the file and the field where one is missing or wrong."""
+    path = Path(path)
+    try:
+        document = yaml.safe_load(path.read_text())
+    except OSError as error:
+        raise ValueError(f"dynamics: cannot read {str(path)!r}: {error.strerror}") from None
+    if not isinstance(document, Mapping) or document.get("kind") != KIND:
+        found = document.get("kind") if isinstance(document, Mapping) else type(document).__name__
+        raise ValueError(f"{path}: kind: expected {KIND!r} (a file written by ship-env fit-mmg), got {found!r}")
+    body_section = document.get("rigid_body") or {}
+    body = RigidBody(*(_number(body_section, name, f"{path}: rigid_body") for name in BODY_FIELDS))
+    form = MmgForm(
+        body,
+        *(
+            np.array([_number(document.get(section) or {}, name, f"{path}: {section}") for name in names])
+            for section, names in SECTIONS.items()
+        ),
+    )
+    folds = tuple(
+        MmgForm(
+            body,
+            *(
+                np.array(_numbers(fold, section, len(names), f"{path}: jackknife.folds[{k}]"))
+                for section, names in SECTIONS.items()
+            ),
+        )
+        for k, fold in enumerate((document.get("jackknife") or {}).get("folds") or [])
+    )
+    coverage = {}
+    for quantity, entry in (document.get("coverage") or {}).items():
+        where = f"{path}: coverage.{quantity}"
+        if quantity not in COVERAGE_QUANTITIES or not isinstance(entry, Mapping):
+            raise ValueError(f"{where}: expected one of {sorted(COVERAGE_QUANTITIES)} with 'low' and 'high'")
+        low = None if entry.get("low") is None else _number(entry, "low", where)
+        coverage[quantity] = (low, _number(entry, "high", where))
+    sailing = document.get("sailing") or {}
+    where = f"{path}: sailing"
+    return MmgRecord(
+        form,
+        math.radians(_number(sailing, "rudder_rate_deg_s", where)),
+        math.radians(_number(sailing, "rudder_limit_deg", where)),
+        _number(sailing, "propeller_rate", where),
+        _number(sailing, "service_speed", where),
+        str(path),
+        folds,
+        coverage,
+    )
+
+
+def _numbers(section: Mapping[str, Any], key: str, count: int, where: str) -> list[float]:
+    values = section.get(key) if isinstance(section, Mapping) else None
+    if not isinstance(values, list) or len(values) != count:
+        raise ValueError(f"{where}.{key}: expected a list of {count} numbers, got {values!r}")
+    return [_number({"value": value}, "value", f"{where}.{key}") for value in values]
+
+
+def mmg_document(record: MmgRecord, errors: Mapping[str, float], about: Mapping[str, Any]) -> dict[str, Any]:
+    """The YAML document of ``record`` (what :func:`read_mmg` reads), each coefficient with its standard error
+    from ``errors`` (by name, where given), after ``about`` (provenance, coverage: written as given)."""
+    body = record.form.body
+
+    def entries(names: tuple[str, ...], values: np.ndarray) -> dict[str, Any]:
+        return {
+            name: {"value": float(value), **({"std_error": float(errors[name])} if name in errors else {})}
+            for name, value in zip(names, values, strict=True)
+        }
+
+    def arrays(form: MmgForm) -> dict[str, np.ndarray]:
+        return {"inflow": form.inflow, "surge": form.surge, "sway": form.sway, "yaw": form.yaw}
+
+    return {
+        "kind": KIND,
+        **about,
+        "rigid_body": {name: float(getattr(body, name)) for name in BODY_FIELDS},
+        "sailing": {
+            "rudder_rate_deg_s": math.degrees(record.rudder_rate),
+            "rudder_limit_deg": math.degrees(record.rudder_limit),
+            "propeller_rate": record.propeller_rate,
+            "service_speed": record.service_speed,
+        },
+        **{section: entries(names, arrays(record.form)[section]) for section, names in SECTIONS.items()},
+        "coverage": {quantity: {"low": low, "high": high} for quantity, (low, high) in record.coverage.items()},
+        "jackknife": {
+            "about": "the fits with each run left out, in the runs' order: the spread of what they predict",
+            "folds": [
+                {key: [float(x) for x in values] for key, values in arrays(fold).items()} for fold in record.folds
+            ],
+        },
+    }
+
+
+class MmgFitted:
+    """A fitted MMG-form ship (:class:`~ship_env.model.external.ShipDynamics`), integrated by RK4.
+
+    Args:
+        source: the file ``ship-env fit-mmg`` wrote, or its :class:`MmgRecord`.
+
+    Each step moves the rudder towards the order at the steering machine's rate (linearly over the step) and
+    integrates the equations of motion in sub-steps of at most :data:`MAX_STEP_LENGTHS` ship lengths; a state
+    that is not finite raises ``FloatingPointError`` (the ship left the model's validity).
+    """
+
+    def __init__(self, source: str | Path | MmgRecord) -> None:
+        self.record = source if isinstance(source, MmgRecord) else read_mmg(source)
+        self.state = np.zeros(6)
+        self.rudder = 0.0
+        self._current = (0.0, 0.0)
+
+    def reset(self, start: ShipMotion, conditions: Conditions, seed: int) -> None:
+        """Start at ``start``; ``ValueError`` in wind or waves, which the model has no forces for."""
+        if conditions.wind_speed > 0.0 or conditions.wave_height > 0.0:
+            raise ValueError(
+                f"conditions: the fitted MMG model {self.record.source} has no wind or wave forces (wind "
+                f"{conditions.wind_speed} m/s, H_s {conditions.wave_height} m); sail it in calm water or a current"
+            )
+        self._current = (
+            conditions.current_speed * math.cos(conditions.current_direction),
+            conditions.current_speed * math.sin(conditions.current_direction),
+        )
+        #: u, v, r, north, east, heading.
+        sway = -start.speed * math.tan(start.drift)
+        self.state = np.array([start.speed, sway, start.rate_of_turn, start.north, start.east, start.heading])
+        self.rudder = start.rudder
+
+    def step(self, rudder_order: float, propeller_rate: float | None, dt: float) -> ShipMotion:
+        """Sail ``dt`` s: the rudder towards ``rudder_order``, the propeller at ``propeller_rate`` (``None``: the
+        runs' rate)."""
+        record = self.record
+        order = min(max(rudder_order, -record.rudder_limit), record.rudder_limit)
+        largest = record.rudder_rate * dt
+        rudder = self.rudder + min(max(order - self.rudder, -largest), largest)
+        rate = record.propeller_rate if propeller_rate is None else propeller_rate
+        substeps = max(1, math.ceil(dt * record.service_speed / (MAX_STEP_LENGTHS * record.form.body.length)))
+        state = self.state
+        with np.errstate(all="ignore"):  # a state that overflows is refused below, by name
+            for k in range(substeps):
+                start = self.rudder + (rudder - self.rudder) * k / substeps
+                end = self.rudder + (rudder - self.rudder) * (k + 1) / substeps
+                state = rk4_step(state, start, end, rate, record.form, dt / substeps)
+        if not (
+            np.all(np.isfinite(state)) and 0.0 < state[0] and math.hypot(*state[:2]) < FASTEST * record.service_speed
+        ):
+            u, v, r = self.state[:3]
+            named = f" {record.source}" if record.source else ""
+            raise FloatingPointError(
+                f"the fitted MMG model{named} left its validity: from u {u:.4g} m/s, v {v:.4g} m/s, r {r:.4g} rad/s "
+                f"the next step is not a ship going ahead below {FASTEST:g} times its runs' speed"
+            )
+        state[3] += self._current[0] * dt
+        state[4] += self._current[1] * dt
+        self.state, self.rudder = state, rudder
+        u, v, r, north, east, heading = state.tolist()
+        return ShipMotion(heading, r, north, east, u, math.atan2(-v, u), rudder)
+
+
+__all__ = ["KIND", "MmgFitted", "MmgRecord", "mmg_document", "read_mmg"]

@@ -1,0 +1,313 @@
+"""The MMG standard's 3-DOF forces identified by inverse dynamics (``ship-env fit-mmg``), and the fitted ship sailed.
+
+A ship of the form with known coefficients (``TRUTH``, a fit to the MMG basin truth's zig-zags rounded) sails
+zig-zags; the identification must give its forces back from the logs alone (smoothed states and accelerations,
+the noise estimated from the logs), and its hard-over turn, which no run holds. The fitted model is sailed by a
+second integrator (scipy's adaptive RK45) to check the adapter's RK4, and through the commands and environments
+a user would sail it with.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from functools import partial
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import yaml
+from scipy.integrate import solve_ivp
+
+import ship_env  # noqa: F401  (registers the environments)
+from ship_env.cli import main
+from ship_env.manoeuvres import TrialSettings, turning_circle, zigzag
+from ship_env.model import ShipModel
+from ship_env.model.mmg_fitted import MmgFitted, MmgRecord, mmg_document, read_mmg
+from ship_env.model.mmg_form import MmgForm, derivatives
+from ship_env.workbench import ReplayModel
+from ship_env.workbench.fitting.inverse_dynamics import IdentificationError, identify, rigid_body
+from ship_env.workbench.fitting.smoothing import SmoothingError, noise_of, smooth_channels
+from ship_env.workbench.logs.logs import Log, write_log
+from ship_env.workbench.synthetic.synthetic import LogSettings, Manoeuvre, SensorNoise, sail_all
+
+#: The 7 m KVLCC2 model of the MMG standard, as ``ship-env scale kvlcc2 --length 7`` writes it.
+SCALED = ("scale", "kvlcc2", "--length", "7")
+#: The truth's coefficients (module docstring).
+TRUTH_INFLOW = np.array([6.5, 1.9, 4.5, 3.6, -1.05])
+TRUTH_SURGE = np.array([1.3e-3, -9.7e-4, -2.27e-2, -0.165, -0.092, -0.024, 2.05, 3.9e-4])
+TRUTH_SWAY = np.array([-0.235, 0.069, -0.79, 4.07, 1.94, 0.389, 1.25e-3])
+TRUTH_YAW = np.array([-0.126, -0.0454, -0.5, -1.77, -0.734, -0.107, -4.9e-4])
+PROPELLER_RATE = 11.86  # rps
+EXACT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+@pytest.fixture(scope="module")
+def model_preset(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("preset") / "kvlcc2_model.yaml"
+    assert main([*SCALED, "-o", str(path)]) == 0
+    return path
+
+
+@pytest.fixture(scope="module")
+def truth(model_preset: Path) -> MmgRecord:
+    model = ShipModel(model_preset)
+    body = rigid_body(model)
+    form = MmgForm(body, TRUTH_INFLOW, TRUTH_SURGE, TRUTH_SWAY, TRUTH_YAW)
+    return MmgRecord(
+        form, model.parameter("steering_machine.rudder_rate"), model.rudder_limit, PROPELLER_RATE, model.service_speed
+    )
+
+
+def _zigzags(model: ShipModel, record: MmgRecord, noise: SensorNoise, seed: int = 1) -> list[Log]:
+    """Six zig-zags (10/10, 20/20 and 35/5 to both sides) sailed by ``record``'s ship, logged at 5 Hz."""
+    unit = model.length / model.service_speed
+    programme = ((10, 10), (-10, 10), (20, 20), (-20, 20), (35, 5), (-35, 5))
+    manoeuvres = [
+        Manoeuvre(
+            f"zigzag_{a}_{b}",
+            "zigzag",
+            math.radians(a),
+            25.0 * unit,
+            approach=2.0 * unit,
+            zigzag_angle=math.radians(b),
+            start_speed=model.service_speed,
+            final_speed=model.service_speed,
+            propeller_rate=PROPELLER_RATE,
+            wind_speed=0.0,
+        )
+        for a, b in programme
+    ]
+    settings = LogSettings(dt=0.2, noise=noise)
+    return sail_all(ReplayModel(model), manoeuvres, seed, settings, partial(MmgFitted, record))
+
+
+@pytest.fixture(scope="module")
+def exact_logs(model_preset: Path, truth: MmgRecord) -> list[Log]:
+    return _zigzags(ShipModel(model_preset), truth, EXACT)
+
+
+def _turn(model: ShipModel, record: MmgRecord, side: float = 1.0) -> dict[str, float]:
+    settings = TrialSettings(dt=0.2, dynamics=partial(MmgFitted, record))
+    return {f.key: f.value for f in turning_circle(model, side * model.rudder_limit, settings).figures()}
+
+
+#: The issue's bounds on a fit's predictions: (figure, bound, relative).
+BOUNDS = (
+    ("advance_lengths", 0.05, True),
+    ("tactical_diameter_lengths", 0.05, True),
+    ("steady_rate_of_turn", 0.10, True),
+    ("speed_loss", 0.10, True),
+    ("first_overshoot", 2.0, False),
+)
+
+
+def _judged(model: ShipModel, record: MmgRecord) -> dict[str, float]:
+    """The hard-over turn's figures to starboard and the 10/10 zig-zag's first overshoot."""
+    settings = TrialSettings(dt=0.2, dynamics=partial(MmgFitted, record))
+    figures = _turn(model, record)
+    overshoot = zigzag(model, math.radians(10.0), math.radians(10.0), settings).figures()
+    return {**figures, **{f.key: f.value for f in overshoot}}
+
+
+def _within_bounds(predicted: dict[str, float], expected: dict[str, float]) -> list[str]:
+    """The figures outside the issue's bounds, with their errors."""
+    outside = []
+    for key, bound, relative in BOUNDS:
+        error = predicted[key] - expected[key]
+        if (abs(error) / abs(expected[key]) if relative else abs(error)) > bound:
+            outside.append(f"{key}: {predicted[key]:.4g} against {expected[key]:.4g}")
+    return outside
+
+
+# -- smoothing ------------------------------------------------------------------------------------------------
+def test_the_noise_of_a_smooth_channel_is_read_from_its_third_differences():
+    time = np.arange(0.0, 300.0, 0.2)
+    signal = 20.0 * np.sin(time / 15.0) + 0.01 * time**2
+    noise = np.random.default_rng(3).normal(0.0, 0.02, len(time))
+    assert noise_of(signal + noise) == pytest.approx(0.02, rel=0.1)  # the MAD's spread over 1500 samples: 4 %
+
+
+def test_a_constant_acceleration_track_is_smoothed_into_its_exact_rate_and_acceleration():
+    """The filter's model holds a constant acceleration exactly: its smoother gives back the rate and acceleration
+    of such a track from its positions alone."""
+    time = np.arange(0.0, 60.0, 0.2)
+    track = 3.0 + 1.2 * time + 0.5 * 0.04 * time**2
+    smoothed = smooth_channels(track[:, None], 0.2)
+    assert np.allclose(smoothed[:, 0], track, rtol=0, atol=1e-9)
+    assert np.allclose(smoothed[:, 1], 1.2 + 0.04 * time, rtol=0, atol=1e-9)
+    assert np.allclose(smoothed[:, 2], 0.04, rtol=0, atol=1e-9)
+
+
+# -- the adapter ------------------------------------------------------------------------------------------------
+def test_the_adapters_rk4_sails_as_an_adaptive_integrator_does(model_preset, truth):
+    """A hard-over turn held for ten ship lengths: the adapter's fixed-step RK4 (0.2 s, 1/30 of L/U) against scipy's
+    RK45 at 1e-10, the rudder moving at the steering machine's rate in both. RK4's error is of order (h U / L)^4,
+    1e-6 of each quantity's scale per L/U sailed."""
+    model = ShipModel(model_preset)
+    adapter = MmgFitted(truth)
+    from ship_env.model.external import ShipMotion
+    from ship_env.model.simulator import Conditions
+
+    speed = model.service_speed
+    adapter.reset(ShipMotion(0.0, 0.0, 0.0, 0.0, speed), Conditions(service_speed=speed), 0)
+    dt, steps = 0.2, round(10.0 * model.length / speed / 0.2)
+    for _ in range(steps):
+        motion = adapter.step(truth.rudder_limit, None, dt)
+    duration = steps * dt
+
+    def moving(time: float, state: np.ndarray) -> np.ndarray:  # the rudder as the adapter moves it: linear in a step
+        step, within = divmod(time, dt)
+        start = min(step * truth.rudder_rate * dt, truth.rudder_limit)
+        end = min((step + 1) * truth.rudder_rate * dt, truth.rudder_limit)
+        return derivatives(state, start + (end - start) * within / dt, PROPELLER_RATE, truth.form)
+
+    exact = solve_ivp(
+        moving, (0.0, duration), [speed, 0, 0, 0, 0, 0], rtol=1e-10, atol=1e-12, max_step=0.05, method="RK45"
+    ).y[:, -1]
+    sailed = np.array([motion.speed, -motion.speed * math.tan(motion.drift), motion.rate_of_turn])
+    assert np.allclose(sailed, exact[:3], rtol=0, atol=1e-5 * np.array([speed, speed, speed / model.length]))
+    assert math.hypot(motion.north - exact[3], motion.east - exact[4]) < 1e-5 * model.length
+    assert motion.heading == pytest.approx(exact[5], abs=1e-5)
+
+
+def test_a_turn_to_port_mirrors_one_to_starboard_where_the_form_is_symmetric(model_preset, truth):
+    """With gamma_R the same for both signs of beta_R, nothing in the form tells port from starboard."""
+    from dataclasses import replace
+
+    model = ShipModel(model_preset)
+    inflow = truth.form.inflow.copy()
+    inflow[3] = inflow[2]
+    symmetric = replace(truth, form=replace(truth.form, inflow=inflow))
+    starboard, port = _turn(model, symmetric, 1.0), _turn(model, symmetric, -1.0)
+    for key in ("advance_lengths", "tactical_diameter_lengths", "speed_loss"):
+        assert port[key] == pytest.approx(starboard[key], rel=1e-9)
+
+
+def test_the_file_reads_back_as_written(tmp_path, truth):
+    path = tmp_path / "hull.yaml"
+    path.write_text(yaml.safe_dump(mmg_document(truth, {"Y_v": 0.01}, {"command": "test"})))
+    read = read_mmg(path)
+    for section in ("inflow", "surge", "sway", "yaw"):
+        assert np.array_equal(getattr(read.form, section), getattr(truth.form, section))
+    assert read.form.body == truth.form.body
+    assert (read.rudder_rate, read.propeller_rate) == pytest.approx((truth.rudder_rate, truth.propeller_rate))
+
+
+# -- identification ----------------------------------------------------------------------------------------------
+def test_exact_logs_give_the_ships_forces_and_its_hard_over_turn_back(model_preset, truth, exact_logs):
+    """From six zig-zags' logs alone, the forces explain 99.9 % of what moved the ship, and the hard-over turn, at an
+    r* twice the zig-zags', is within the issue's bounds (advance and tactical diameter 5 %, rate and speed loss
+    10 %, 10/10 overshoot 2 deg). Single coefficients are not determined: at the runs' one propeller rate the
+    rudder's inflow terms trade with its force coefficient and the hull's (the docs' free-running page)."""
+    model = ShipModel(model_preset)
+    identified = identify(exact_logs, model, jackknife=False)
+    assert min(identified.fitted.determination) > 0.999
+    assert identified.record.coverage["rate"][1] < 0.6 * _turn_rate_star(model, truth)
+    assert _within_bounds(_judged(model, identified.record), _judged(model, truth)) == []
+
+
+def _turn_rate_star(model: ShipModel, record: MmgRecord) -> float:
+    figures = _turn(model, record)
+    speed = model.service_speed * (1.0 - figures["speed_loss"] / 100.0)
+    return model.length * math.radians(figures["steady_rate_of_turn"]) / speed
+
+
+@pytest.fixture(scope="module")
+def fitted_by_command(model_preset: Path, truth: MmgRecord, tmp_path_factory: pytest.TempPathFactory):
+    """``ship-env fit-mmg`` on the zig-zags logged by the basin's sensors (2 cm position, 0.2 deg heading, 5 mm/s
+    speed): (the file written, what it printed)."""
+    import contextlib
+    import io
+
+    folder = tmp_path_factory.mktemp("noisy") / "zigzag"
+    folder.mkdir()
+    for log in _zigzags(ShipModel(model_preset), truth, SensorNoise(), seed=5):
+        write_log(log, folder / f"{log.name}.csv")
+    output = folder.parent / "hull.yaml"
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        assert main(["fit-mmg", str(folder), "--ship", str(model_preset), "-o", str(output)]) == 0
+    return output, printed.getvalue()
+
+
+def test_noisy_logs_give_the_turn_within_the_bounds_and_say_it_sails_beyond_the_runs(
+    model_preset, truth, fitted_by_command
+):
+    output, printed = fitted_by_command
+    fitted = read_mmg(output)
+    assert len(fitted.folds) == 6  # one per run left out
+    model = ShipModel(model_preset)
+    assert _within_bounds(_judged(model, fitted), _judged(model, truth)) == []
+    assert "+-" in printed  # the folds' spread of each figure
+    beyond = printed.split("beyond the fitted runs")[1]
+    assert "turning circle 35 deg stbd: r* up to" in beyond and "speed down to" in beyond
+
+
+def _turning_rows(printed: str) -> list[str]:
+    """The turning circles' rows of a report, the jackknife errors and the alignment left out."""
+    block = printed.split("Turning circle")[1].split("Zig-zag")[0]
+    return [" ".join(re.sub(r"\s*\+-\S+", "", line).split()) for line in block.splitlines() if line.strip()]
+
+
+def test_the_fitted_file_sails_in_the_manoeuvres_and_the_environments(
+    model_preset, fitted_by_command, tmp_path, capsys
+):
+    """``ship-env manoeuvre --dynamics FILE`` gives the turning circles ``fit-mmg`` printed (sailed here without the
+    folds, for time); ``gym.make(..., dynamics=FILE)`` sails it."""
+    output, printed = fitted_by_command
+    document = yaml.safe_load(output.read_text())
+    document["jackknife"]["folds"] = []
+    alone = tmp_path / "alone.yaml"
+    alone.write_text(yaml.safe_dump(document))
+    arguments = ["--ship", str(model_preset), "--dynamics", str(alone), "--dt", "0.2"]
+    assert main(["manoeuvre", *arguments, "--turn-angle", "35", "-35", "--zigzag", "10/10"]) == 0
+    assert _turning_rows(capsys.readouterr().out) == _turning_rows(printed)
+    env = gym.make("ship_env/CourseChange-v0", ship=str(model_preset), dynamics=str(output))
+    env.reset(seed=0)
+    for _ in range(5):
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+    assert not terminated and not truncated
+    assert env.unwrapped.batch.simulator.adapters[0].record.source == str(output)
+    env.close()
+
+
+def test_a_dynamics_option_that_cannot_be_sailed_is_named(model_preset, tmp_path):
+    missing = tmp_path / "missing.yaml"
+    with pytest.raises(SystemExit) as stopped:
+        main(["manoeuvre", "--ship", str(model_preset), "--dynamics", str(missing)])
+    assert stopped.value.code == 2
+
+
+# -- bad input ---------------------------------------------------------------------------------------------------
+def test_a_log_without_a_position_is_refused_naming_the_run_and_the_channel(model_preset, exact_logs):
+    from dataclasses import replace
+
+    logs = [replace(exact_logs[0], north=None, east=None), *exact_logs[1:]]
+    with pytest.raises(
+        SmoothingError, match=r"log 'zigzag_10_10': inverse dynamics needs the position \(channels 'north' and 'east'\)"
+    ):
+        identify(logs, ShipModel(model_preset), jackknife=False)
+
+
+def test_one_run_is_refused(model_preset, exact_logs):
+    with pytest.raises(IdentificationError, match="at least two runs, got 1"):
+        identify(exact_logs[:1], ShipModel(model_preset))
+
+
+def test_a_file_of_another_kind_is_refused_naming_the_field(tmp_path, model_preset):
+    with pytest.raises(ValueError, match=r"kind: expected 'mmg_3dof'"):
+        read_mmg(model_preset)
+    path = tmp_path / "broken.yaml"
+    path.write_text("kind: mmg_3dof\nrigid_body: {length: 7}\n")
+    with pytest.raises(ValueError, match=r"rigid_body\.breadth: expected a finite number"):
+        read_mmg(path)
+
+
+def test_sailing_it_in_wind_is_refused_naming_the_condition(truth):
+    from ship_env.model.external import ShipMotion
+    from ship_env.model.simulator import Conditions
+
+    with pytest.raises(ValueError, match="no wind or wave forces"):
+        MmgFitted(truth).reset(ShipMotion(0.0, 0.0, 0.0, 0.0, 1.0), Conditions(wind_speed=5.0), 0)

@@ -245,8 +245,8 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
 
 
 # -- the arguments and examples ---------------------------------------------------------------
-def add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = True) -> None:
-    """The arguments the workbench's commands share: logs, format, ship, model, error scales."""
+def add_log_arguments(parser: argparse.ArgumentParser) -> None:
+    """The logs and their ``--format``."""
     parser.add_argument("logs", nargs="+", type=Path, metavar="LOG", help="CSV or Parquet logs, or folders of them")
     parser.add_argument(
         "--format",
@@ -254,6 +254,11 @@ def add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tru
         metavar="NAME",
         help="log format: esso_osaka, standard, or a YAML file (default: the built-in one the columns fit)",
     )
+
+
+def add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = True) -> None:
+    """The arguments the workbench's commands share: logs, format, ship, model, error scales."""
+    add_log_arguments(parser)
     parser.add_argument(
         "--ship",
         type=ship_name,

@@ -17,6 +17,7 @@ from ship_env.command_line import Command, UsageError, number
 from ship_env.model import list_ships
 from ship_env.model.arguments import ship_name
 from ship_env.text_table import Table
+from ship_env.workbench.cli import add_log_arguments
 from ship_env.workbench.outputs import claim_file
 
 #: The preset the command starts from without ``--ship``.
@@ -115,13 +116,7 @@ def run_fit_mmg(args: argparse.Namespace) -> int:
 
 
 def _fit_mmg_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("logs", nargs="+", type=Path, metavar="LOG", help="CSV or Parquet logs, or folders of them")
-    parser.add_argument(
-        "--format",
-        default=None,
-        metavar="NAME",
-        help="log format: esso_osaka, standard, or a YAML file (default: the built-in one the columns fit)",
-    )
+    add_log_arguments(parser)
     parser.add_argument(
         "--ship",
         type=ship_name,

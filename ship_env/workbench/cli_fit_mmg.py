@@ -50,7 +50,7 @@ def run_fit_mmg(args: argparse.Namespace) -> int:
         body = rigid_body(model, args.block_coefficient, args.centre_of_gravity * model.length)
     except ValueError as error:
         raise UsageError("--ship", str(error)) from None
-    identified = identify(logs, model, body, jackknife=not args.no_jackknife)
+    identified = identify(logs, model, body, jackknife=not args.no_jackknife, propeller_rate=args.propeller_rate)
     record = identified.record
     print(
         f"{len(logs)} runs of {model.ship.name} (L {model.length:g} m): the MMG standard's 3-DOF forces fitted by "
@@ -140,6 +140,13 @@ def _fit_mmg_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="XG",
         help="x_G / L, forward of midships (default: %(default)s)",
     )
+    parser.add_argument(
+        "--propeller-rate",
+        type=number("a propeller rate in rps", above=0.0),
+        default=None,
+        metavar="RPS",
+        help="the propeller rate of logs without a propeller channel (default: such a log is refused)",
+    )
     parser.add_argument("--no-jackknife", action="store_true", help="fit once, without leaving each run out")
     parser.add_argument("-o", "--output", type=Path, default=None, metavar="FILE", help="write the fitted model")
     parser.add_argument("--force", action="store_true", help="overwrite --output")
@@ -153,7 +160,9 @@ COMMAND = Command(
         "filter and RTS smoother, the noise from the logs), the forces from the mass matrix, the\n"
         "coefficients by least squares; each run left out in turn for their errors. Then sail the\n"
         "fitted ship free through the hard-over turning circles and the 10/10 zig-zag, and say how\n"
-        "far they go beyond the runs. Needs position, heading, speed and propeller rate channels."
+        "far they go beyond the runs. Needs position, heading and speed channels, and the propeller rate\n"
+        "(a channel, or --propeller-rate where it was constant); rudder orders are followed at the\n"
+        "preset's steering-machine rate."
     ),
     handler=run_fit_mmg,
     arguments=_fit_mmg_arguments,

@@ -171,11 +171,27 @@ def rigid_body(
     )
 
 
+def steering_rate(model: ShipModel) -> float:
+    """The preset's steering machine's rudder rate, rad/s; ``IdentificationError`` where it states none."""
+    try:
+        return model.parameter("steering_machine.rudder_rate")
+    except KeyError:
+        raise IdentificationError(
+            f"{model.ship.name}: the preset states no steering_machine.rudder_rate, at which the identified ship "
+            "moves its rudder"
+        ) from None
+
+
 def identify(
-    logs: Sequence[Log], model: ShipModel, body: RigidBody | None = None, jackknife: bool = True
+    logs: Sequence[Log],
+    model: ShipModel,
+    body: RigidBody | None = None,
+    jackknife: bool = True,
+    propeller_rate: float | None = None,
 ) -> Identification:
     """The MMG-form model of the ship that sailed ``logs`` (the module docstring); ``model`` (the preset) gives
-    the particulars, the steering machine's rate and the rudder limit.
+    the particulars, the steering machine's rate and the rudder limit; ``propeller_rate`` (rps) that of logs
+    without a propeller channel.
 
     Raises:
         IdentificationError: fewer than two runs, or a run that cannot be smoothed
@@ -184,7 +200,8 @@ def identify(
     if len(logs) < 2:
         raise IdentificationError(f"inverse dynamics: give at least two runs, got {len(logs)}")
     body = rigid_body(model) if body is None else body
-    runs = [smooth_run(log, model.length) for log in logs]
+    rudder_rate = steering_rate(model)
+    runs = [smooth_run(log, model.length, rudder_rate, propeller_rate) for log in logs]
     samples = Samples.of(runs, body)
     fitted = fit_form(samples, body)
     folds: tuple[FormFit, ...] = ()
@@ -193,13 +210,6 @@ def identify(
             fit_form(Samples.of([run for j, run in enumerate(runs) if j != i], body), body, fitted.form.inflow)
             for i in range(len(runs))
         )
-    try:
-        rudder_rate = model.parameter("steering_machine.rudder_rate")
-    except KeyError:
-        raise IdentificationError(
-            f"{model.ship.name}: the preset states no steering_machine.rudder_rate, at which the identified ship "
-            "moves its rudder"
-        ) from None
     straight = np.abs(samples.rate_of_turn) * model.length / np.hypot(samples.surge, samples.sway) < 0.01
     record = MmgRecord(
         fitted.form,

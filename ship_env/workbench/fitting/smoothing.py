@@ -21,7 +21,9 @@ from the smoothed ground velocity (V_N, V_E) and acceleration (A_N, A_E) in the 
 
     v = -V_N sin(psi) + V_E cos(psi),    dv/dt = -A_N sin(psi) + A_E cos(psi) - r (V_N cos(psi) + V_E sin(psi)).
 
-The smoothed rates are poor within a few samples of a run's ends; :attr:`SmoothedRun.kept` leaves out the first
+A run sampled at unequal intervals is interpolated onto equal ones first (:func:`uniform`), and a log of rudder
+orders is turned into the actual rudder by the steering machine's rate (:func:`actual_rudder`). The smoothed rates
+are poor within a few samples of a run's ends; :attr:`SmoothedRun.kept` leaves out the first
 and last ``EDGE_LENGTHS`` ship lengths sailed.
 """
 
@@ -48,6 +50,8 @@ REQUIRED_CHANNELS = {
     "speed": "speed through the water (channel 'speed')",
     "propeller_rate": "propeller rate (channel 'propeller_rate')",
 }
+#: The longest gap in a run's time, in median sample intervals, across which its channels are interpolated.
+LONGEST_GAP = 5.0
 #: The samples a filter's start is fitted to.
 START_SAMPLES = 10
 #: The smallest measurement noise assumed, as a fraction of the channel's range (an exact log's noise is 0).
@@ -194,40 +198,76 @@ def smooth_channels(measured: np.ndarray, dt: float) -> np.ndarray:
     return SteadyFilter.of(noises, dt, jerk_intensity(measured, noises, dt)).smoothed(measured)
 
 
-def smooth_run(log: Log, length: float) -> SmoothedRun:
-    """``log``'s motion smoothed (the module docstring); ``length`` the ship's, m (the ends left out).
+def uniform(log: Log) -> tuple[np.ndarray, float]:
+    """The sample times the run is smoothed at, and their interval: its own where they are equally spaced (within
+    1 %), else its median interval from its first sample to its last, each channel interpolated linearly there.
 
     Raises:
-        SmoothingError: a log without the position, speed or propeller rate, or not sampled at a constant
-            interval (within 1 %), naming the run and the channel.
+        SmoothingError: a gap of more than :data:`LONGEST_GAP` intervals (split the run there), naming it.
     """
-    for channel, words in REQUIRED_CHANNELS.items():
-        if getattr(log, channel) is None:
-            raise SmoothingError(f"log {log.name!r}: inverse dynamics needs the {words}, which this log lacks")
     steps = np.diff(log.time)
     dt = float(np.median(steps))
-    if np.max(np.abs(steps - dt)) > 0.01 * dt:
+    if np.max(np.abs(steps - dt)) <= 0.01 * dt:
+        return log.time, dt
+    gap = int(np.argmax(steps))
+    if steps[gap] > LONGEST_GAP * dt:
         raise SmoothingError(
-            f"log {log.name!r}: time: inverse dynamics needs a constant sample interval; the intervals run from "
-            f"{steps.min():.4g} to {steps.max():.4g} s"
+            f"log {log.name!r}: time: a gap of {steps[gap]:.4g} s after t = {log.time[gap]:.4g} s, "
+            f"{steps[gap] / dt:.0f} times the median interval {dt:.4g} s; split the run there"
         )
+    return log.time[0] + dt * np.arange(int((log.time[-1] - log.time[0]) / dt) + 1), dt
+
+
+def actual_rudder(log: Log, times: np.ndarray, rudder_rate: float) -> np.ndarray:
+    """The rudder angle at ``times``: measured, or, where the log records the order, the order followed at the
+    steering machine's ``rudder_rate`` (rad/s) from the first order."""
+    ordered = np.interp(times, log.time, log.rudder)
+    if log.rudder_kind == "actual":
+        return ordered
+    actual = np.empty_like(ordered)
+    actual[0] = ordered[0]
+    for k in range(1, len(times)):
+        largest = rudder_rate * (times[k] - times[k - 1])
+        actual[k] = actual[k - 1] + np.clip(ordered[k - 1] - actual[k - 1], -largest, largest)
+    return actual
+
+
+def smooth_run(log: Log, length: float, rudder_rate: float, propeller_rate: float | None = None) -> SmoothedRun:
+    """``log``'s motion smoothed (the module docstring) at equally spaced times (:func:`uniform`); ``length`` the
+    ship's, m (the ends left out); ``rudder_rate`` its steering machine's, rad/s (for a log of rudder orders,
+    :func:`actual_rudder`); ``propeller_rate`` the rate, rps, of a log without a propeller channel.
+
+    Raises:
+        SmoothingError: a log without the position or speed, or without the propeller rate where none is given;
+            one with a gap in time; naming the run and the channel.
+    """
+    for channel, words in REQUIRED_CHANNELS.items():
+        if getattr(log, channel) is None and not (channel == "propeller_rate" and propeller_rate is not None):
+            raise SmoothingError(f"log {log.name!r}: inverse dynamics needs the {words}, which this log lacks")
     assert log.north is not None and log.east is not None and log.speed is not None  # checked above
-    assert log.propeller_rate is not None
-    north, east = smooth_channels(log.north[:, None], dt), smooth_channels(log.east[:, None], dt)
-    yaw_measured = (
-        log.heading[:, None] if log.rate_of_turn is None else np.column_stack((log.heading, log.rate_of_turn))
-    )
-    yaw = smooth_channels(yaw_measured, dt)
-    surge = smooth_channels(log.speed[:, None], dt)
+    times, dt = uniform(log)
+
+    def sampled(values: np.ndarray) -> np.ndarray:
+        return values if times is log.time else np.interp(times, log.time, values)
+
+    north = smooth_channels(sampled(log.north)[:, None], dt)
+    east = smooth_channels(sampled(log.east)[:, None], dt)
+    heading_measured = sampled(log.heading)
+    if log.rate_of_turn is None:
+        yaw = smooth_channels(heading_measured[:, None], dt)
+    else:
+        yaw = smooth_channels(np.column_stack((heading_measured, sampled(log.rate_of_turn))), dt)
+    surge = smooth_channels(sampled(log.speed)[:, None], dt)
     heading, rate = yaw[:, 0], yaw[:, 1]
     cos, sin = np.cos(heading), np.sin(heading)
     sway = -north[:, 1] * sin + east[:, 1] * cos
     sway_rate = -north[:, 2] * sin + east[:, 2] * cos - rate * (north[:, 1] * cos + east[:, 1] * sin)
     sailed = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(north[:, 0]), np.diff(east[:, 0])))))
     kept = (sailed >= EDGE_LENGTHS * length) & (sailed <= sailed[-1] - EDGE_LENGTHS * length)
+    rates = np.full(len(times), propeller_rate) if log.propeller_rate is None else sampled(log.propeller_rate)
     return SmoothedRun(
         name=log.name,
-        time=log.time,
+        time=times,
         surge=surge[:, 0],
         sway=sway,
         rate_of_turn=rate,
@@ -235,8 +275,8 @@ def smooth_run(log: Log, length: float) -> SmoothedRun:
         sway_rate=sway_rate,
         yaw_acceleration=yaw[:, 2],
         heading=heading,
-        rudder=log.rudder,
-        propeller_rate=log.propeller_rate,
+        rudder=actual_rudder(log, times, rudder_rate),
+        propeller_rate=rates,
         kept=kept,
         noise={
             "north": noise_of(log.north),
@@ -251,9 +291,11 @@ def smooth_run(log: Log, length: float) -> SmoothedRun:
 __all__ = [
     "EDGE_LENGTHS",
     "SmoothedRun",
+    "actual_rudder",
     "SmoothingError",
     "jerk_intensity",
     "noise_of",
     "smooth_channels",
     "smooth_run",
+    "uniform",
 ]

@@ -306,6 +306,20 @@ def test_uneven_sampling_rudder_orders_and_a_stated_propeller_rate_give_the_same
         assert predicted[key] == pytest.approx(expected[key], rel=0.01), key
 
 
+def test_a_fit_whose_runs_reach_the_hard_over_rudder_is_pointed_to_fit_mmg(model_preset, exact_logs):
+    """``fit``/``improve --preset`` suggest ``fit-mmg`` where the runs reach the hard-over rudder (here the 35/5
+    zig-zags) and log what it needs; not without a propeller rate, nor for runs that stop short of hard over."""
+    from dataclasses import replace
+
+    from ship_env.workbench.cli import fit_mmg_suggestion
+
+    model = ShipModel(model_preset)
+    command = "ship-env fit-mmg zigzag --ship kvlcc2_model.yaml"
+    assert f"({command} -o hull.yaml;" in fit_mmg_suggestion(exact_logs, model, command)
+    assert fit_mmg_suggestion([replace(exact_logs[0], propeller_rate=None), *exact_logs[1:]], model, command) is None
+    assert fit_mmg_suggestion(exact_logs[:4], model, command) is None  # 10/10 and 20/20 only
+
+
 # -- bad input ---------------------------------------------------------------------------------------------------
 def test_a_log_without_a_position_is_refused_naming_the_run_and_the_channel(model_preset, exact_logs):
     from dataclasses import replace

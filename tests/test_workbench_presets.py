@@ -274,6 +274,7 @@ def test_fit_writes_a_preset_that_compare_sails_and_never_overwrites_without_for
         in (printed := capsys.readouterr().out)
     ), printed
     assert f"rudder up to 35 deg (|rudder| <= {rudder_covered:.3g} deg)" in printed
+    assert "fit-mmg" not in printed  # the runs' 20 deg rudder is not the hard-over turn's: no form is fitted there
     with pytest.warns(CoverageWarning, match="sailed at rudder 35 deg"):  # left for the user's own sailing
         Simulator(ShipModel(preset)).step(math.radians(35.0))
     assert document["effects"]["rudder_offset"]["enabled"] is True

@@ -21,6 +21,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from ship_env.command_line import UsageError, positive_number, whole_number
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
 from ship_env.model.arguments import EFFECT_SETS, effect_names, effect_set, ship_name
@@ -242,6 +244,23 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
             f"  its hard-over turning circle sails beyond the fitted runs: {'; '.join(beyond)}; its figures rest on "
             f"the model's form there (ship-env manoeuvre --ship {args.preset})"
         )
+        words = ["ship-env", "fit-mmg", *map(str, args.logs), "--ship", str(args.ship or WORKBENCH_SHIP)]
+        if suggestion := fit_mmg_suggestion(runs.logs, validation.fit.setup.model, shlex.join(words)):
+            print(f"  {suggestion}")
+
+
+def fit_mmg_suggestion(logs: Sequence[Log], model: ShipModel, command: str) -> str | None:
+    """Where the runs reach the hard-over rudder (within 10 % of the limit) and log what inverse dynamics needs
+    (position, speed, propeller rate): words suggesting ``command`` (``ship-env fit-mmg ...``), whose MMG forces carry
+    the sway and the hull's forces in v' and r' to the turn; else None."""
+    needed = all(log.north is not None and log.speed is not None and log.propeller_rate is not None for log in logs)
+    reached = max(float(np.max(np.abs(log.rudder))) for log in logs) >= 0.9 * model.rudder_limit
+    if not (needed and reached):
+        return None
+    return (
+        "the runs reach the hard-over rudder: the MMG standard's forces fitted by inverse dynamics carry the sway and "
+        f"the hull's forces in v' and r' to that turn ({command} -o hull.yaml; docs/results/free_running.md)"
+    )
 
 
 # -- the arguments and examples ---------------------------------------------------------------

@@ -30,6 +30,8 @@ ZIGZAG = (10.0, 10.0)
 
 def run_fit_mmg(args: argparse.Namespace) -> int:
     """``ship-env fit-mmg``: fit the form to the logs, print it with its errors, sail it free, write it."""
+    import numpy as np
+
     from ship_env.manoeuvres import TrialSettings, ship_line, turning_circle, zigzag
     from ship_env.manoeuvres.cli import Sailing, Task, sail_report
     from ship_env.model import ShipModel
@@ -81,7 +83,7 @@ def run_fit_mmg(args: argparse.Namespace) -> int:
     print(Table(("term", "value", "std. error (jackknife)"), rows).text())
     if not identified.folds:
         print("no jackknife (--no-jackknife, or fewer than three runs): the figures below have no error")
-    dt = float(min(float(log.time[1] - log.time[0]) for log in logs))
+    dt = float(np.median(np.concatenate([np.diff(log.time) for log in logs])))  # the logs' sample interval
     settings = TrialSettings(dt=dt)
     hard_over = math.degrees(model.rudder_limit)
     tasks: list[Task] = [

@@ -38,8 +38,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
+
+from ship_env.model.kernel import inlined_kernel, kernel
 
 #: kg/m^3, the water's density; it cancels (forces and masses are both written with it).
 RHO = 1025.0
@@ -134,6 +137,15 @@ class MmgForm:
     sway: np.ndarray
     yaw: np.ndarray
 
+    @cached_property
+    def compiled(self) -> tuple[np.ndarray, ...]:
+        """What the compiled equations take: the inflow, surge, sway and yaw coefficients; L, d, m, m_x, m_y, x_G;
+        the mass matrix's inverse."""
+        body = self.body
+        particulars = np.array([body.length, body.draught, body.mass, *body.added_masses[:2], body.centre_of_gravity])
+        arrays = (self.inflow, self.surge, self.sway, self.yaw, particulars, np.linalg.inv(body.matrix()))
+        return tuple(np.ascontiguousarray(array, dtype=float) for array in arrays)
+
     def forces(
         self, u: Values, v: Values, r: Values, rudder: Values, propeller_rate: Values
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -149,62 +161,98 @@ class MmgForm:
         )
 
 
+@inlined_kernel
+def _sample_columns(u, v, r, rudder, propeller_rate, inflow, length, draught, surge, lateral):
+    """One sample's columns, written into ``surge`` (8) and ``lateral`` (7): the module docstring's forms times U^2."""
+    speed_squared = u * u + v * v
+    speed = math.sqrt(speed_squared)
+    moving = max(speed, RESTING * length)
+    sway, turn = v / moving, r * length / moving  # v' and r'
+    n_t = propeller_rate * draught
+    inflow_squared = max(u * u + inflow[0] * u * n_t + inflow[1] * n_t * n_t, 0.0)  # u_R^2
+    beta_r = math.atan2(-v, u) - inflow[4] * turn
+    lateral_inflow = (inflow[2] if beta_r >= 0.0 else inflow[3]) * speed * beta_r  # v_R, gamma_R of beta_R's sign
+    attack = rudder - math.atan2(lateral_inflow, math.sqrt(inflow_squared))  # alpha_R
+    normal = (inflow_squared + lateral_inflow * lateral_inflow) * math.sin(attack)  # U_R^2 sin(alpha_R)
+    surge[0] = n_t * n_t
+    surge[1] = u * n_t
+    surge[2] = u * u
+    surge[3] = speed_squared * sway * sway
+    surge[4] = speed_squared * sway * turn
+    surge[5] = speed_squared * turn * turn
+    surge[6] = speed_squared * sway**4
+    surge[7] = -normal * math.sin(rudder)
+    lateral[0] = speed_squared * sway
+    lateral[1] = speed_squared * turn
+    lateral[2] = speed_squared * sway**3
+    lateral[3] = speed_squared * sway * sway * turn
+    lateral[4] = speed_squared * sway * turn * turn
+    lateral[5] = speed_squared * turn**3
+    lateral[6] = -normal * math.cos(rudder)
+
+
+@kernel
+def _columns(u, v, r, rudder, propeller_rate, inflow, length, draught):
+    count = u.shape[0]
+    surge = np.empty((count, len(SURGE_TERMS)))
+    lateral = np.empty((count, len(SWAY_TERMS)))
+    for k in range(count):
+        _sample_columns(u[k], v[k], r[k], rudder[k], propeller_rate[k], inflow, length, draught, surge[k], lateral[k])
+    return surge, lateral
+
+
 def force_regressors(
     u: Values, v: Values, r: Values, rudder: Values, propeller_rate: Values, inflow: np.ndarray, body: RigidBody
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The columns X / (1/2 rho L d), Y / (1/2 rho L d) and N / (1/2 rho L^2 d) are linear in: (samples, 8) for the
     surge coefficients, (samples, 7) for the sway's and the yaw's (the module docstring's forms times U^2)."""
-    u, v, r = np.atleast_1d(u), np.atleast_1d(v), np.atleast_1d(r)
-    rudder, propeller_rate = np.atleast_1d(rudder), np.atleast_1d(propeller_rate)
-    b_un, c_nn, gamma_plus, gamma_minus, l_r = inflow
-    speed_squared = u**2 + v**2
-    speed = np.sqrt(speed_squared)
-    moving = np.maximum(speed, RESTING * body.length)
-    sway, turn = v / moving, r * body.length / moving  # v' and r'
-    n_t = propeller_rate * body.draught
-    inflow_squared = np.maximum(u**2 + b_un * u * n_t + c_nn * n_t**2, 0.0)  # u_R^2
-    beta_r = np.arctan2(-v, u) - l_r * turn
-    lateral_inflow = np.where(beta_r >= 0.0, gamma_plus, gamma_minus) * speed * beta_r  # v_R
-    attack = rudder - np.arctan2(lateral_inflow, np.sqrt(inflow_squared))  # alpha_R
-    normal = (inflow_squared + lateral_inflow**2) * np.sin(attack)  # U_R^2 sin(alpha_R)
-    surge = np.column_stack(
-        (
-            n_t**2,
-            u * n_t,
-            u**2,
-            speed_squared * sway**2,
-            speed_squared * sway * turn,
-            speed_squared * turn**2,
-            speed_squared * sway**4,
-            -normal * np.sin(rudder),
-        )
+    arrays = np.broadcast_arrays(
+        *(np.atleast_1d(np.asarray(x, dtype=float)) for x in (u, v, r, rudder, propeller_rate))
     )
-    lateral = np.column_stack(
-        (
-            speed_squared * sway,
-            speed_squared * turn,
-            speed_squared * sway**3,
-            speed_squared * sway**2 * turn,
-            speed_squared * sway * turn**2,
-            speed_squared * turn**3,
-            -normal * np.cos(rudder),
-        )
-    )
+    contiguous = [np.ascontiguousarray(array) for array in arrays]
+    surge, lateral = _columns(*contiguous, np.asarray(inflow, dtype=float), body.length, body.draught)
     return surge, lateral, lateral
+
+
+@kernel
+def _derivatives(state, rudder, propeller_rate, inflow, surge_terms, sway_terms, yaw_terms, body, inverse, out):
+    """d/dt of (u, v, r, north, east, heading) into ``out``; ``body`` holds L, d, m, m_x, m_y, x_G and ``inverse`` the
+    mass matrix's inverse."""
+    u, v, r, heading = state[0], state[1], state[2], state[5]
+    length, draught, mass, m_x, m_y, x_g = body[0], body[1], body[2], body[3], body[4], body[5]
+    surge = np.empty(len(SURGE_TERMS))
+    lateral = np.empty(len(SWAY_TERMS))
+    _sample_columns(u, v, r, rudder, propeller_rate, inflow, length, draught, surge, lateral)
+    scale = 0.5 * RHO * length * draught
+    x_force = scale * np.dot(surge, surge_terms) + (mass + m_y) * v * r + x_g * mass * r * r
+    y_force = scale * np.dot(lateral, sway_terms) - (mass + m_x) * u * r
+    n_moment = scale * length * np.dot(lateral, yaw_terms) - x_g * mass * u * r
+    for k in range(3):
+        out[k] = inverse[k, 0] * x_force + inverse[k, 1] * y_force + inverse[k, 2] * n_moment
+    out[3] = u * math.cos(heading) - v * math.sin(heading)
+    out[4] = u * math.sin(heading) + v * math.cos(heading)
+    out[5] = r
+
+
+@kernel
+def _rk4(
+    state, rudder_start, rudder_end, propeller_rate, dt, inflow, surge_terms, sway_terms, yaw_terms, body, inverse
+):
+    middle = 0.5 * (rudder_start + rudder_end)
+    k1, k2, k3, k4 = np.empty(6), np.empty(6), np.empty(6), np.empty(6)
+    arguments = (inflow, surge_terms, sway_terms, yaw_terms, body, inverse)
+    _derivatives(state, rudder_start, propeller_rate, *arguments, k1)
+    _derivatives(state + 0.5 * dt * k1, middle, propeller_rate, *arguments, k2)
+    _derivatives(state + 0.5 * dt * k2, middle, propeller_rate, *arguments, k3)
+    _derivatives(state + dt * k3, rudder_end, propeller_rate, *arguments, k4)
+    return state + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
 
 
 def derivatives(state: np.ndarray, rudder: float, propeller_rate: float, form: MmgForm) -> np.ndarray:
     """d/dt of (u, v, r, north, east, heading): the equations of motion solved for the accelerations."""
-    u, v, r, _, _, heading = state
-    surge, sway, yaw = (float(value[0]) for value in form.forces(u, v, r, rudder, propeller_rate))
-    body = form.body
-    mass, (m_x, m_y, _), x_g = body.mass, body.added_masses, body.centre_of_gravity
-    right = np.array(
-        [surge + (mass + m_y) * v * r + x_g * mass * r**2, sway - (mass + m_x) * u * r, yaw - x_g * mass * u * r]
-    )
-    du, dv, dr = np.linalg.solve(body.matrix(), right)
-    cos, sin = math.cos(heading), math.sin(heading)
-    return np.array([du, dv, dr, u * cos - v * sin, u * sin + v * cos, r])
+    out = np.empty(6)
+    _derivatives(np.asarray(state, dtype=float), float(rudder), float(propeller_rate), *form.compiled, out)
+    return out
 
 
 def rk4_step(
@@ -212,12 +260,10 @@ def rk4_step(
 ) -> np.ndarray:
     """One classical Runge-Kutta step of ``dt`` s, the rudder moving linearly from ``rudder_start`` to
     ``rudder_end`` over it."""
-    middle = 0.5 * (rudder_start + rudder_end)
-    k1 = derivatives(state, rudder_start, propeller_rate, form)
-    k2 = derivatives(state + 0.5 * dt * k1, middle, propeller_rate, form)
-    k3 = derivatives(state + 0.5 * dt * k2, middle, propeller_rate, form)
-    k4 = derivatives(state + dt * k3, rudder_end, propeller_rate, form)
-    return state + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    return _rk4(
+        np.asarray(state, dtype=float), float(rudder_start), float(rudder_end), float(propeller_rate), float(dt),
+        *form.compiled,
+    )  # fmt: skip
 
 
 __all__ = [

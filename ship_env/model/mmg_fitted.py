@@ -2,7 +2,7 @@
 
 ``ship-env fit-mmg LOGS --ship PRESET -o hull.yaml`` fits the MMG standard's hull, propeller and rudder forces
 (:mod:`ship_env.model.mmg_form`) to measured runs by inverse dynamics
-(:mod:`ship_env.workbench.inverse_dynamics`) and writes them to a YAML file. :class:`MmgFitted` sails that file
+(:mod:`ship_env.workbench.fitting.inverse_dynamics`) and writes them to a YAML file. :class:`MmgFitted` sails that file
 wherever ship_env takes external dynamics (:mod:`ship_env.model.external`)::
 
     import gymnasium as gym

@@ -26,7 +26,7 @@ r' = r L / U, U^2 = u^2 + v^2):
 
 Every force is linear in its coefficients for given rudder-inflow parameters (b_un, c_nn, gamma_R+,
 gamma_R-, l_R): :func:`force_regressors` gives the columns, which the identification
-(:mod:`ship_env.workbench.inverse_dynamics`) fits by variable projection. The masses are not identified: they
+(:mod:`ship_env.workbench.fitting.inverse_dynamics`) fits by variable projection. The masses are not identified: they
 come from the particulars (:class:`RigidBody`), the added masses from Clarke, Gedling & Hine (1983)'s
 regressions on the hull's length, breadth, draught and block coefficient.
 

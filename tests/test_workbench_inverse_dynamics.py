@@ -275,11 +275,17 @@ def test_the_fitted_file_sails_in_the_manoeuvres_and_the_environments(
     env.close()
 
 
-def test_a_dynamics_option_that_cannot_be_sailed_is_named(model_preset, tmp_path):
+def test_a_dynamics_option_that_cannot_be_sailed_is_named(model_preset, fitted_by_command, tmp_path, capsys):
     missing = tmp_path / "missing.yaml"
     with pytest.raises(SystemExit) as stopped:
         main(["manoeuvre", "--ship", str(model_preset), "--dynamics", str(missing)])
     assert stopped.value.code == 2
+    assert f"argument --dynamics: dynamics: cannot read {str(missing)!r}" in capsys.readouterr().err
+    output, _ = fitted_by_command  # fitted on the 7 m model; kvlcc2 is 320 m long
+    with pytest.raises(SystemExit) as stopped:
+        main(["manoeuvre", "--ship", "kvlcc2", "--dynamics", str(output)])
+    assert stopped.value.code == 2
+    assert "was fitted to a ship of length 7 m; --ship kvlcc2 is 320 m long" in capsys.readouterr().err
 
 
 def test_uneven_sampling_rudder_orders_and_a_stated_propeller_rate_give_the_same_fit(model_preset, truth, exact_logs):

@@ -184,7 +184,7 @@ def run_manoeuvres(args: argparse.Namespace) -> int:
         _check_rudder(model, "--turn-angle", angle, f"{angle:g} deg")
     for rudder, heading in args.zigzag:
         _check_rudder(model, "--zigzag", rudder, f"{rudder:g}/{heading:g}")
-    dynamics = _dynamics(args.dynamics)
+    dynamics = _dynamics(args.dynamics, model)
     prepare_outputs(args.plot, args.json)
     settings = TrialSettings(speed=None if args.speed is None else args.speed * KNOT, dt=args.dt, dynamics=dynamics)
     pull_out_rudder = min(math.radians(PULL_OUT_RUDDER_DEG), model.rudder_limit)
@@ -218,16 +218,26 @@ def run_manoeuvres(args: argparse.Namespace) -> int:
     return 0
 
 
-def _dynamics(text: str | None) -> str | None:
+def _dynamics(text: str | None, model: ShipModel) -> str | None:
     """``--dynamics``, checked now (a fitted MMG model's file read, an import path imported); a UsageError
-    naming the option where it cannot be sailed."""
+    naming the option where it cannot be sailed, or where a fitted model's length is not ``model``'s (``--ship``
+    gives the particulars and the approach speed the manoeuvres are read with)."""
     from ship_env.model.external import dynamics_factory
+    from ship_env.model.mmg_fitted import read_mmg
 
-    if text is not None:
-        try:
-            dynamics_factory(text)
-        except (ValueError, TypeError) as error:
-            raise UsageError("--dynamics", str(error)) from None
+    if text is None:
+        return None
+    try:
+        dynamics_factory(text)
+        fitted_length = read_mmg(text).form.body.length if text.endswith((".yaml", ".yml")) else model.length
+    except (ValueError, TypeError) as error:
+        raise UsageError("--dynamics", str(error)) from None
+    if not math.isclose(fitted_length, model.length, rel_tol=1e-9):
+        raise UsageError(
+            "--dynamics",
+            f"{text} was fitted to a ship of length {fitted_length:g} m; --ship {model.ship.name} is {model.length:g} "
+            "m long: give the preset it was fitted with",
+        )
     return text
 
 

@@ -275,6 +275,18 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def add_validation_argument(parser: argparse.ArgumentParser, scored: str) -> None:
+    """``--validate-on``: runs never fitted, ``scored`` as the command says."""
+    parser.add_argument(
+        "--validate-on",
+        nargs="+",
+        type=Path,
+        default=None,
+        metavar="LOG",
+        help=f"runs of another kind {scored} and never fitted, e.g. fit on zig-zags, validate on turning runs",
+    )
+
+
 def add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = True) -> None:
     """The arguments the workbench's commands share: logs, format, ship, model, error scales."""
     add_log_arguments(parser)
@@ -359,15 +371,7 @@ def add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tru
         metavar="S",
         help="with --inside, the shortest stretch kept, s (default: %(default)s)",
     )
-    parser.add_argument(
-        "--validate-on",
-        nargs="+",
-        type=Path,
-        default=None,
-        metavar="LOG",
-        help="runs of another kind (or a named set) scored by the fit to LOGS and never fitted, "
-        "e.g. fit on zig-zags, validate on turning runs",
-    )
+    add_validation_argument(parser, "(or a named set) scored by the fit to LOGS")
     parser.add_argument(
         "--group-by",
         default=None,

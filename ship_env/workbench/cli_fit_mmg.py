@@ -1,5 +1,6 @@
 """``ship-env fit-mmg``: the MMG standard's 3-DOF forces fitted to measured runs by inverse dynamics, and the
-fitted ship sailed free through the hard-over turning circles and the 10/10 zig-zag it was not fitted to.
+fitted ship sailed free through the hard-over turning circles and the 10/10 zig-zag it was not fitted to, and
+through the runs' own manoeuvres (``--validate-on``: runs it was not fitted to), measured against predicted.
 
 Declared as :data:`COMMAND`; the smoothing, the fit (:mod:`ship_env.workbench.fitting.inverse_dynamics`) and the
 manoeuvres are imported only when the command runs.
@@ -12,13 +13,19 @@ import math
 import sys
 import warnings
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ship_env.command_line import Command, UsageError, number
 from ship_env.model import list_ships
 from ship_env.model.arguments import ship_name
 from ship_env.text_table import Table
-from ship_env.workbench.cli import add_log_arguments
+from ship_env.workbench.cli import add_log_arguments, add_validation_argument
 from ship_env.workbench.outputs import claim_file
+
+if TYPE_CHECKING:
+    from ship_env.model import ShipModel
+    from ship_env.workbench.fitting.inverse_dynamics import Identification
+    from ship_env.workbench.logs.logs import Log
 
 #: The preset the command starts from without ``--ship``.
 FIT_MMG_SHIP = "esso_osaka_model"
@@ -43,9 +50,11 @@ def run_fit_mmg(args: argparse.Namespace) -> int:
 
     model = ShipModel(args.ship)
     output = None if args.output is None else claim_file(args.output, args.force, "--output")
+    plot = None if args.plot is None else claim_file(args.plot, args.force, "--plot")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", LogWarning)
         logs = load_logs(args.logs, args.format)
+        validation = load_logs(args.validate_on, args.format) if args.validate_on else []
     for warning in caught:
         print(f"ship-env fit-mmg: warning: {warning.message}", file=sys.stderr)
     try:
@@ -102,6 +111,7 @@ def run_fit_mmg(args: argparse.Namespace) -> int:
         print(sail_report(Sailing.fitted(model, settings, record), tasks, title).text)
     except FloatingPointError as error:
         print(f"ship-env fit-mmg: {error}", file=sys.stderr)
+    _print_runs_sailed_free(model, identified, logs, validation, plot)
     if output is not None:
         about = {
             "command": "ship-env " + " ".join(getattr(args, "argv", [])),
@@ -115,6 +125,51 @@ def run_fit_mmg(args: argparse.Namespace) -> int:
             f"--dynamics {output}"
         )
     return 0
+
+
+def _print_runs_sailed_free(
+    model: ShipModel, identified: Identification, logs: list[Log], validation: list[Log], plot: Path | None
+) -> None:
+    """The runs' manoeuvres sailed free, each by a fit that did not see it, measured against predicted
+    (:mod:`ship_env.workbench.judging.free_running`): a fitted run by the fold that left it out (with the
+    jackknife), a ``--validate-on`` run by the fit to all runs, +- the folds' spread; their tracks into ``plot``."""
+    from functools import partial
+
+    from ship_env.model.mmg_fitted import MmgFitted, MmgRecord
+    from ship_env.workbench import ReplayModel
+    from ship_env.workbench.judging.free_running import (
+        Sail,
+        compare_free_running,
+        disagreements,
+        free_running_table,
+        held_out_sailing,
+    )
+
+    preset = ReplayModel(model)
+
+    def sail(record: MmgRecord) -> Sail:
+        return partial(compare_free_running, preset, dynamics=partial(MmgFitted, record))
+
+    record = identified.record
+    folds = [((run,), sail(fold)) for run, fold in zip(identified.runs, record.fold_records(), strict=True)]
+    results = held_out_sailing(sail(record), folds, logs if folds else [], validation)
+    if not results:
+        if validation or folds:
+            print("\nno run reads as a turning circle or a zig-zag: none sailed free against its measurement")
+        return
+    whose = "a fitted run by the fold that left it out, " if folds else ""
+    print(
+        f"\nthe runs' manoeuvres sailed free from their first execute, each by a fit that did not see it ({whose}a "
+        "--validate-on run by the fit to all runs, +- the folds' spread; in calm water: the form has no wind forces)"
+    )
+    print(free_running_table(results).text())
+    for line in disagreements(results, None):
+        print(f"disagrees: {line}")
+    if plot is not None:
+        from ship_env.workbench.reporting.report import plot_free_running
+
+        plot_free_running(results, [*logs, *validation], model.length, plot)
+        print(f"tracks, measured against sailed free, written to {plot}")
 
 
 def _fit_mmg_arguments(parser: argparse.ArgumentParser) -> None:
@@ -149,9 +204,13 @@ def _fit_mmg_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="RPS",
         help="the propeller rate of logs without a propeller channel (default: such a log is refused)",
     )
+    add_validation_argument(parser, "sailed free by the fit through their own manoeuvres, measured against predicted,")
+    parser.add_argument(
+        "--plot", type=Path, default=None, metavar="PNG", help="write the runs' tracks, measured against sailed free"
+    )
     parser.add_argument("--no-jackknife", action="store_true", help="fit once, without leaving each run out")
     parser.add_argument("-o", "--output", type=Path, default=None, metavar="FILE", help="write the fitted model")
-    parser.add_argument("--force", action="store_true", help="overwrite --output")
+    parser.add_argument("--force", action="store_true", help="overwrite --output and --plot")
 
 
 COMMAND = Command(
@@ -162,7 +221,9 @@ COMMAND = Command(
         "filter and RTS smoother, the noise from the logs), the forces from the mass matrix, the\n"
         "coefficients by least squares; each run left out in turn for their errors. Then sail the\n"
         "fitted ship free through the hard-over turning circles and the 10/10 zig-zag, and say how\n"
-        "far they go beyond the runs. Needs position, heading and speed channels, and the propeller rate\n"
+        "far they go beyond the runs; and through the runs' own manoeuvres, each by a fit that did not\n"
+        "see it (--validate-on: turning runs, say), measured against predicted. Needs position, heading\n"
+        "and speed channels, and the propeller rate\n"
         "(a channel, or --propeller-rate where it was constant); rudder orders are followed at the\n"
         "preset's steering-machine rate."
     ),
@@ -171,6 +232,7 @@ COMMAND = Command(
     examples=(
         "ship-env scale kvlcc2 --length 7 -o kvlcc2_model.yaml",
         "ship-env fit-mmg basin/zigzag --ship kvlcc2_model.yaml -o hull.yaml",
+        "ship-env fit-mmg basin/zigzag --ship kvlcc2_model.yaml --validate-on basin/turning --plot sailed.png",
         "ship-env manoeuvre --ship kvlcc2_model.yaml --dynamics hull.yaml --turn-angle 35 -35 --zigzag 10/10",
     ),
 )

@@ -35,8 +35,10 @@ A run of neither kind has no figures; a figure its run does not reach is NaN ("n
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -52,6 +54,9 @@ from ship_env.workbench.fitting.replay import ReplayModel, service_speed
 from ship_env.workbench.fitting.terms import sailing_model
 from ship_env.workbench.judging.validation import CrossValidation
 from ship_env.workbench.logs.logs import Log
+
+if TYPE_CHECKING:
+    from ship_env.model.external import DynamicsSource
 
 #: The rudder is "over" where it is at least this fraction of the manoeuvre's angle.
 OVER = 0.5
@@ -249,7 +254,7 @@ def _turning_figures(series: Series, manoeuvre: Manoeuvre, length: float) -> tup
     )
 
 
-def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
+def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre, dynamics: DynamicsSource | None = None) -> Series:
     """The model's manoeuvre, sailed free (:func:`~ship_env.manoeuvres.trial.run_trial`) from the measured state
     at the first execute: the heading, rate of turn, rudder and speed there (the run's service speed U0 as the
     replay takes it, :func:`~.replay.service_speed`, the speed loss from there by the model's own equation),
@@ -257,7 +262,13 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
     records the actual rudder (:func:`~.terms.sailing_model`, as the fitted preset sails); a turn holds its rudder
     ordered to the measured turn's end,
     a zig-zag reverses it closed loop on the heading (:class:`~ship_env.manoeuvres.zigzag.ZigZagHelmsman`)
-    until its fifth execute or twice the measured run's time."""
+    until its fifth execute or twice the measured run's time.
+
+    ``dynamics``, where given, sails the ship instead of ``setup``'s model (an external model, as
+    :class:`~ship_env.manoeuvres.settings.TrialSettings` takes it: a fitted MMG model of ``ship-env fit-mmg``),
+    ``setup`` then giving the preset's particulars and rudder limit. Such a model starts at the speed it is given
+    as its service speed (the measured speed there, where the log has one) and has no wind forces, so it sails
+    without the log's wind."""
     start = manoeuvre.executes[0]
 
     def at(values: np.ndarray | None, default: float = 0.0) -> float:
@@ -266,12 +277,16 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
     current_north, current_east = setup.current
     conditions = Conditions(
         propeller_rate=None if log.propeller_rate is None else at(log.propeller_rate),  # None: the ship's own
-        wind_speed=max(at(log.wind_speed), 0.0),
+        wind_speed=max(at(log.wind_speed), 0.0) if dynamics is None else 0.0,
         wind_direction=at(log.wind_direction),
         current_speed=math.hypot(current_north, current_east),
         current_direction=math.atan2(current_east, current_north),
     )
-    settings = TrialSettings(speed=service_speed(log, setup.model), dt=float(np.median(np.diff(log.time))))
+    measured_speed = at(log.speed) if log.speed is not None and at(log.speed) > 0.0 else None
+    speed = service_speed(log, setup.model)
+    if dynamics is not None and measured_speed is not None:  # an external model starts at its "service" speed
+        speed, measured_speed = measured_speed, None
+    settings = TrialSettings(speed=speed, dt=float(np.median(np.diff(log.time))), dynamics=dynamics)
     heading0 = at(log.heading)
     order = manoeuvre.side * manoeuvre.rudder_angle
     helmsman = ZigZagHelmsman(order, manoeuvre.heading_change, heading0)
@@ -287,7 +302,7 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre) -> Series:
         initial_rudder=at(log.rudder),
         conditions=conditions,
         initial_heading=heading0,
-        initial_speed=at(log.speed) if log.speed is not None and at(log.speed) > 0.0 else None,  # None: at U0
+        initial_speed=measured_speed,  # None: at the settings' speed
     )
     columns = ("north", "east", "heading", "rate_of_turn", "rudder", "speed")
     return Series(frame["time"].to_numpy() + start, *(frame[name].to_numpy() for name in columns))
@@ -312,8 +327,11 @@ class RunFigures:
     spread: tuple[float, ...] = ()
 
 
-def compare_free_running(setup: ReplayModel, logs: Sequence[Log]) -> tuple[RunFigures, ...]:
-    """Each run's manoeuvre figures, measured and sailed free by ``setup`` (runs of neither kind left out)."""
+def compare_free_running(
+    setup: ReplayModel, logs: Sequence[Log], dynamics: DynamicsSource | None = None
+) -> tuple[RunFigures, ...]:
+    """Each run's manoeuvre figures, measured and sailed free by ``setup`` (or by ``dynamics``, as
+    :func:`sail_free` takes them; runs of neither kind left out)."""
     results = []
     for log in logs:
         measured_series = Series.of_log(log)
@@ -324,7 +342,7 @@ def compare_free_running(setup: ReplayModel, logs: Sequence[Log]) -> tuple[RunFi
             continue
         measured = manoeuvre_figures(measured_series, manoeuvre, setup.model.length)
         try:
-            predicted_series = sail_free(setup, log, manoeuvre)
+            predicted_series = sail_free(setup, log, manoeuvre, dynamics)
         except FloatingPointError as error:  # the model left its validity: no figures, and why
             unreached = tuple(replace(figure, value=math.nan) for figure in measured)
             results.append(RunFigures(log.name, manoeuvre, measured, unreached, None, str(error)))
@@ -367,15 +385,32 @@ def free_running_table(results: Sequence[RunFigures]) -> Table:
     return Table(("run", "manoeuvre", "figure", "measured", "predicted", "predicted - measured"), tuple(rows), words=3)
 
 
+#: A fitted model's free sailing of some runs: :func:`compare_free_running` bound to the model.
+Sail = Callable[[Sequence[Log]], tuple[RunFigures, ...]]
+
+
 def held_out_free_running(validation: CrossValidation, logs: Sequence[Log]) -> tuple[RunFigures, ...]:
-    """Every run sailed free by a fit that did not see it: a fitted run by the fold that left it out, a
-    validation run (``validate_on``) by the fit to all runs, each of its figures with its jackknife standard error
-    over the folds (every fold sails it too: how far the fitted runs would move the prediction)."""
-    fold_of = {name: fold.setup for fold in validation.folds for name in fold.left_out}
-    fitted = [compare_free_running(fold_of.get(log.name, validation.fit.setup), [log]) for log in logs]
-    validated = compare_free_running(validation.fit.setup, validation.validation_logs)
-    if len(validation.folds) >= 2:
-        by_fold = [compare_free_running(fold.setup, validation.validation_logs) for fold in validation.folds]
+    """Every run of a cross-validated fit sailed free by a fit that did not see it (:func:`held_out_sailing`)."""
+    return held_out_sailing(
+        partial(compare_free_running, validation.fit.setup),
+        [(fold.left_out, partial(compare_free_running, fold.setup)) for fold in validation.folds],
+        logs,
+        validation.validation_logs,
+    )
+
+
+def held_out_sailing(
+    fit: Sail, folds: Sequence[tuple[Sequence[str], Sail]], logs: Sequence[Log], validation_logs: Sequence[Log]
+) -> tuple[RunFigures, ...]:
+    """Every run sailed free by a fit that did not see it: a fitted run (``logs``) by the fold that left it out
+    (``folds``: the runs each left out and its sailing; ``fit``, the fit to all runs, where none did), a validation
+    run by ``fit``, each of its figures with its jackknife standard error over the folds (every fold sails it too:
+    how far the fitted runs would move the prediction)."""
+    fold_of = {name: sail for left_out, sail in folds for name in left_out}
+    fitted = [fold_of.get(log.name, fit)([log]) for log in logs]
+    validated = fit(validation_logs)
+    if len(folds) >= 2:
+        by_fold = [sail(validation_logs) for _, sail in folds]
         validated = tuple(
             replace(result, spread=_spread(result, [results[i] for results in by_fold]))
             for i, result in enumerate(validated)
@@ -417,11 +452,12 @@ def judged_errors(results: Sequence[RunFigures]) -> dict[str, list[float]]:
     return errors
 
 
-def disagreements(results: Sequence[RunFigures], effects: Sequence[str]) -> list[str]:
+def disagreements(results: Sequence[RunFigures], effects: Sequence[str] | None) -> list[str]:
     """Where the free-running figures disagree, in words, a line per judged figure (:data:`JUDGED_FIGURES`) that
     some run misses by more than its bound: how many runs, the median error, and the library's effects that
     shape the figure which the model (``effects``) lacks -- the physics to try next (``--add``), or, where it has
-    them all, its terms fitted on runs that do not reach these manoeuvres' rates of turn."""
+    them all, its terms fitted on runs that do not reach these manoeuvres' rates of turn (``effects`` None: a
+    model not made of the library's effects, such as a fitted MMG form; no effects named)."""
     lines = []
     for key, errors in judged_errors(results).items():
         bound, relative, shaping = JUDGED_FIGURES[key]
@@ -432,13 +468,15 @@ def disagreements(results: Sequence[RunFigures], effects: Sequence[str]) -> list
         shown = f"{100.0 * median:+.0f} %" if relative else f"{median:+.1f} deg"
         limit = f"{100.0 * bound:g} %" if relative else f"{bound:g} deg"
         label = next(m.label for r in results for m in r.measured if m.key == key)
-        lacking = [name for name in shaping if name not in effects]
-        then = (
-            f"effects that shape it, not in the model: {', '.join(lacking)}"
-            if lacking
-            else "the model has every effect the library knows to shape it: their terms extrapolate"
-        )
-        lines.append(f"{label}: {len(missed)} of {len(errors)} runs beyond {limit} (median {shown}); {then}")
+        line = f"{label}: {len(missed)} of {len(errors)} runs beyond {limit} (median {shown})"
+        if effects is not None:
+            lacking = [name for name in shaping if name not in effects]
+            line += (
+                f"; effects that shape it, not in the model: {', '.join(lacking)}"
+                if lacking
+                else "; the model has every effect the library knows to shape it: their terms extrapolate"
+            )
+        lines.append(line)
     stuck = [result for result in results if result.cannot_sail]
     if stuck:
         names = ", ".join(result.run for result in stuck)

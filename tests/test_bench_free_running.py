@@ -120,11 +120,11 @@ def test_a_basins_zigzags_of_the_model_fit_a_ship_that_sails_at_their_propeller_
 @pytest.mark.slow
 def test_the_mmg_forces_fitted_to_a_basins_zigzags_predict_the_turn_the_ladder_misses(load_script, tmp_path):
     """shipmmg's MMG KVLCC2 as the 7 m model, its thirteen basin zig-zags (seed 3): ``ship-env fit-mmg`` (inverse
-    dynamics) predicts the 35 deg turns' advance and tactical diameter within 5 %, where the error ladder's preset
-    is a third too wide (docs/results/free_running.md)."""
+    dynamics) predicts the 35 deg turns within every bound (advance and tactical diameter 5 %, where the error
+    ladder's preset is a third too wide; the steady rate and speed loss 10 %; the 10/10 overshoot 2 deg;
+    docs/results/free_running.md)."""
     pytest.importorskip("shipmmg", reason='shipmmg is not installed (pip install shipmmg or -e ".[bench]")')
     bench = load_script(BENCH, "bench_free_running")
     verdict = bench.judge(3, tmp_path, bench.make_truth(bench.MMG_BASIN, tmp_path), fit=bench.FIT_MMG)
     assert verdict.cannot_turn == "", verdict.cannot_turn
-    rows = {row[0]: row for row in verdict.rows}
-    assert rows["advance"][-1] == "PASS" and rows["tactical diameter"][-1] == "PASS", verdict.rows
+    assert all(row[-1] == "PASS" for row in verdict.rows), verdict.rows

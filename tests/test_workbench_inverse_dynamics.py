@@ -151,6 +151,25 @@ def test_the_noise_of_a_smooth_channel_is_read_from_its_third_differences():
     assert noise_of(signal + noise) == pytest.approx(0.02, rel=0.1)  # the MAD's spread over 1500 samples: 4 %
 
 
+def test_an_acceleration_that_ramps_is_smoothed_without_lag():
+    """A rudder moving at its machine's rate ramps the yaw acceleration: the smoothed acceleration of an exact track
+    whose acceleration ramps (integrated a thousand times finer than it is sampled) follows it at the samples, where
+    a model holding the acceleration constant over each step (filterpy's discrete white noise) lags half a sample:
+    an error of half the ramp's change per sample."""
+    from scipy.integrate import cumulative_trapezoid
+
+    fine = np.arange(0.0, 40.0, 2e-4)
+    slope = 1e-3  # m/s^3, from 10 s to 20 s
+    acceleration = slope * np.clip(fine - 10.0, 0.0, 10.0)
+    track = cumulative_trapezoid(cumulative_trapezoid(acceleration, fine, initial=0.0), fine, initial=0.0)
+    dt = 0.2
+    time = np.arange(0.0, 40.0, dt)
+    smoothed = smooth_channels(np.interp(time, fine, track)[:, None], dt)
+    ramp = (time > 11.0) & (time < 19.0)  # a second from the kinks
+    error = smoothed[ramp, 2] - np.interp(time[ramp], fine, acceleration)
+    assert np.max(np.abs(error)) < 0.01 * 0.5 * slope * dt  # a hundredth of the half-sample lag's
+
+
 def test_a_constant_acceleration_track_is_smoothed_into_its_exact_rate_and_acceleration():
     """The filter's model holds a constant acceleration exactly: its smoother gives back the rate and acceleration
     of such a track from its positions alone."""
@@ -219,15 +238,20 @@ def test_the_file_reads_back_as_written(tmp_path, truth):
 
 # -- identification ----------------------------------------------------------------------------------------------
 def test_exact_logs_give_the_ships_forces_and_its_hard_over_turn_back(model_preset, truth, exact_logs):
-    """From six zig-zags' logs alone, the forces explain 99.9 % of what moved the ship, and the hard-over turn, at an
-    r* twice the zig-zags', is within the issue's bounds (advance and tactical diameter 5 %, rate and speed loss
-    10 %, 10/10 overshoot 2 deg). Single coefficients are not determined: at the runs' one propeller rate the
-    rudder's inflow terms trade with its force coefficient and the hull's (the docs' free-running page)."""
+    """From six zig-zags' logs alone (5 Hz, no noise), the forces explain 99.99 % of what moved the ship, and the
+    hard-over turn, at an r* twice the zig-zags', comes back within 0.5 % on every figure and the 10/10 overshoot
+    within 0.05 deg: only the smoother's interpolation between samples stands between the logs and the states
+    (the exact states give the coefficients back to the last digit). The rudder's inflow parameters are weakly
+    determined at the runs' one propeller rate (b_un about 7.3 against 6.5), what they predict is not. With the
+    smoother's acceleration half a sample late (a discrete white-noise jerk) the rate of turn was 5.7 % off."""
     model = ShipModel(model_preset)
     identified = identify(exact_logs, model, jackknife=False)
-    assert min(identified.fitted.determination) > 0.999
+    assert min(identified.fitted.determination) > 0.9999
     assert identified.record.coverage["rate"][1] < 0.6 * _turn_rate_star(model, truth)
-    assert _within_bounds(_judged(model, identified.record), _judged(model, truth)) == []
+    predicted, expected = _judged(model, identified.record), _judged(model, truth)
+    for key, _, relative in BOUNDS:
+        error = predicted[key] - expected[key]
+        assert (abs(error) / abs(expected[key]) < 0.005) if relative else (abs(error) < 0.05), key
 
 
 def _turn_rate_star(model: ShipModel, record: MmgRecord) -> float:

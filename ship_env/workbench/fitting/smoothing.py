@@ -5,8 +5,12 @@ velocity v, which few do. Both come from the measured channels through filterpy'
 Rauch-Tung-Striebel smoother on a constant-acceleration model, one per channel group:
 
 - state x = (s, ds/dt, d^2s/dt^2) of the smoothed quantity s; x_{k+1} = F x_k + w_k with
-  F = [[1, dt, dt^2 / 2], [0, 1, dt], [0, 0, 1]], w_k the discrete white jerk of intensity q
-  (``filterpy.common.Q_discrete_white_noise``);
+  F = [[1, dt, dt^2 / 2], [0, 1, dt], [0, 0, 1]], w_k the continuous white jerk of spectral density q integrated
+  over the step (``filterpy.common.Q_continuous_white_noise``: the acceleration a continuous random walk, so an
+  exact log's smoothed acceleration is an interpolating quintic spline's). The discrete white-noise model holds the
+  acceleration constant over each step, and its smoothed acceleration lags half a sample wherever it changes (a
+  rudder moving): 3-4 % of dv/dt and dr/dt in exact logs of a known ship, which put its hard-over turn's rate 6 %
+  off (``docs/results/free_running.md``);
 - measurement z_k = H x_k + e_k, e_k ~ N(0, R):
 
   - the position north and east (one filter each), s the position, z = s;
@@ -33,7 +37,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from filterpy.common import Q_discrete_white_noise
+from filterpy.common import Q_continuous_white_noise
 from numpy.polynomial.polynomial import polyfit
 from scipy.linalg import solve_discrete_are
 
@@ -42,8 +46,9 @@ from ship_env.workbench.logs.logs import Log
 
 #: Ship lengths sailed at each end of a run whose smoothed rates are left out.
 EDGE_LENGTHS = 0.5
-#: The jerk intensities tried, as q dt^5 / sigma^2 (the filter's behaviour depends on this ratio alone).
-JERK_RATIOS = 10.0 ** np.arange(-9.0, 1.0)
+#: The jerk intensities tried, as q dt^5 / sigma^2 (the filter's behaviour depends on this ratio alone): from heavy
+#: smoothing to interpolation (a log with no noise but its digits', whose innovations are likeliest at the largest).
+JERK_RATIOS = 10.0 ** np.arange(-9.0, 7.0)
 #: The channels a run must have to be smoothed into states, in words (the position gives the sway).
 REQUIRED_CHANNELS = {
     "north": "position (channels 'north' and 'east')",
@@ -127,7 +132,7 @@ class SteadyFilter:
         intensity q = ``ratio`` sigma^2 / dt^5 (sigma the first channel's noise)."""
         transition = np.array([[1.0, dt, 0.5 * dt**2], [0.0, 1.0, dt], [0.0, 0.0, 1.0]])
         measurement = np.eye(3)[: len(noises)]
-        jerk = Q_discrete_white_noise(3, dt, ratio * noises[0] ** 2 / dt**5)
+        jerk = Q_continuous_white_noise(3, dt, ratio * noises[0] ** 2 / dt**5)
         noise = np.diag(noises**2)
         predicted = solve_discrete_are(transition.T, measurement.T, jerk, noise)
         innovation = measurement @ predicted @ measurement.T + noise

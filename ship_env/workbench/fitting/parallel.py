@@ -71,7 +71,9 @@ def _single_threaded() -> None:
     from threadpoolctl import threadpool_limits
 
     import ship_env.workbench.fitting.fit  # noqa: F401  (loads scipy's BLAS before limiting it)
+    from ship_env.workbench.fitting.memory import keep_freed_memory
 
+    keep_freed_memory()
     numba.set_num_threads(1)
     threadpool_limits(limits=1, user_api="blas")
     if sys.platform == "linux":

@@ -12,16 +12,19 @@ import sys
 
 import pytest
 
-from ship_env.workbench.fitting.memory import SETTINGS, keep_freed_memory
+from ship_env.workbench.fitting.memory import SETTINGS
 
-#: Allocations of a fit's kind: 400 arrays of 128 kB to 16 MB, four alive at a time; prints the page faults taken.
+#: Allocations of a fit's kind: 400 arrays of 128 kB to 16 MB, four alive at a time; prints the malloc thresholds
+#: the process set ("not called" where it never asked), then the page faults taken.
 ALLOCATIONS = """
 import resource, sys
 import numpy as np
+from ship_env.workbench.fitting.memory import keep_freed_memory
 from ship_env.workbench.fitting.parallel import _single_threaded
 import ship_env.workbench.fitting.fit
 if sys.argv[1] == "worker":
     _single_threaded()
+print(",".join(keep_freed_memory()) if keep_freed_memory.cache_info().currsize else "not called")
 sizes = np.random.default_rng(0).integers(2**14, 2**21, 400)
 before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
 for k in range(0, 400, 4):
@@ -31,18 +34,24 @@ print(resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before)
 """
 
 
-def _page_faults(kind: str) -> int:
+def _allocate(kind: str) -> tuple[str, int]:
+    """What a fresh process of ``kind`` ("worker" or "alone") printed of its thresholds, and the page faults it
+    took."""
     done = subprocess.run(
         [sys.executable, "-c", ALLOCATIONS, kind], capture_output=True, text=True, check=True, timeout=120
     )
-    return int(done.stdout.split()[-1])
+    thresholds, faults = done.stdout.splitlines()[-2:]
+    return thresholds, int(faults)
 
 
 def test_a_worker_process_reuses_freed_blocks_instead_of_faulting_them_in_again():
-    if not keep_freed_memory():
+    thresholds, worker = _allocate("worker")
+    assert thresholds != "not called"  # a worker's start sets the policy
+    if not thresholds:
         pytest.skip("no glibc malloc here: the policy does nothing")
-    assert set(keep_freed_memory()) == set(SETTINGS)
-    alone, worker = _page_faults("alone"), _page_faults("worker")
+    assert set(thresholds.split(",")) == set(SETTINGS)
+    untouched, alone = _allocate("alone")
+    assert untouched == "not called"
     # Alone, most arrays are faulted in page by page (400 arrays of 8 MB on average, 2048 pages each); a worker
     # faults in only what its heap has never held.
     assert alone > 40_000

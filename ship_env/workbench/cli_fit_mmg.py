@@ -133,6 +133,7 @@ def _print_runs_sailed_free(
     """The runs' manoeuvres sailed free, each by a fit that did not see it, measured against predicted
     (:mod:`ship_env.workbench.judging.free_running`): a fitted run by the fold that left it out (with the
     jackknife), a ``--validate-on`` run by the fit to all runs, +- the folds' spread; their tracks into ``plot``."""
+    from dataclasses import replace
     from functools import partial
 
     from ship_env.model.mmg_fitted import MmgFitted, MmgRecord
@@ -150,9 +151,12 @@ def _print_runs_sailed_free(
     def sail(record: MmgRecord) -> Sail:
         return partial(compare_free_running, preset, dynamics=partial(MmgFitted, record))
 
+    def calm(runs: list[Log]) -> list[Log]:  # the form has no wind forces: its runs sailed without the logs' wind
+        return [replace(log, wind_speed=None, wind_direction=None) for log in runs]
+
     record = identified.record
     folds = [((run,), sail(fold)) for run, fold in zip(identified.runs, record.fold_records(), strict=True)]
-    results = held_out_sailing(sail(record), folds, logs if folds else [], validation)
+    results = held_out_sailing(sail(record), folds, calm(logs) if folds else [], calm(validation))
     if not results:
         if validation or folds:
             print("\nno run reads as a turning circle or a zig-zag: none sailed free against its measurement")

@@ -4,9 +4,10 @@ A fit allocates and frees the same large arrays (replays, residuals, Jacobians) 
 ``malloc`` gives each block above its mmap threshold (128 kB, raised as such blocks are freed) straight back to the
 system and trims the heap's top beyond 128 kB, so every allocation after it is page-faulted in afresh: ``ship-env
 improve`` on the Esso Osaka zig-zags took 2.7 million page faults, 7.5 s of system time against 96 s of user time.
-With the thresholds raised (:func:`keep_freed_memory`) the heap reuses the blocks: 0.3 million faults, 1.5 s,
-and the same results bit for bit (``docs/results/benchmarks.md``). Called where the workbench owns the process (its
-worker processes, the command line); elsewhere (glibc absent: macOS, Windows, musl) it does nothing.
+With the thresholds raised (:func:`keep_freed_memory`) in the worker processes the heap reuses the blocks: 0.34
+million faults, 1.7-1.8 s, and the same results bit for bit (``docs/results/benchmarks.md``). It is called only where
+the workbench owns the process, its worker processes (:mod:`.parallel`), never in the user's; without glibc's
+``malloc`` (macOS, Windows, musl) it does nothing.
 """
 
 from __future__ import annotations

@@ -267,8 +267,8 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre, dynamics: Dyna
     ``dynamics``, where given, sails the ship instead of ``setup``'s model (an external model, as
     :class:`~ship_env.manoeuvres.settings.TrialSettings` takes it: a fitted MMG model of ``ship-env fit-mmg``),
     ``setup`` then giving the preset's particulars and rudder limit. Such a model starts at the speed it is given
-    as its service speed (the measured speed there, where the log has one) and has no wind forces, so it sails
-    without the log's wind."""
+    as its service speed (the measured speed there, where the log has one); it sails in the log's wind, so a log
+    without wind channels sails a model that has no wind forces."""
     start = manoeuvre.executes[0]
 
     def at(values: np.ndarray | None, default: float = 0.0) -> float:
@@ -277,7 +277,7 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre, dynamics: Dyna
     current_north, current_east = setup.current
     conditions = Conditions(
         propeller_rate=None if log.propeller_rate is None else at(log.propeller_rate),  # None: the ship's own
-        wind_speed=max(at(log.wind_speed), 0.0) if dynamics is None else 0.0,
+        wind_speed=max(at(log.wind_speed), 0.0),
         wind_direction=at(log.wind_direction),
         current_speed=math.hypot(current_north, current_east),
         current_direction=math.atan2(current_east, current_north),

@@ -207,7 +207,7 @@ def figures(truth_logs: Sequence[Log], model: ShipModel) -> tuple[dict[str, floa
     """The judged figures, the truth's and ``model``'s sailing the same manoeuvres (free-running validation):
     both turning circles' means (the truth is not symmetric), the 10/10's first overshoot; and why the model
     cannot sail a run ("" where it sails them all)."""
-    results = compare_free_running(ReplayModel(model), truth_logs)
+    results = compare_free_running(ReplayModel(model), truth_logs, model.ship.dynamics)  # as the preset sails
     cannot = "; ".join(f"{result.run}: {result.cannot_sail}" for result in results if result.cannot_sail)
     sides = []
     for side in ("measured", "predicted"):

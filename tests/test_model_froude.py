@@ -221,6 +221,20 @@ def test_fitted_record_scales_by_its_units():
     assert scaled["coverage"]["percentile"] == 99.0
 
 
+def test_a_fitted_preset_s_jackknife_scales_each_term_by_its_unit():
+    """The fold fits' values (``fitted.jackknife``, written by ``fit``/``improve --preset``) scale as their terms:
+    the steering machine's rate in rad/s by lambda^-1/2, K* (non-dimensional) kept; a term that names no parameter
+    is refused by name."""
+    terms = ["steering_machine.rudder_rate", "yaw.gain"]
+    jackknife = {"terms": terms, "values": [[0.04, 1.5], [0.06, 1.4]], "left_out": []}
+    document = {**load_ship("kvlcc2").document, "fitted": {"jackknife": jackknife}}
+    scaled = scale_document(document, 4.0, "fitted.yaml")["fitted"]["jackknife"]
+    assert scaled["values"] == [[0.02, 1.5], [0.03, 1.4]] and scaled["terms"] == terms
+    document["fitted"] = {"jackknife": {**jackknife, "terms": ["yaw.mystery", "yaw.gain"]}}
+    with pytest.raises(ScalingError, match=r"fitted\.jackknife\.terms: 'yaw\.mystery'"):
+        scale_document(document, 4.0, "fitted.yaml")
+
+
 def test_a_number_of_unknown_scaling_is_refused():
     """A record's number with no unit, and a parameter in a unit the rule cannot read, are refused by name."""
     document = {**load_ship("kvlcc2").document, "fitted": {"mystery": 3.0}}

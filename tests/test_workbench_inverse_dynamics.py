@@ -280,6 +280,7 @@ def fitted_by_command(model_preset: Path, truth: MmgRecord, tmp_path_factory: py
     printed = io.StringIO()
     with contextlib.redirect_stdout(printed):
         arguments = ["--validate-on", str(folder / "turning"), "--plot", str(folder / "sailed.png"), "-o", str(output)]
+        arguments += ["--preset", str(folder / "sailed_by_hull.yaml")]
         assert main(["fit-mmg", str(folder / "zigzag"), "--ship", str(model_preset), *arguments]) == 0
     return output, printed.getvalue()
 
@@ -374,6 +375,151 @@ def test_the_fitted_file_sails_in_the_manoeuvres_and_the_environments(
     env.close()
 
 
+def test_a_preset_written_with_its_fitted_model_sails_it_by_default_everywhere(model_preset, fitted_by_command, capsys):
+    """``fit-mmg --preset P``: ``manoeuvre --ship P`` sails the preset's ``dynamics:`` block as ``--dynamics FILE``
+    sails the fitted file (the same turning circles, digit for digit), ``gym.make(..., ship=P)`` sails it and
+    ``dynamics="native"`` the preset's own effects; the preset carries the runs' propeller rate and speed."""
+    from ship_env.model.external import ExternalSimulator
+
+    output, _ = fitted_by_command
+    preset = output.parent / "sailed_by_hull.yaml"
+    model = ShipModel(preset)
+    record = read_mmg(output)
+    assert model.ship.dynamics is not None
+    assert np.array_equal(model.ship.dynamics.form.yaw, record.form.yaw)
+    assert model.service_propeller_rate == record.propeller_rate
+    assert model.service_speed == record.service_speed
+    common = ["--ship", str(preset), "--dt", "0.2", "--turn-angle", "35", "-35", "--zigzag", "10/10"]
+    assert main(["manoeuvre", *common]) == 0
+    by_default = capsys.readouterr().out
+    assert "sailed by its preset's dynamics" in by_default
+    assert main(["manoeuvre", *common, "--dynamics", str(output)]) == 0
+    assert _turning_rows(by_default) == _turning_rows(capsys.readouterr().out)
+    env = gym.make("ship_env/CourseChange-v0", ship=str(preset))
+    env.reset(seed=0)
+    env.step(env.action_space.sample())
+    assert isinstance(env.unwrapped.batch.simulator.adapters[0], MmgFitted)
+    native = gym.make("ship_env/CourseChange-v0", ship=str(preset), dynamics="native")
+    native.reset(seed=0)
+    assert not isinstance(native.unwrapped.batch.simulator, ExternalSimulator)
+
+
+def test_a_preset_sailed_by_its_fitted_model_scales_as_froude_says(fitted_by_command, tmp_path):
+    """``ship-env scale`` of a preset with a ``dynamics:`` block: the rigid body, steering rate, propeller rate and
+    speed scale, the non-dimensional coefficients stay: the scaled ship turns the same circle in ship lengths,
+    at lambda^-1/2 the rate of turn."""
+    output, _ = fitted_by_command
+    preset = output.parent / "sailed_by_hull.yaml"
+    scaled = tmp_path / "full_scale.yaml"
+    assert main(["scale", str(preset), "--length", "320", "-o", str(scaled)]) == 0
+    factor = 320.0 / ShipModel(preset).length
+    small, large = ShipModel(preset), ShipModel(scaled)
+    assert large.ship.dynamics is not None and large.ship.dynamics.form.body.length == pytest.approx(320.0)
+    assert large.service_propeller_rate == pytest.approx(small.service_propeller_rate / math.sqrt(factor))
+    figures = [
+        {f.key: f.value for f in turning_circle(ship, ship.rudder_limit, TrialSettings(dt=dt)).figures()}
+        for ship, dt in ((small, 0.2), (large, 0.2 * math.sqrt(factor)))
+    ]
+    for key in ("advance_lengths", "tactical_diameter_lengths", "speed_loss"):
+        assert figures[1][key] == pytest.approx(figures[0][key], rel=1e-6), key
+    rate = figures[1]["steady_rate_of_turn"] * math.sqrt(factor)
+    assert rate == pytest.approx(figures[0]["steady_rate_of_turn"], rel=1e-6)
+
+
+def test_a_fit_on_runs_to_the_hard_over_rudder_writes_a_preset_sailed_by_the_mmg_forces(
+    model_preset, truth, fitted_by_command, tmp_path, capsys
+):
+    """``fit --preset`` on zig-zags up to the hard-over rudder: the runs sailed free by the folds choose the MMG
+    forces over the effects, and the preset sails them by default: its hard-over turn within the issue's bounds of
+    the truth's, where its own effects (``dynamics="native"``) miss one."""
+    output, _ = fitted_by_command
+    preset = tmp_path / "fitted.yaml"
+    assert main(["fit", str(output.parent / "zigzag"), "--ship", str(model_preset), "--preset", str(preset)]) == 0
+    printed = capsys.readouterr().out
+    assert "the preset sails the MMG model: its score" in printed
+    document = yaml.safe_load(preset.read_text())
+    choice = document["fitted"]["dynamics"]
+    assert choice["sailed_by"] == "mmg_3dof" and choice["mmg_score"] < 0.95 * choice["effects_score"]
+    model = ShipModel(preset)
+
+    def judged(dynamics: str | None) -> dict[str, float]:
+        settings = TrialSettings(dt=0.2, dynamics=dynamics)
+        turn = turning_circle(model.without_coverage_check(), model.rudder_limit, settings).figures()
+        overshoot = zigzag(model.without_coverage_check(), math.radians(10.0), math.radians(10.0), settings).figures()
+        return {f.key: f.value for f in (*turn, *overshoot)}
+
+    expected = _judged(ShipModel(model_preset), truth)
+    assert _within_bounds(judged(None), expected) == []
+    assert _within_bounds(judged("native"), expected) != []
+
+
+def test_the_mmg_form_sails_the_preset_only_where_it_sails_every_run_materially_better():
+    """The rule on the two scores: chosen where the MMG model's is at least ``min_gain`` below the effects'; not
+    where it is not, nor where it cannot sail a run."""
+    from ship_env.workbench.judging.dynamics_choice import preferred
+
+    assert preferred(3.1, 1.5, [], 0.05) == (True, "the MMG model: its score 1.5 against 3.1")
+    assert preferred(math.inf, 1.5, [], 0.05)[0]  # the effects cannot sail every run
+    assert not preferred(3.1, 3.0, [], 0.05)[0]
+    assert preferred(3.1, 1.5, ["zigzag_35_5"], 0.05) == (
+        False,
+        "the effects: the MMG model cannot sail zigzag_35_5",
+    )
+
+
+def test_a_run_sailed_free_is_scored_against_its_samples_on_the_workbenchs_scales(model_preset, truth):
+    """``sailed_score``: the truth's own sailing of a run scores 0; its heading 1 deg off (one scale) over every
+    sample, the rate of turn and speed exact, scores sqrt(1/3); a run that cannot be sailed, inf."""
+    from dataclasses import replace
+
+    from ship_env.workbench.fitting.errors import ErrorScales
+    from ship_env.workbench.judging.free_running import RunFigures, Series, read_manoeuvre, sailed_score
+
+    model = ShipModel(model_preset)
+    log = _turns(model, truth, EXACT)[0]
+    series = Series.of_log(log)
+    assert series is not None
+    result = RunFigures(log.name, read_manoeuvre(series), (), (), series)
+    scales = ErrorScales.for_runs(model, [log])
+    assert sailed_score([result], [log], scales) == 0.0
+    turned = replace(result, predicted_series=replace(series, heading=series.heading + scales.heading))
+    assert sailed_score([turned], [log], scales) == pytest.approx(math.sqrt(1.0 / 3.0), rel=1e-12)
+    assert sailed_score([replace(result, cannot_sail="left its validity")], [log], scales) == math.inf
+
+
+def test_the_leaderboard_sails_a_preset_with_a_fitted_model_calm_and_nominal_and_says_what_it_leaves_out(
+    fitted_by_command,
+):
+    """The robustness conditions scale ship_env's model and the fitted MMG model has no wind or wave forces: the
+    leaderboard's suites on such a preset are the nominal ship in calm water (TrackFollow too), each left out in a
+    line."""
+    from dataclasses import replace
+
+    from ship_env.leaderboard.suites import DEV
+
+    output, _ = fitted_by_command
+    spec = replace(DEV, ship=str(output.parent / "sailed_by_hull.yaml"))
+    suites = spec.suites()
+    assert [(suite.task, suite.condition.name) for suite in suites] == [
+        ("CourseChange calm", "nominal"),
+        ("TrackFollow calm", "nominal"),
+    ]
+    assert suites[1].env_kwargs["disturbance"] == "calm"
+    left_out = spec.left_out()
+    assert len(left_out) == 6 and "CourseChange wind_current, wind_current_waves" in left_out[4]
+    assert replace(DEV, ship="kvlcc2").left_out() == []
+
+
+def test_a_preset_whose_dynamics_block_is_malformed_is_refused_naming_the_field(tmp_path, fitted_by_command):
+    output, _ = fitted_by_command
+    document = yaml.safe_load((output.parent / "sailed_by_hull.yaml").read_text())
+    del document["dynamics"]["rigid_body"]["draught"]
+    broken = tmp_path / "broken.yaml"
+    broken.write_text(yaml.safe_dump(document))
+    with pytest.raises(ValueError, match=r"broken\.yaml: dynamics: rigid_body\.draught: expected a finite number"):
+        ShipModel(broken)
+
+
 def test_a_dynamics_option_that_cannot_be_sailed_is_named(model_preset, fitted_by_command, tmp_path, capsys):
     missing = tmp_path / "missing.yaml"
     with pytest.raises(SystemExit) as stopped:
@@ -411,18 +557,24 @@ def test_uneven_sampling_rudder_orders_and_a_stated_propeller_rate_give_the_same
         assert predicted[key] == pytest.approx(expected[key], rel=0.01), key
 
 
-def test_a_fit_whose_runs_reach_the_hard_over_rudder_is_pointed_to_fit_mmg(model_preset, exact_logs):
-    """``fit``/``improve --preset`` suggest ``fit-mmg`` where the runs reach the hard-over rudder (here the 35/5
-    zig-zags) and log what it needs; not without a propeller rate, nor for runs that stop short of hard over."""
+def test_the_mmg_form_is_tried_only_where_the_runs_reach_the_hard_over_rudder_in_calm_air(model_preset, exact_logs):
+    """``fit``/``improve --preset`` try the MMG form where the runs reach the hard-over rudder (here the 35/5
+    zig-zags) and log what it needs; not without a propeller rate, nor in wind, nor for runs that stop short of hard
+    over."""
     from dataclasses import replace
 
-    from ship_env.workbench.cli import fit_mmg_suggestion
+    from ship_env.workbench.judging.dynamics_choice import mmg_applies
 
     model = ShipModel(model_preset)
-    command = "ship-env fit-mmg zigzag --ship kvlcc2_model.yaml"
-    assert f"({command} -o hull.yaml;" in fit_mmg_suggestion(exact_logs, model, command)
-    assert fit_mmg_suggestion([replace(exact_logs[0], propeller_rate=None), *exact_logs[1:]], model, command) is None
-    assert fit_mmg_suggestion(exact_logs[:4], model, command) is None  # 10/10 and 20/20 only
+    assert mmg_applies(exact_logs, model)
+    assert not mmg_applies([replace(exact_logs[0], propeller_rate=None), *exact_logs[1:]], model)
+    assert not mmg_applies(exact_logs[:4], model)  # 10/10 and 20/20 only
+    windy = replace(
+        exact_logs[0],
+        wind_speed=np.full_like(exact_logs[0].time, 3.0),
+        wind_direction=np.zeros_like(exact_logs[0].time),
+    )
+    assert not mmg_applies([windy, *exact_logs[1:]], model)
 
 
 # -- bad input ---------------------------------------------------------------------------------------------------

@@ -26,7 +26,7 @@ from ship_env.envs.ship_scales import ship_scales
 from ship_env.envs.uniform_box import UniformBox
 from ship_env.envs.variation import FITTED, FittedShipVariation, ShipFactors, ShipVariation, sailed_conditions
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
-from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory
+from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory, preset_dynamics
 
 #: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
 ACTION_TYPES = ("continuous", "discrete")
@@ -108,10 +108,12 @@ class ShipTask:
             episode's own service speed (1 on a straight course at any service speed); ``True``: over
             the preset's, so a ship that sails slower than designed (``ship_variation``'s speed, or
             conditions given at reset) shows it, as the log shows a gain-scheduled autopilot.
-        dynamics: ``None`` (default): ship_env's simulator sails the preset's model; or a ship simulated
-            outside ship_env (:mod:`ship_env.model.external`): an adapter, its class (one adapter per
-            ship), or its ``"module:attribute"`` import path. The preset then gives what the bridge
-            knows of the ship (its length, speed, K*: the observations' scales) and the autopilots'
+        dynamics: ``None`` (default): the preset's own model sails it: ship_env's simulator of its effects, or
+            the model its ``dynamics:`` block names (a fitted MMG model of ``ship-env fit-mmg``); ``"native"``:
+            ship_env's simulator of its effects whatever the preset names; or a ship simulated outside ship_env
+            (:mod:`ship_env.model.external`): an adapter, its class (one adapter per ship), its
+            ``"module:attribute"`` import path, or a fitted MMG model's file. The preset then gives what the
+            bridge knows of the ship (its length, speed, K*: the observations' scales) and the autopilots'
             design model; the adapter gives the motion.
         info_keys: the keys each step's information gives, among ``measurement``, ``state``,
             ``metrics``, ``envelope`` and the task's own (``ShipBatch.info``); ``None`` (default): all.
@@ -177,16 +179,17 @@ class ShipTask:
             raise ValueError(f"info_keys: expected a sequence of key names or None, got {info_keys!r}")
         #: The keys of each step's information (``None``: all), checked by the batch that builds it.
         self.info_keys = keys
-        #: Makes one external adapter per ship, or ``None`` for ship_env's own simulator.
-        self.make_dynamics = None if dynamics is None else dynamics_factory(dynamics)
-
         preset = load_ship(ship)
-        #: Whether an episode that brings waves adds ``WAVE_EFFECTS`` to the model (:meth:`model_for`): its
-        #: effects are the preset's defaults, sailed by ship_env's simulator.
-        self.adds_wave_effects = effects is None and dynamics is None
+        presets_effects = effects is None
         if effects is None:
             effects = (*preset.enabled, *extra_effects)
         self.model = ShipModel(preset, effects, {**(ship_parameters or {}), "rudder_limit": self.rudder_limit})
+        sailed_by = preset_dynamics(self.model, dynamics)
+        #: Makes one external adapter per ship, or ``None`` for ship_env's own simulator.
+        self.make_dynamics = None if sailed_by is None else dynamics_factory(sailed_by)
+        #: Whether an episode that brings waves adds ``WAVE_EFFECTS`` to the model (:meth:`model_for`): its
+        #: effects are the preset's defaults, sailed by ship_env's simulator.
+        self.adds_wave_effects = presets_effects and sailed_by is None
         if ship_variation == FITTED:
             self.variation = FittedShipVariation(self.model)
         #: The ship's length, speed and time over the reference ship's (:mod:`ship_env.envs.ship_scales`).

@@ -209,7 +209,9 @@ def run_leaderboard(
     its code. ``trust_policy_code`` reads the files at ``policies`` by unpickling them, which runs any
     code they carry. ``backend`` ``"ray"`` runs the jobs on Ray (at ``ray_address``).
 
-    A task whose environment cannot be made for the ship is left out with one line saying why
+    What the ship cannot sail (:meth:`~ship_env.leaderboard.suites.SuiteSpec.left_out`: on a ship sailed by its
+    preset's fitted MMG model, the robustness conditions and the wind and waves) is left out with one line saying
+    why, and so is a task whose environment cannot be made for the ship
     (``left_out``): TrackFollow where the ship turns too wide at the tracks' rudder for their legs
     (:class:`~ship_env.envs.tracks.TrackError`); that error where no task is left. So is an entrant
     whose controller fails on a suite (:func:`~ship_env.leaderboard.sailing.sail_suite`: its filter
@@ -219,7 +221,7 @@ def run_leaderboard(
     suites = spec.suites()
     env_kwargs = {suite.env_id: suite.env_kwargs for suite in suites}
     env_spaces = {}
-    left_out = []
+    left_out = spec.left_out()
     for env_id, kwargs in env_kwargs.items():
         try:
             env = gym.make(env_id, **kwargs)

@@ -43,6 +43,12 @@ Every spec but ``unseen`` sails :data:`DEFAULT_SHIP` unless its ``ship`` names a
 or a ship YAML, such as a fitted preset): the environments then sail that ship, the classic autopilots
 are designed from its values, and the robustness conditions scale its K*, tau* and speed.
 
+A ship whose preset is sailed by a fitted MMG model (its ``dynamics:`` block, written by ``ship-env fit-mmg --preset``
+or chosen by ``fit``/``improve --preset``) sails what that model can: the nominal ship (the robustness conditions
+scale ship_env's own model, which does not sail it) in calm water (the model has no wind or wave forces), TrackFollow
+included (``disturbance="calm"``, the task then named "TrackFollow calm"); each suite left out is named with why
+(:meth:`SuiteSpec.left_out`).
+
 Seeds: episode k of a suite's r-th repetition has seed ``first_seed + SEED_STRIDE * r + k``, so the
 dev suite's episodes are the first repetition of the full suite's.
 """
@@ -169,8 +175,18 @@ CONDITIONS = (NOMINAL, K_TAU_HALF, K_TAU_DOUBLE, HALF_SPEED, FITTED_UNCERTAINTY)
 
 
 def sails_condition(condition: Condition, ship: str) -> bool:
-    """Whether ``condition`` can be sailed on ``ship``: :data:`FITTED_UNCERTAINTY` on a fitted preset only."""
+    """Whether ``condition`` can be sailed on ``ship``: :data:`FITTED_UNCERTAINTY` on a fitted preset only, and on a
+    ship sailed by its preset's fitted MMG model (:func:`sailed_by_fitted_model`) the nominal ship only."""
+    if sailed_by_fitted_model(ship) and condition.varies:
+        return False
     return condition.variation != FITTED or draws_fitted(load_ship(ship))
+
+
+def sailed_by_fitted_model(ship: str) -> str:
+    """Where ``ship``'s preset is sailed by a fitted MMG model (its ``dynamics:`` block), the model's name in the
+    left-out lines; else ""."""
+    record = load_ship(ship).dynamics
+    return "" if record is None else f"the fitted MMG model of {ship_name(ship)} (its preset's dynamics block)"
 
 
 @dataclass(frozen=True)
@@ -283,18 +299,43 @@ class SuiteSpec:
     track_start: str = FIRST_WAYPOINT
     ship: str | None = None
 
+    def left_out(self) -> list[str]:
+        """A line per condition and disturbance of this spec that its ship cannot sail, saying why (the fitted
+        uncertainty on a ship that is no fitted preset is said by the command, which knows what the user asked)."""
+        sailed_ship = DEFAULT_SHIP if self.ship is None else self.ship
+        model = sailed_by_fitted_model(sailed_ship)
+        if not model:
+            return []
+        lines = [
+            f"the {condition.name} condition: it scales or draws ship_env's model of the ship, and {model} sails it"
+            for condition in self.conditions
+            if condition.varies
+        ]
+        calm_air = [level for level in self.course_change_disturbances if level != "calm"]
+        if calm_air:
+            lines.append(f"CourseChange {', '.join(calm_air)}: {model} has no wind or wave forces")
+        if self.tracks:
+            lines.append(
+                f"TrackFollow in the thesis's wind and current: {model} has no wind forces (sailed calm instead)"
+            )
+        return lines
+
     def suites(self) -> list[Suite]:
-        """The suites, condition by condition: CourseChange per disturbance, then TrackFollow."""
+        """The suites, condition by condition: CourseChange per disturbance, then TrackFollow (what a ship sailed by
+        its preset's fitted MMG model cannot sail left out, :meth:`left_out`)."""
         course_changes = course_change_episodes(self.course_changes_deg, self.repetitions, self.first_seed)
         tracks = track_episodes(self.tracks, self.repetitions, self.first_seed)
         start = {} if self.track_start == FIRST_WAYPOINT else {"start": self.track_start}
         ship = {} if self.ship is None else {"ship": self.ship}
         suites = []
         sailed_ship = DEFAULT_SHIP if self.ship is None else self.ship
+        calm_only = bool(sailed_by_fitted_model(sailed_ship))
+        disturbances = [d for d in self.course_change_disturbances if not calm_only or d == "calm"]
+        track_task, calm = ("TrackFollow calm", {"disturbance": "calm"}) if calm_only else ("TrackFollow", {})
         for condition in self.conditions:
             if not sails_condition(condition, sailed_ship):
                 continue
-            for disturbance in self.course_change_disturbances:
+            for disturbance in disturbances:
                 suites.append(
                     Suite(
                         f"CourseChange {disturbance}",
@@ -305,8 +346,8 @@ class SuiteSpec:
                     )
                 )
             if tracks:
-                track_kwargs = {**ship, **track_env_kwargs(condition), **start}
-                suites.append(Suite("TrackFollow", TRACK_FOLLOW, track_kwargs, condition, tracks))
+                track_kwargs = {**ship, **track_env_kwargs(condition), **start, **calm}
+                suites.append(Suite(track_task, TRACK_FOLLOW, track_kwargs, condition, tracks))
         return suites
 
 

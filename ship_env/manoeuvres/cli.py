@@ -103,12 +103,15 @@ class Sailing:
 
     @classmethod
     def of(cls, model: ShipModel, settings: TrialSettings) -> Sailing:
-        """``model`` sailed with ``settings``: its preset's folds and coverage, or, where ``settings.dynamics`` is a
-        fitted MMG model's file, that model's (:meth:`fitted`)."""
+        """``model`` sailed with ``settings``: its preset's folds and coverage, or, where ``settings.dynamics`` (or,
+        without it, the preset's ``dynamics:`` block) is a fitted MMG model, that model's (:meth:`fitted`)."""
         from ship_env.manoeuvres.uncertainty import fold_models
-        from ship_env.model.mmg_fitted import read_mmg
+        from ship_env.model.external import preset_dynamics
+        from ship_env.model.mmg_fitted import MmgRecord, read_mmg
 
-        dynamics = settings.dynamics
+        dynamics = preset_dynamics(model, settings.dynamics)
+        if isinstance(dynamics, MmgRecord):
+            return cls.fitted(model, settings, dynamics)
         if isinstance(dynamics, (str, Path)) and str(dynamics).endswith((".yaml", ".yml")):
             return cls.fitted(model, settings, read_mmg(dynamics))
         if dynamics is not None:
@@ -222,11 +225,11 @@ def _dynamics(text: str | None, model: ShipModel) -> str | None:
     """``--dynamics``, checked now (a fitted MMG model's file read, an import path imported); a UsageError
     naming the option where it cannot be sailed, or where a fitted model's length is not ``model``'s (``--ship``
     gives the particulars and the approach speed the manoeuvres are read with)."""
-    from ship_env.model.external import dynamics_factory
+    from ship_env.model.external import NATIVE, dynamics_factory
     from ship_env.model.mmg_fitted import read_mmg
 
-    if text is None:
-        return None
+    if text is None or text == NATIVE:
+        return text
     try:
         dynamics_factory(text)
         fitted_length = read_mmg(text).form.body.length if text.endswith((".yaml", ".yml")) else model.length
@@ -349,7 +352,8 @@ def _manoeuvre_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="SOURCE",
         help="sail a ship simulated elsewhere: a fitted MMG model written by 'ship-env fit-mmg' (a .yaml file; its "
         "jackknife gives the figures' errors) or the 'module:attribute' path of a ship-dynamics adapter "
-        "(ship_env.model.external); --ship then gives the particulars, rudder limit and approach speed",
+        "(ship_env.model.external); --ship then gives the particulars, rudder limit and approach speed "
+        "(default: the preset's own: its dynamics block where it has one, else its effects; 'native': its effects)",
     )
     add_plot_argument(parser, "a PNG per manoeuvre")
     add_json_argument(parser, "the figures and criteria")

@@ -23,9 +23,12 @@ FigureErrors = Sequence[Mapping[str, float]]
 
 
 def ship_line(model: ShipModel, approach_speed: float, dynamics: str | None = None) -> str:
-    """The ship, its test speed and the effects of its model (or the external ``dynamics`` that sail it), in one
-    line."""
-    sailed_by = f"sailed by {dynamics}" if dynamics is not None else f"effects: {', '.join(model.effects)}"
+    """The ship, its test speed and the effects of its model (or the external ``dynamics`` that sail it, or its
+    preset's own: the ``dynamics:`` block), in one line."""
+    if dynamics is None and model.ship.dynamics is not None:
+        dynamics = f"its preset's dynamics: the fitted MMG model ({model.ship.dynamics.source})"
+    native = dynamics is None or dynamics == "native"
+    sailed_by = f"effects: {', '.join(model.effects)}" if native else f"sailed by {dynamics}"
     return (
         f"{model.ship.name}: L = {model.length:.1f} m, V = {approach_speed / KNOT:.1f} kn "
         f"({approach_speed:.2f} m/s), L/V = {model.length / approach_speed:.1f} s; {sailed_by}"

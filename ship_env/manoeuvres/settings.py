@@ -24,9 +24,10 @@ class TrialSettings:
         speed: the approach speed V through the water, m/s; ``None`` takes the ship's service speed.
         dt: the integration step, s.
         method: the integrator, ``"rk4"`` or ``"euler"``.
-        dynamics: who sails the ship: ``None``, ship_env's own simulator of the model; else an external
-            ship's dynamics (:mod:`ship_env.model.external`: an adapter's class or factory, its
-            ``"module:attribute"`` path, or a fitted MMG file of ``ship-env fit-mmg``), the model then giving
+        dynamics: who sails the ship: ``None``, the model's preset (ship_env's own simulator of the model, or the
+            fitted MMG model its ``dynamics:`` block holds); ``"native"``, ship_env's simulator whatever the preset
+            names; else an external ship's dynamics (:mod:`ship_env.model.external`: an adapter's class or factory,
+            its ``"module:attribute"`` path, or a fitted MMG file of ``ship-env fit-mmg``), the model then giving
             the particulars, the rudder limit and the approach speed.
     """
 

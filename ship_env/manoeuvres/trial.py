@@ -23,7 +23,7 @@ import pandas as pd
 from ship_env.manoeuvres.results import TIME_SERIES_COLUMNS, degrees_label
 from ship_env.manoeuvres.settings import TrialSettings
 from ship_env.model import Conditions, ShipModel, Simulator
-from ship_env.model.external import ExternalSimulator, dynamics_factory
+from ship_env.model.external import ExternalSimulator, dynamics_factory, preset_dynamics
 
 
 class RudderLaw(Protocol):
@@ -66,10 +66,11 @@ def run_trial(
     Returns:
         The time series, columns :data:`~ship_env.manoeuvres.results.TIME_SERIES_COLUMNS`.
     """
-    if settings.dynamics is None:
+    sailed_by = preset_dynamics(model, settings.dynamics)
+    if sailed_by is None:
         simulator = Simulator(model, num_ships=len(labels), dt=settings.dt, method=settings.method)
     else:
-        simulator = ExternalSimulator(model, dynamics_factory(settings.dynamics), len(labels), settings.dt)
+        simulator = ExternalSimulator(model, dynamics_factory(sailed_by), len(labels), settings.dt)
     simulator.reset(
         seed=0,
         conditions=replace(Conditions() if conditions is None else conditions, service_speed=settings.speed),

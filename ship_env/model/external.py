@@ -62,6 +62,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from ship_env.model import state as S
+from ship_env.model.mmg_record import MmgRecord
 from ship_env.model.ship import ShipModel
 from ship_env.model.simulator import Conditions, Simulator
 
@@ -108,8 +109,23 @@ class ShipDynamics(Protocol):
         ...
 
 
-#: What an environment's ``dynamics`` keyword takes: an adapter, a callable making one, or its import path.
-DynamicsSource = ShipDynamics | Callable[[], ShipDynamics] | str | Path
+#: What an environment's ``dynamics`` keyword takes: an adapter, a callable making one, its import path, or a fitted
+#: MMG model (its file, or its record: :class:`~ship_env.model.mmg_fitted.MmgRecord`).
+DynamicsSource = ShipDynamics | Callable[[], ShipDynamics] | str | Path | MmgRecord
+
+#: The ``dynamics`` keyword that sails a preset's own effects by ship_env's simulator where the preset names another
+#: model (its ``dynamics:`` block).
+NATIVE = "native"
+
+
+def preset_dynamics(model: ShipModel, dynamics: DynamicsSource | None) -> DynamicsSource | None:
+    """Who sails ``model``: ``dynamics`` where given; ``None`` takes the preset's own (its ``dynamics:`` block, a
+    fitted MMG model), or ship_env's simulator where it names none; :data:`NATIVE` ship_env's simulator (None)."""
+    if dynamics is None:
+        return model.ship.dynamics
+    if isinstance(dynamics, str) and dynamics == NATIVE:
+        return None
+    return dynamics
 
 
 class ExternalDynamicsError(FloatingPointError):
@@ -129,13 +145,15 @@ def dynamics_factory(source: DynamicsSource) -> Callable[[], ShipDynamics]:
 
     ``source``: an adapter (it sails one ship: the factory gives it once), a class or other
     zero-argument callable making one, ``"module:attribute"``, the import path of such a callable, or the path
-    of a fitted MMG model written by ``ship-env fit-mmg`` (a ``.yaml`` file:
-    :class:`~ship_env.model.mmg_fitted.MmgFitted`).
+    of a fitted MMG model written by ``ship-env fit-mmg`` (a ``.yaml`` file, or its
+    :class:`~ship_env.model.mmg_fitted.MmgRecord`: :class:`~ship_env.model.mmg_fitted.MmgFitted`).
     ``ValueError`` or ``TypeError`` names what is wrong with it.
     """
-    if isinstance(source, Path) or (isinstance(source, str) and source.endswith((".yaml", ".yml"))):
-        from ship_env.model.mmg_fitted import MmgFitted, read_mmg
+    from ship_env.model.mmg_fitted import MmgFitted, read_mmg  # it builds on this module
 
+    if isinstance(source, MmgRecord):
+        return functools.partial(MmgFitted, source)
+    if isinstance(source, Path) or (isinstance(source, str) and source.endswith((".yaml", ".yml"))):
         record = read_mmg(source)  # read once here: a bad file is named now, not at each ship's start
         return functools.partial(MmgFitted, record)
     if isinstance(source, str):

@@ -79,7 +79,27 @@ CONDITION_UNITS: dict[str, str] = {
 COVERAGE_UNITS: dict[str, str] = {"speed": "m/s", "rate": "-", "drift": "rad", "rudder": "rad", "propeller": "rps"}
 
 #: Numbers of a ``fitted:`` record that are counts or shares, kept as they are.
-DIMENSIONLESS_RECORD_KEYS = frozenset({"percentile"})
+DIMENSIONLESS_RECORD_KEYS = frozenset({"percentile", "effects_score", "mmg_score"})
+
+#: The units of a fitted MMG model's numbers (a preset's ``dynamics:`` block, :mod:`ship_env.model.mmg_fitted`) that
+#: are not non-dimensional: the rigid body's and the sailing's. Its force coefficients are non-dimensional (X' =
+#: X / (1/2 rho L d U^2)...) and kept.
+MMG_UNITS: dict[str, dict[str, str]] = {
+    "rigid_body": {
+        "length": "m",
+        "breadth": "m",
+        "draught": "m",
+        "centre_of_gravity": "m",
+        "block_coefficient": "-",
+        "gyration": "-",
+    },
+    "sailing": {
+        "rudder_rate_deg_s": "deg/s",
+        "rudder_limit_deg": "deg",
+        "propeller_rate": "rps",
+        "service_speed": "m/s",
+    },
+}
 
 _FACTOR = re.compile(r"^([A-Za-z]+|1)(?:\^(-?\d+(?:\.\d+)?))?$")
 
@@ -201,6 +221,8 @@ class _Rewriter:
             unit = node.get("unit") or (units or {}).get(key) or CONDITION_UNITS.get(key, "-")
             return self.entry(node, unit_exponent(str(unit), where), where)
         if isinstance(node, Mapping):
+            if key == "jackknife" and isinstance(node.get("terms"), list) and isinstance(node.get("values"), list):
+                return self.jackknife(node, where)
             if key == "coverage" and isinstance(node.get("ranges"), Mapping):
                 ranges = node["ranges"]
                 unknown = [quantity for quantity in ranges if quantity not in COVERAGE_UNITS]
@@ -236,6 +258,50 @@ class _Rewriter:
             self.kept += exponent == 0.0
             return node if exponent == 0.0 else float(node) * froude_factor(self.scale, exponent)
         raise ScalingError(f"{where}: cannot scale {node!r} ({type(node).__name__})")
+
+    def jackknife(self, node: Mapping[str, Any], where: str) -> dict[str, Any]:
+        """A fitted preset's jackknife (the fold fits' values of its terms, SI units): each term's values scaled by
+        its parameter's unit (``yaw.time_constant``: s; a principal particular's own)."""
+        principal = {parameter.name: parameter for parameter in PRINCIPAL}
+        exponents = []
+        for term in node["terms"]:
+            effect, _, name = str(term).rpartition(".")
+            declared = {p.name: p for p in EFFECTS[effect].parameters} if effect in EFFECTS else principal
+            if effect and effect not in EFFECTS or name not in declared:
+                raise ScalingError(
+                    f"{where}.terms: {term!r}: no parameter of that name; its Froude scaling is not known"
+                )
+            exponents.append(unit_exponent(declared[name].unit, f"{where}.terms: {term}"))
+        values = []
+        for index, fold in enumerate(node["values"]):
+            if not isinstance(fold, list) or len(fold) != len(exponents):
+                raise ScalingError(f"{where}.values[{index}]: expected {len(exponents)} numbers, one per term")
+            values.append([float(v) * froude_factor(self.scale, e) for v, e in zip(fold, exponents, strict=True)])
+        self.scaled += sum(exponent != 0.0 for exponent in exponents)
+        return {**copy.deepcopy(dict(node)), "values": values}
+
+    def dynamics(self, node: object, where: str) -> dict[str, Any]:
+        """A preset's fitted MMG model (``dynamics:``): the rigid body's lengths, the steering machine's rate, the
+        propeller rate, the service speed and the coverage's speeds scaled (:data:`MMG_UNITS`,
+        :data:`COVERAGE_UNITS`); its non-dimensional force coefficients and their folds kept."""
+        if not isinstance(node, Mapping):
+            raise ScalingError(f"{where}: expected a mapping (a fitted MMG model), got {node!r}")
+        written = copy.deepcopy(dict(node))
+        for section, units in MMG_UNITS.items():
+            values = node.get(section)
+            if not isinstance(values, Mapping):
+                raise ScalingError(f"{where}.{section}: expected a mapping, got {values!r}")
+            written[section] = {
+                name: self.record(value, f"{where}.{section}.{name}", units) for name, value in values.items()
+            }
+        coverage = node.get("coverage") or {}
+        unknown = [quantity for quantity in coverage if quantity not in COVERAGE_UNITS]
+        if unknown:
+            raise ScalingError(f"{where}.coverage: the Froude scaling of {unknown[0]!r} is not known")
+        written["coverage"] = {
+            q: self.record(r, f"{where}.coverage.{q}", _both(COVERAGE_UNITS[q])) for q, r in coverage.items()
+        }
+        return written
 
 
 def _both(unit: str) -> dict[str, str]:
@@ -287,6 +353,8 @@ def scale_document(document: Mapping[str, Any], scale: float, origin: str, name:
             }
         elif key == "scaled":
             written[key] = copy.deepcopy(section)
+        elif key == "dynamics":
+            written[key] = None if section is None else rewriter.dynamics(section, key)
         else:
             written[key] = rewriter.record(section, key)
     if name is not None or "name" not in written:

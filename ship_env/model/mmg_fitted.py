@@ -23,7 +23,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -31,62 +30,14 @@ import numpy as np
 import yaml
 
 from ship_env.model.external import ShipMotion
-from ship_env.model.mmg_form import INFLOW_TERMS, SURGE_TERMS, SWAY_TERMS, YAW_TERMS, MmgForm, RigidBody, rk4_step
-from ship_env.model.operating_point import COVERAGE_QUANTITIES, FittedRanges
+from ship_env.model.mmg_form import MmgForm, rk4_step
+from ship_env.model.mmg_record import BODY_FIELDS, KIND, SECTIONS, MmgRecord, mmg_record
 from ship_env.model.simulator import Conditions
 
-#: The file's ``kind``: what reads it.
-KIND = "mmg_3dof"
 #: The longest integration step, in ship lengths sailed at the runs' speed (L / U).
 MAX_STEP_LENGTHS = 0.1
 #: The fastest a sailed ship may go, in times its runs' speed: beyond it the polynomials have diverged.
 FASTEST = 5.0
-#: The rigid body's fields in the file (:class:`~ship_env.model.mmg_form.RigidBody`'s).
-BODY_FIELDS = ("length", "breadth", "draught", "block_coefficient", "centre_of_gravity", "gyration")
-#: The force coefficients' sections in the file and their names.
-SECTIONS = {"inflow": INFLOW_TERMS, "surge": SURGE_TERMS, "sway": SWAY_TERMS, "yaw": YAW_TERMS}
-
-
-@dataclass(frozen=True)
-class MmgRecord:
-    """What a fitted MMG file gives to sail the ship.
-
-    Attributes:
-        form: the model.
-        rudder_rate: the steering machine's rate, rad/s.
-        rudder_limit: the hard-over angle, rad.
-        propeller_rate: the runs' propeller rate, rps (median): the ship's unless one is ordered.
-        service_speed: the runs' straight-course speed, m/s (sets the integration step).
-        source: the file.
-        folds: the models fitted with each run left out (the jackknife), for the spread of what they predict.
-        coverage: the ranges the runs covered, by :data:`~ship_env.model.operating_point.COVERAGE_QUANTITIES`
-            key ("rate" r* = L |r| / u, "drift", "rudder" in rad, "speed" in m/s): (low or None, high).
-    """
-
-    form: MmgForm
-    rudder_rate: float
-    rudder_limit: float
-    propeller_rate: float
-    service_speed: float
-    source: str = ""
-    folds: tuple[MmgForm, ...] = ()
-    coverage: Mapping[str, tuple[float | None, float]] = field(default_factory=dict)
-
-    def fold_records(self) -> list[MmgRecord]:
-        """Each fold's model, sailed as this one (no folds of its own)."""
-        return [replace(self, form=fold, folds=()) for fold in self.folds]
-
-    def fitted_ranges(self) -> FittedRanges | None:
-        """The runs' ranges as a preset's (:class:`~ship_env.model.operating_point.FittedRanges`); None without."""
-        return FittedRanges(self.source, dict(self.coverage), propeller=False) if self.coverage else None
-
-
-def _number(section: Mapping[str, Any], key: str, where: str) -> float:
-    entry = section.get(key) if isinstance(section, Mapping) else None
-    value = entry.get("value") if isinstance(entry, Mapping) else entry
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise ValueError(f"{where}.{key}: expected a finite number (or a mapping with one as 'value'), got {entry!r}")
-    return float(value)
 
 
 def read_mmg(path: str | Path) -> MmgRecord:
@@ -96,54 +47,7 @@ def read_mmg(path: str | Path) -> MmgRecord:
         document = yaml.safe_load(path.read_text())
     except OSError as error:
         raise ValueError(f"dynamics: cannot read {str(path)!r}: {error.strerror}") from None
-    if not isinstance(document, Mapping) or document.get("kind") != KIND:
-        found = document.get("kind") if isinstance(document, Mapping) else type(document).__name__
-        raise ValueError(f"{path}: kind: expected {KIND!r} (a file written by ship-env fit-mmg), got {found!r}")
-    body_section = document.get("rigid_body") or {}
-    body = RigidBody(*(_number(body_section, name, f"{path}: rigid_body") for name in BODY_FIELDS))
-    form = MmgForm(
-        body,
-        *(
-            np.array([_number(document.get(section) or {}, name, f"{path}: {section}") for name in names])
-            for section, names in SECTIONS.items()
-        ),
-    )
-    folds = tuple(
-        MmgForm(
-            body,
-            *(
-                np.array(_numbers(fold, section, len(names), f"{path}: jackknife.folds[{k}]"))
-                for section, names in SECTIONS.items()
-            ),
-        )
-        for k, fold in enumerate((document.get("jackknife") or {}).get("folds") or [])
-    )
-    coverage = {}
-    for quantity, entry in (document.get("coverage") or {}).items():
-        where = f"{path}: coverage.{quantity}"
-        if quantity not in COVERAGE_QUANTITIES or not isinstance(entry, Mapping):
-            raise ValueError(f"{where}: expected one of {sorted(COVERAGE_QUANTITIES)} with 'low' and 'high'")
-        low = None if entry.get("low") is None else _number(entry, "low", where)
-        coverage[quantity] = (low, _number(entry, "high", where))
-    sailing = document.get("sailing") or {}
-    where = f"{path}: sailing"
-    return MmgRecord(
-        form,
-        math.radians(_number(sailing, "rudder_rate_deg_s", where)),
-        math.radians(_number(sailing, "rudder_limit_deg", where)),
-        _number(sailing, "propeller_rate", where),
-        _number(sailing, "service_speed", where),
-        str(path),
-        folds,
-        coverage,
-    )
-
-
-def _numbers(section: Mapping[str, Any], key: str, count: int, where: str) -> list[float]:
-    values = section.get(key) if isinstance(section, Mapping) else None
-    if not isinstance(values, list) or len(values) != count:
-        raise ValueError(f"{where}.{key}: expected a list of {count} numbers, got {values!r}")
-    return [_number({"value": value}, "value", f"{where}.{key}") for value in values]
+    return mmg_record(document, str(path))
 
 
 def mmg_document(record: MmgRecord, errors: Mapping[str, float], about: Mapping[str, Any]) -> dict[str, Any]:
@@ -245,4 +149,4 @@ class MmgFitted:
         return ShipMotion(heading, r, north, east, u, math.atan2(-v, u), rudder)
 
 
-__all__ = ["KIND", "MmgFitted", "MmgRecord", "mmg_document", "read_mmg"]
+__all__ = ["KIND", "MmgFitted", "MmgRecord", "mmg_document", "mmg_record", "read_mmg"]

@@ -20,6 +20,13 @@ hashes, the command, the held-out errors, the coverage, the version). Both are o
 A preset may state its service conditions (``service_conditions:``, :mod:`ship_env.model.operating_point`):
 the propeller rate it sails at where the conditions given to a simulator state none; a fitted preset
 states the rate its runs had. Without it the propeller rate is 0.
+
+A preset may say who sails it (``dynamics:``): the MMG standard's forces fitted by ``ship-env fit-mmg``
+(:mod:`ship_env.model.mmg_fitted`, the block that command writes to its ``--output``). The environments,
+``ship-env manoeuvre`` and the leaderboard then sail that model by default (their ``dynamics`` keyword set to
+``"native"`` sails the preset's own effects instead); the preset's principal particulars and effects remain
+what the bridge knows of the ship and what the classic autopilots are designed from. :class:`Simulator` sails
+the effects alone.
 """
 
 from __future__ import annotations
@@ -40,6 +47,7 @@ from ship_env.model import state as S
 from ship_env.model.declarations import ENVELOPE_LIMITS, Envelope, Parameter
 from ship_env.model.dynamics import FINGERPRINT_PREFIX, check_contributions, fingerprint
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
+from ship_env.model.mmg_record import MmgRecord, mmg_record
 from ship_env.model.operating_point import SERVICE_CONDITIONS, FittedRanges, fitted_ranges
 from ship_env.paths import config_dir
 
@@ -62,7 +70,17 @@ PRINCIPAL: tuple[Parameter, ...] = (
 )
 _PRINCIPAL_BY_NAME = {parameter.name: parameter for parameter in PRINCIPAL}
 #: The sections a preset's YAML may hold.
-TOP_LEVEL_KEYS = ("name", "description", "principal", "service_conditions", "envelope", "effects", "fitted", "scaled")
+TOP_LEVEL_KEYS = (
+    "name",
+    "description",
+    "principal",
+    "service_conditions",
+    "envelope",
+    "effects",
+    "fitted",
+    "scaled",
+    "dynamics",
+)
 
 
 def record_dtype() -> np.dtype:
@@ -109,6 +127,8 @@ class Ship:
         document: the YAML document it was read from (what :mod:`~ship_env.model.froude` rewrites).
         service_conditions: the conditions it sails in where a simulator's conditions state none
             (``propeller_rate`` in rps; :mod:`~ship_env.model.operating_point`); empty: none stated.
+        dynamics: the model that sails it by default where it is not ship_env's own (its ``dynamics:`` block: a
+            fitted MMG model, :mod:`~ship_env.model.mmg_fitted`), or None.
     """
 
     name: str
@@ -125,6 +145,7 @@ class Ship:
     scaled: tuple[Mapping[str, Any], ...] = ()
     document: Mapping[str, Any] | None = field(default=None, repr=False, compare=False)
     service_conditions: Mapping[str, float] = field(default_factory=dict)
+    dynamics: MmgRecord | None = field(default=None, repr=False)
 
 
 @dataclass
@@ -273,6 +294,9 @@ def ship_from_document(document: object, label: str, path: Path | None = None) -
         if key not in by_name:
             raise ValueError(f"{label}: service_conditions: unknown condition {key!r}; known: {', '.join(by_name)}")
         service_conditions[key] = _read_value(by_name[key], entry, f"{label}:service_conditions.{key}", provenance)
+    sailed_by = None
+    if document.get("dynamics") is not None:
+        sailed_by = mmg_record(document["dynamics"], f"{path or label}: dynamics")
     return Ship(
         name=str(document.get("name", path.stem if path is not None else label)),
         description=str(document.get("description", "")).strip(),
@@ -288,6 +312,7 @@ def ship_from_document(document: object, label: str, path: Path | None = None) -
         scaled=tuple(scaled),
         document=document,
         service_conditions=service_conditions,
+        dynamics=sailed_by,
     )
 
 

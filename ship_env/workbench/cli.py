@@ -21,13 +21,11 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-import numpy as np
-
 from ship_env.command_line import UsageError, positive_number, whole_number
 from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
 from ship_env.model.arguments import EFFECT_SETS, effect_names, effect_set, ship_name
 from ship_env.text_table import WIDTH
-from ship_env.workbench.defaults import MIN_SEGMENT, NUISANCE, ON_REQUEST, PAIR_WIDTH
+from ship_env.workbench.defaults import MIN_GAIN, MIN_SEGMENT, NUISANCE, ON_REQUEST, PAIR_WIDTH
 from ship_env.workbench.fitting.parallel import usable_cores
 from ship_env.workbench.outputs import claim_file, claim_folder
 
@@ -225,14 +223,28 @@ def start_command(args: argparse.Namespace, fitting: bool = True) -> tuple[Repla
 
 
 def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, runs: WorkbenchRuns) -> None:
-    """``--preset FILE``: the fitted model as a ship preset (claimed before any work)."""
+    """``--preset FILE``: the fitted model as a ship preset (claimed before any work), sailed by its effects or, where
+    the runs reach the hard-over rudder and it predicts their manoeuvres better, by the MMG standard's forces fitted by
+    inverse dynamics (:mod:`~ship_env.workbench.judging.dynamics_choice`)."""
     from ship_env.manoeuvres.extrapolation import hard_over_turn_beyond
-    from ship_env.workbench.reporting.presets import preset_document, write_preset
+    from ship_env.workbench.judging.dynamics_choice import choose_dynamics
+    from ship_env.workbench.reporting.presets import preset_document, with_dynamics, write_preset
 
     if args.preset is None:
         return
     command = "ship-env " + shlex.join(args.argv)
-    write_preset(preset_document(validation, runs.logs, command, args.preset.stem, runs.validation), args.preset)
+    document = preset_document(validation, runs.logs, command, args.preset.stem, runs.validation)
+    choice = choose_dynamics(validation, runs.logs, getattr(args, "min_gain", MIN_GAIN))  # improve's, or its default
+    if choice is not None:
+        print(
+            f"\nthe runs reach the hard-over rudder: the MMG standard's forces fitted by inverse dynamics too; the "
+            f"{choice.runs} fitted runs sailed free, each by a fit that did not see it (score over heading, rate of "
+            f"turn and speed): effects {choice.ladder_score:.3g}, MMG {choice.mmg_score:.3g}"
+        )
+        print(f"  the preset sails {choice.reason}")
+        if choice.chosen and choice.identified is not None:
+            document = with_dynamics(document, choice.identified, command, choice.summary())
+    write_preset(document, args.preset)
     print(f"fitted preset written to {args.preset} (sail it: ShipModel({str(args.preset)!r}), --ship {args.preset})")
     try:
         beyond = hard_over_turn_beyond(ShipModel(args.preset))
@@ -244,23 +256,6 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
             f"  its hard-over turning circle sails beyond the fitted runs: {'; '.join(beyond)}; its figures rest on "
             f"the model's form there (ship-env manoeuvre --ship {args.preset})"
         )
-        words = ["ship-env", "fit-mmg", *map(str, args.logs), "--ship", str(args.ship or WORKBENCH_SHIP)]
-        if suggestion := fit_mmg_suggestion(runs.logs, validation.fit.setup.model, shlex.join(words)):
-            print(f"  {suggestion}")
-
-
-def fit_mmg_suggestion(logs: Sequence[Log], model: ShipModel, command: str) -> str | None:
-    """Where the runs reach the hard-over rudder (within 10 % of the limit) and log what inverse dynamics needs
-    (position, speed, propeller rate): words suggesting ``command`` (``ship-env fit-mmg ...``), whose MMG forces carry
-    the sway and the hull's forces in v' and r' to the turn; else None."""
-    needed = all(log.north is not None and log.speed is not None and log.propeller_rate is not None for log in logs)
-    reached = max(float(np.max(np.abs(log.rudder))) for log in logs) >= 0.9 * model.rudder_limit
-    if not (needed and reached):
-        return None
-    return (
-        "the runs reach the hard-over rudder: the MMG standard's forces fitted by inverse dynamics carry the sway and "
-        f"the hull's forces in v' and r' to that turn ({command} -o hull.yaml; docs/results/free_running.md)"
-    )
 
 
 # -- the arguments and examples ---------------------------------------------------------------

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import shlex
 import sys
 import warnings
 from pathlib import Path
@@ -42,14 +43,14 @@ def run_fit_mmg(args: argparse.Namespace) -> int:
     from ship_env.manoeuvres import TrialSettings, ship_line, turning_circle, zigzag
     from ship_env.manoeuvres.cli import Sailing, Task, sail_report
     from ship_env.model import ShipModel
-    from ship_env.model.mmg_fitted import mmg_document
     from ship_env.model.mmg_form import INFLOW_TERMS, SURGE_TERMS, SWAY_TERMS, YAW_TERMS
     from ship_env.workbench import LogWarning, load_logs
     from ship_env.workbench.fitting.inverse_dynamics import identify, rigid_body
-    from ship_env.workbench.reporting.presets import write_preset
+    from ship_env.workbench.reporting.presets import fitted_mmg_document, mmg_preset_document, write_preset
 
     model = ShipModel(args.ship)
     output = None if args.output is None else claim_file(args.output, args.force, "--output")
+    preset = None if args.preset is None else claim_file(args.preset, args.force, "--preset")
     plot = None if args.plot is None else claim_file(args.plot, args.force, "--plot")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", LogWarning)
@@ -112,17 +113,18 @@ def run_fit_mmg(args: argparse.Namespace) -> int:
     except FloatingPointError as error:
         print(f"ship-env fit-mmg: {error}", file=sys.stderr)
     _print_runs_sailed_free(model, identified, logs, validation, plot)
+    command = "ship-env " + shlex.join(getattr(args, "argv", []))
     if output is not None:
-        about = {
-            "command": "ship-env " + " ".join(getattr(args, "argv", [])),
-            "from_preset": str(model.ship.path or model.ship.name),
-            "runs": list(identified.runs),
-            "determination": {"surge": surge, "sway": sway, "yaw": yaw},
-        }
-        write_preset(mmg_document(record, errors, about), output)
+        write_preset(fitted_mmg_document(identified, command, str(model.ship.path or model.ship.name)), output)
         print(
             f"\nfitted MMG model written to {output}; sail it with: ship-env manoeuvre --ship {args.ship} "
             f"--dynamics {output}"
+        )
+    if preset is not None:
+        write_preset(mmg_preset_document(model, identified, command, preset.stem), preset)
+        print(
+            f"\npreset sailed by the fitted MMG model written to {preset} (gym.make(..., ship={str(preset)!r}), "
+            f"ship-env manoeuvre --ship {preset}, ship-env leaderboard --ship {preset})"
         )
     return 0
 
@@ -133,30 +135,11 @@ def _print_runs_sailed_free(
     """The runs' manoeuvres sailed free, each by a fit that did not see it, measured against predicted
     (:mod:`ship_env.workbench.judging.free_running`): a fitted run by the fold that left it out (with the
     jackknife), a ``--validate-on`` run by the fit to all runs, +- the folds' spread; their tracks into ``plot``."""
-    from dataclasses import replace
-    from functools import partial
-
-    from ship_env.model.mmg_fitted import MmgFitted, MmgRecord
     from ship_env.workbench import ReplayModel
-    from ship_env.workbench.judging.free_running import (
-        Sail,
-        compare_free_running,
-        disagreements,
-        free_running_table,
-        held_out_sailing,
-    )
+    from ship_env.workbench.judging.free_running import disagreements, free_running_table, held_out_mmg_sailing
 
-    preset = ReplayModel(model)
-
-    def sail(record: MmgRecord) -> Sail:
-        return partial(compare_free_running, preset, dynamics=partial(MmgFitted, record))
-
-    def calm(runs: list[Log]) -> list[Log]:  # the form has no wind forces: its runs sailed without the logs' wind
-        return [replace(log, wind_speed=None, wind_direction=None) for log in runs]
-
-    record = identified.record
-    folds = [((run,), sail(fold)) for run, fold in zip(identified.runs, record.fold_records(), strict=True)]
-    results = held_out_sailing(sail(record), folds, calm(logs) if folds else [], calm(validation))
+    results = held_out_mmg_sailing(ReplayModel(model), identified, logs, validation)
+    folds = identified.record.folds
     if not results:
         if validation or folds:
             print("\nno run reads as a turning circle or a zig-zag: none sailed free against its measurement")
@@ -214,7 +197,15 @@ def _fit_mmg_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument("--no-jackknife", action="store_true", help="fit once, without leaving each run out")
     parser.add_argument("-o", "--output", type=Path, default=None, metavar="FILE", help="write the fitted model")
-    parser.add_argument("--force", action="store_true", help="overwrite --output and --plot")
+    parser.add_argument(
+        "--preset",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="write --ship's preset sailed by the fitted model (its dynamics block), at the runs' speed and propeller "
+        "rate: the environments, manoeuvre and the leaderboard sail it by default",
+    )
+    parser.add_argument("--force", action="store_true", help="overwrite --output, --preset and --plot")
 
 
 COMMAND = Command(
@@ -236,7 +227,9 @@ COMMAND = Command(
     examples=(
         "ship-env scale kvlcc2 --length 7 -o kvlcc2_model.yaml",
         "ship-env fit-mmg basin/zigzag --ship kvlcc2_model.yaml -o hull.yaml",
+        "ship-env fit-mmg basin/zigzag --ship kvlcc2_model.yaml --preset fitted.yaml",
         "ship-env fit-mmg basin/zigzag --ship kvlcc2_model.yaml --validate-on basin/turning --plot sailed.png",
         "ship-env manoeuvre --ship kvlcc2_model.yaml --dynamics hull.yaml --turn-angle 35 -35 --zigzag 10/10",
+        "ship-env manoeuvre --ship fitted.yaml --turn-angle 35 -35 --zigzag 10/10",
     ),
 )

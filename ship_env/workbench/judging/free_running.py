@@ -49,7 +49,9 @@ from ship_env.manoeuvres.trial import run_trial
 from ship_env.manoeuvres.uncertainty import figure_errors
 from ship_env.manoeuvres.zigzag import ZigZagHelmsman
 from ship_env.model import Conditions
+from ship_env.model.external import NATIVE
 from ship_env.text_table import Table
+from ship_env.workbench.fitting.errors import ErrorScales
 from ship_env.workbench.fitting.replay import ReplayModel, service_speed
 from ship_env.workbench.fitting.terms import sailing_model
 from ship_env.workbench.judging.validation import CrossValidation
@@ -57,6 +59,7 @@ from ship_env.workbench.logs.logs import Log
 
 if TYPE_CHECKING:
     from ship_env.model.external import DynamicsSource
+    from ship_env.workbench.fitting.inverse_dynamics import Identification
 
 #: The rudder is "over" where it is at least this fraction of the manoeuvre's angle.
 OVER = 0.5
@@ -266,7 +269,8 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre, dynamics: Dyna
 
     ``dynamics``, where given, sails the ship instead of ``setup``'s model (an external model, as
     :class:`~ship_env.manoeuvres.settings.TrialSettings` takes it: a fitted MMG model of ``ship-env fit-mmg``),
-    ``setup`` then giving the preset's particulars and rudder limit. Such a model starts at the speed it is given
+    ``setup`` then giving the preset's particulars and rudder limit; without it ``setup``'s own effects sail, whatever
+    model the preset's ``dynamics:`` block names. Such a model starts at the speed it is given
     as its service speed (the measured speed there, where the log has one); it sails in the log's wind, so a log
     without wind channels sails a model that has no wind forces."""
     start = manoeuvre.executes[0]
@@ -286,7 +290,9 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre, dynamics: Dyna
     speed = service_speed(log, setup.model)
     if dynamics is not None and measured_speed is not None:  # an external model starts at its "service" speed
         speed, measured_speed = measured_speed, None
-    settings = TrialSettings(speed=speed, dt=float(np.median(np.diff(log.time))), dynamics=dynamics)
+    settings = TrialSettings(
+        speed=speed, dt=float(np.median(np.diff(log.time))), dynamics=NATIVE if dynamics is None else dynamics
+    )
     heading0 = at(log.heading)
     order = manoeuvre.side * manoeuvre.rudder_angle
     helmsman = ZigZagHelmsman(order, manoeuvre.heading_change, heading0)
@@ -418,6 +424,26 @@ def held_out_sailing(
     return (*(figures for run in fitted for figures in run), *validated)
 
 
+def held_out_mmg_sailing(
+    setup: ReplayModel, identified: Identification, logs: Sequence[Log], validation_logs: Sequence[Log]
+) -> tuple[RunFigures, ...]:
+    """Every run sailed free by a fitted MMG model (``ship-env fit-mmg``'s :class:`~.inverse_dynamics.Identification`)
+    that did not see it (:func:`held_out_sailing`): a fitted run by the fold that left it out (the fit to all runs
+    without a jackknife), a validation run by the fit to all runs; in calm water, the logs' wind left out (the form
+    has no wind forces); ``setup`` gives the particulars and rudder limit."""
+    from ship_env.model.mmg_fitted import MmgFitted, MmgRecord
+
+    def sail(record: MmgRecord) -> Sail:
+        return partial(compare_free_running, setup, dynamics=partial(MmgFitted, record))
+
+    def calm(runs: Sequence[Log]) -> list[Log]:
+        return [replace(log, wind_speed=None, wind_direction=None) for log in runs]
+
+    record = identified.record
+    folds = [((run,), sail(fold)) for run, fold in zip(identified.runs, record.fold_records(), strict=True)]
+    return held_out_sailing(sail(record), folds, calm(logs) if folds else [], calm(validation_logs))
+
+
 def _spread(result: RunFigures, by_fold: Sequence[RunFigures]) -> tuple[float, ...]:
     """Per figure of one run's ``result``, the jackknife standard error of the folds' predictions of it."""
     errors = figure_errors([fold.predicted for fold in by_fold])
@@ -482,6 +508,37 @@ def disagreements(results: Sequence[RunFigures], effects: Sequence[str] | None) 
         names = ", ".join(result.run for result in stuck)
         lines.append(f"{len(stuck)} of {len(results)} runs cannot be sailed ({names}): {stuck[0].cannot_sail}")
     return lines
+
+
+def sailed_score(results: Sequence[RunFigures], logs: Sequence[Log], scales: ErrorScales) -> float:
+    """The runs sailed free against their measurement, sample by sample, as one number: the workbench's score
+    (:meth:`~ship_env.workbench.fitting.errors.RunErrors.score`, ``sqrt(mean_c (RMS_c / scale_c)^2)``) over heading,
+    rate of turn and speed (where logged), each RMS pooled over the runs' samples from the first execute to the
+    predicted run's end (the predicted series interpolated at the log's times); infinite where the model cannot
+    sail one of the runs, NaN where none was sailed. Every sample counts where :func:`figure_score` reads one
+    figure per zig-zag: the speed a ship loses in its swings, the timing of its reversals."""
+    if any(result.cannot_sail for result in results):
+        return math.inf
+    by_name = {log.name: log for log in logs}
+    squares = np.zeros(3)
+    counts = np.zeros(3)
+    for result in results:
+        log, series = by_name[result.run], result.predicted_series
+        if series is None:
+            continue
+        inside = (log.time >= result.manoeuvre.executes[0]) & (log.time <= series.time[-1])
+        time = log.time[inside]
+        channels = (
+            (series.heading, log.heading, scales.heading),
+            (series.rate_of_turn, log.rate_of_turn_or_gradient, scales.rate_of_turn),
+            (series.speed, log.speed, scales.speed_error),
+        )
+        for k, (predicted, measured, scale) in enumerate(channels):
+            if predicted is not None and measured is not None:
+                squares[k] += float(np.sum(((np.interp(time, series.time, predicted) - measured[inside]) / scale) ** 2))
+                counts[k] += time.size
+    sailed = counts > 0
+    return float(np.sqrt(np.mean(squares[sailed] / counts[sailed]))) if np.any(sailed) else math.nan
 
 
 def figure_score(results: Sequence[RunFigures]) -> float:

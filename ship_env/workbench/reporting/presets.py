@@ -34,19 +34,25 @@ presets' own format (``configs/ships/*.yaml``, :func:`ship_env.model.load_ship`)
   pooled held-out (and validation) RMS errors in deg, deg/s, m/s and m, the coverage, and the ship_env
   version.
 
+Where the runs reach the hard-over rudder and the MMG standard's forces fitted by inverse dynamics predict their
+manoeuvres better (:mod:`~ship_env.workbench.judging.dynamics_choice`), the preset also holds that model as its
+``dynamics:`` block (:func:`with_dynamics`), which sails it by default; ``ship-env fit-mmg --preset`` writes a
+preset sailed by its fit (:func:`mmg_preset_document`).
+
 A replay of a fitted preset's runs (:func:`preset_replay_model`: ``compare --ship FILE`` and the other
 workbench commands) sails in the steady current the fit found, as the fit's own replay did.
 """
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import hashlib
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import yaml
@@ -54,6 +60,7 @@ import yaml
 import ship_env
 from ship_env.model import EFFECTS, PRINCIPAL, Conditions, ShipModel
 from ship_env.model.declarations import ENVELOPE_LIMITS, Parameter
+from ship_env.model.mmg_fitted import mmg_document
 from ship_env.workbench.fitting.errors import CHANNEL_UNITS, RunErrors
 from ship_env.workbench.fitting.fit import Estimate
 from ship_env.workbench.fitting.replay import ReplayModel
@@ -68,6 +75,9 @@ from ship_env.workbench.fitting.terms import (
 from ship_env.workbench.judging.coverage import COVERAGE_PERCENTILE, Coverage
 from ship_env.workbench.judging.validation import CrossValidation
 from ship_env.workbench.logs.logs import Log
+
+if TYPE_CHECKING:
+    from ship_env.workbench.fitting.inverse_dynamics import Identification
 
 #: Hex digits of a log file's SHA-256 kept in a preset (48 bits: no two files of a campaign collide).
 HASH_DIGITS = 12
@@ -408,6 +418,65 @@ def site_conditions(model: ShipModel, conditions: Conditions | None = None) -> C
     )
 
 
+def fitted_mmg_document(identified: Identification, command: str, from_preset: str) -> dict[str, Any]:
+    """The fitted MMG model as ``ship-env fit-mmg`` writes it (:func:`~ship_env.model.mmg_fitted.mmg_document`): each
+    coefficient with its jackknife standard error, after the command, the preset it started from, the runs and the
+    share of each force it explains."""
+    surge, sway, yaw = identified.fitted.determination
+    about = {
+        "command": command,
+        "from_preset": from_preset,
+        "runs": list(identified.runs),
+        "determination": {"surge": surge, "sway": sway, "yaw": yaw},
+    }
+    return mmg_document(identified.record, identified.standard_errors, about)
+
+
+def with_dynamics(
+    document: Mapping[str, Any], identified: Identification, command: str, choice: Mapping[str, Any]
+) -> dict[str, Any]:
+    """A fitted preset's ``document`` sailed by the fitted MMG model ``identified`` (its ``dynamics:`` block,
+    :mod:`ship_env.model.ship`), with the ``choice`` that made it so in its ``fitted`` block (``dynamics``)."""
+    fitted = document.get("fitted") or {}
+    written = {**document, "fitted": {**fitted, "dynamics": dict(choice)}}
+    written["dynamics"] = fitted_mmg_document(identified, command, str(fitted.get("from_preset", "")))
+    written["description"] = (
+        f"{document.get('description', '')} Sailed by the MMG standard's forces fitted to the same logs by inverse "
+        "dynamics (dynamics: below), which predict their manoeuvres better (fitted.dynamics)."
+    ).strip()
+    return written
+
+
+def mmg_preset_document(model: ShipModel, identified: Identification, command: str, name: str) -> dict[str, Any]:
+    """``model``'s preset sailed by the fitted MMG model ``identified`` (``ship-env fit-mmg --preset``): its particulars
+    and effects kept (what the bridge knows of the ship, what the autopilots are designed from), its service speed
+    and propeller rate the runs', the model as its ``dynamics:`` block."""
+    start = model.ship.path.name if model.ship.path is not None else model.ship.name
+    raw = copy.deepcopy(dict(model.ship.document or _raw_preset(model)))
+    record = identified.record
+    runs = (
+        f"{len(identified.runs)} runs ({', '.join(identified.runs[:3])}{', ...' if len(identified.runs) > 3 else ''})"
+    )
+    principal = dict(raw.get("principal") or {})
+    principal["service_speed"] = _number(
+        record.service_speed, "m/s", f"the straight-course speed of the {runs} the MMG model was fitted to"
+    )
+    return {
+        **raw,
+        "name": name,
+        "description": (
+            f"{model.ship.name} ({start}) sailed by the MMG standard's forces fitted to {runs} by inverse dynamics "
+            f"(ship-env {ship_env.__version__}, dynamics: below); its particulars and effects are {start}'s, for the "
+            "bridge's scales and the classic autopilots' design."
+        ),
+        "principal": principal,
+        "service_conditions": {
+            "propeller_rate": _number(record.propeller_rate, "rps", f"the median propeller rate of the {runs}")
+        },
+        "dynamics": fitted_mmg_document(identified, command, start),
+    }
+
+
 def write_preset(document: Mapping[str, Any], path: Path) -> Path:
     """Write a preset as YAML, floats at ``repr`` precision (the caller has claimed ``path``)."""
     path.write_text(yaml.safe_dump(dict(document), sort_keys=False, width=120, allow_unicode=True))
@@ -421,11 +490,14 @@ __all__ = [
     "data_limits",
     "envelope_section",
     "fitted_current",
+    "fitted_mmg_document",
     "log_file",
+    "mmg_preset_document",
     "preset_document",
     "preset_replay_model",
     "service_conditions_section",
     "site_conditions",
     "standard_errors",
+    "with_dynamics",
     "write_preset",
 ]

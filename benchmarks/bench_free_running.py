@@ -13,6 +13,10 @@ The truth is one of three ships:
   free-running tests: thirteen zig-zags from 5/1 to 35/5 (``BASIN_ZIGZAGS``), the propeller at the constant rate
   of the model's self-propulsion point, the basin's sensors (``SensorNoise()``) at 5 Hz, no wind. The workbench
   starts from the ``kvlcc2`` preset scaled to the model as a user would (``ship-env scale kvlcc2 --length 7``).
+- ``--truth kvlcc2-basin``: the ``kvlcc2`` truth (values moved) sailing the basin's thirteen zig-zags at full scale,
+  with sea-trial sensors: runs to the hard-over rudder of a ship whose form is the workbench's own, where ``fit`` and
+  ``improve --preset`` also fit the MMG forces and must keep the effects
+  (``ship_env.workbench.judging.dynamics_choice``).
 
 The sea-trial truths sail four zig-zags (10/10 and 20/20 to both sides) at their service speed, logged by
 sea-trial sensors (``SEA_TRIAL_NOISE``: 0.5 deg compass, 3 m GPS, 1 Hz); then, as a user would and with the
@@ -31,7 +35,7 @@ trials (the sensors' noise drawn from another seed) and how many pass every boun
 --ship PRESET -o fitted_mmg.yaml``); the fitted model and the truth sail the judged manoeuvres from the same
 approach with the same rudder programme, and each side's figures are read from its time series by the same code.
 
-Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...] [--truth PRESET|mmg|mmg-basin]
+Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...] [--truth PRESET|mmg|mmg-basin|kvlcc2-basin]
           [--fit improve|fit-mmg]
 """
 
@@ -78,6 +82,8 @@ ZIGZAGS: Programme = (
 )
 #: ``--truth mmg-basin``: the MMG KVLCC2 as the 7 m model, a basin's free-running programme.
 MMG_BASIN = "mmg-basin"
+#: ``--truth kvlcc2-basin``: the kvlcc2 truth sailing the basin's programme at full scale, sea-trial sensors.
+NATIVE_BASIN = "kvlcc2-basin"
 #: A basin's zig-zags from 5/1 to 35/5: small heading changes at every rudder angle, the standard 10/10 and 20/20
 #: to both sides, 35/5 to both sides (thirteen runs).
 BASIN_ZIGZAGS: Programme = (
@@ -152,8 +158,8 @@ def truth_model(ship: str = SHIP) -> ShipModel:
 
 
 def make_truth(name: str = SHIP, folder: Path | None = None) -> Truth:
-    """``--truth``'s ship: a preset with its values moved, :data:`MMG` or :data:`MMG_BASIN` (whose starting preset,
-    ``kvlcc2`` scaled to the model by ``ship-env scale``, is written into ``folder``)."""
+    """``--truth``'s ship: a preset with its values moved, :data:`NATIVE_BASIN`, :data:`MMG` or :data:`MMG_BASIN`
+    (whose starting preset, ``kvlcc2`` scaled to the model by ``ship-env scale``, is written into ``folder``)."""
     if name in (MMG, MMG_BASIN):
         from ship_env.model.mmg_kvlcc2 import MODEL_LENGTH, MmgKvlcc2, service_propeller_rate
 
@@ -168,6 +174,8 @@ def make_truth(name: str = SHIP, folder: Path | None = None) -> Truth:
         dynamics = functools.partial(MmgKvlcc2, scale=1.0)  # the 7 m model itself
         rate = service_propeller_rate(1.0)
         return Truth(str(preset), ShipModel(preset), dynamics, rate, BASIN_ZIGZAGS, SensorNoise(), BASIN_DT)
+    if name == NATIVE_BASIN:
+        return Truth(SHIP, truth_model(SHIP), zigzags=BASIN_ZIGZAGS)
     return Truth(name, truth_model(name))
 
 
@@ -320,7 +328,7 @@ if __name__ == "__main__":
     parser.add_argument(
         "--truth",
         default=SHIP,
-        help=f"the preset the truth is made from, {MMG!r} or {MMG_BASIN!r} (default: %(default)s)",
+        help=f"the preset the truth is made from, {MMG!r}, {MMG_BASIN!r} or {NATIVE_BASIN!r} (default: %(default)s)",
     )
     parser.add_argument(
         "--fit",

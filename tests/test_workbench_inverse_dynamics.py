@@ -434,9 +434,15 @@ def test_a_fit_on_runs_to_the_hard_over_rudder_writes_a_preset_sailed_by_the_mmg
     the truth's, where its own effects (``dynamics="native"``) miss one."""
     output, _ = fitted_by_command
     preset = tmp_path / "fitted.yaml"
-    assert main(["fit", str(output.parent / "zigzag"), "--ship", str(model_preset), "--preset", str(preset)]) == 0
+    arguments = ["--ship", str(model_preset), "--preset", str(preset), "--validate-on", str(output.parent / "turning")]
+    assert main(["fit", str(output.parent / "zigzag"), *arguments]) == 0
     printed = capsys.readouterr().out
     assert "the preset sails the MMG model: its score" in printed
+    sailed = printed.split("the --validate-on runs sailed free by the MMG model")[1]
+    for side in ("stbd", "port"):  # the turning runs it never saw, as the preset sails them
+        rows = _sailed_free_rows("manoeuvres sailed free" + sailed, f"turning_35_{side}")
+        measured, predicted = rows["tactical diameter"]
+        assert abs(predicted - measured) <= 0.05 * measured, (side, measured, predicted)
     document = yaml.safe_load(preset.read_text())
     choice = document["fitted"]["dynamics"]
     assert choice["sailed_by"] == "mmg_3dof" and choice["mmg_score"] < 0.95 * choice["effects_score"]

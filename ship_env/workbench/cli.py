@@ -31,6 +31,7 @@ from ship_env.workbench.outputs import claim_file, claim_folder
 
 if TYPE_CHECKING:
     from ship_env.workbench import CrossValidation, ErrorScales, FitOptions, Log, ReplayModel
+    from ship_env.workbench.fitting.inverse_dynamics import Identification
     from ship_env.workbench.fitting.replay import Simulated
     from ship_env.workbench.fitting.runs import WorkbenchRuns
 
@@ -244,6 +245,8 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
         print(f"  the preset sails {choice.reason}")
         if choice.chosen and choice.identified is not None:
             document = with_dynamics(document, choice.identified, command, choice.summary())
+            if runs.validation:
+                _print_validation_sailed_by_mmg(validation, choice.identified, runs.validation)
     write_preset(document, args.preset)
     print(f"fitted preset written to {args.preset} (sail it: ShipModel({str(args.preset)!r}), --ship {args.preset})")
     try:
@@ -256,6 +259,22 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
             f"  its hard-over turning circle sails beyond the fitted runs: {'; '.join(beyond)}; its figures rest on "
             f"the model's form there (ship-env manoeuvre --ship {args.preset})"
         )
+
+
+def _print_validation_sailed_by_mmg(
+    validation: CrossValidation, identified: Identification, validation_logs: Sequence[Log]
+) -> None:
+    """The ``--validate-on`` runs sailed free by the MMG model the preset sails (the tables above sail its effects),
+    measured against predicted, +- the jackknife's spread, and where they disagree."""
+    from ship_env.workbench.judging.free_running import disagreements, free_running_table, held_out_mmg_sailing
+
+    results = held_out_mmg_sailing(validation.fit.setup, identified, [], validation_logs)
+    if not results:
+        return
+    print("  the --validate-on runs sailed free by the MMG model the preset sails (+- its jackknife's spread):")
+    print(free_running_table(results).text())
+    for line in disagreements(results, None):
+        print(f"  disagrees: {line}")
 
 
 # -- the arguments and examples ---------------------------------------------------------------

@@ -569,11 +569,13 @@ def test_the_mmg_form_is_tried_only_where_the_runs_reach_the_hard_over_rudder_in
     over."""
     from dataclasses import replace
 
-    from ship_env.workbench.judging.dynamics_choice import mmg_applies
+    from ship_env.workbench.judging.dynamics_choice import mmg_applies, why_not_mmg
 
     model = ShipModel(model_preset)
     assert mmg_applies(exact_logs, model)
-    assert not mmg_applies([replace(exact_logs[0], propeller_rate=None), *exact_logs[1:]], model)
+    unpropelled = [replace(exact_logs[0], propeller_rate=None), *exact_logs[1:]]
+    assert not mmg_applies(unpropelled, model)
+    assert why_not_mmg(unpropelled) == "1 of 6 runs log no propeller rate (zigzag_10_10)"
     assert not mmg_applies(exact_logs[:4], model)  # 10/10 and 20/20 only
     windy = replace(
         exact_logs[0],
@@ -581,6 +583,7 @@ def test_the_mmg_form_is_tried_only_where_the_runs_reach_the_hard_over_rudder_in
         wind_direction=np.zeros_like(exact_logs[0].time),
     )
     assert not mmg_applies([windy, *exact_logs[1:]], model)
+    assert why_not_mmg([windy]).startswith("1 of 1 runs sail in wind beyond the anemometer's noise (zigzag_10_10)")
 
 
 # -- bad input ---------------------------------------------------------------------------------------------------

@@ -58,14 +58,31 @@ def mmg_applies(logs: Sequence[Log], model: ShipModel) -> bool:
     """Whether inverse dynamics can fit the MMG form to ``logs`` and the form is determined to the hard-over turn:
     every run logs position, speed and propeller rate in calm air (:attr:`~.logs.Log.has_wind_beyond_noise`), and
     some run reaches :data:`HARD_OVER` of ``model``'s rudder limit."""
-    logged = all(
-        log.north is not None
-        and log.speed is not None
-        and log.propeller_rate is not None
-        and not log.has_wind_beyond_noise
-        for log in logs
-    )
-    return logged and max(float(np.max(np.abs(log.rudder))) for log in logs) >= HARD_OVER * model.rudder_limit
+    return reaches_hard_over(logs, model) and not why_not_mmg(logs)
+
+
+def reaches_hard_over(logs: Sequence[Log], model: ShipModel) -> bool:
+    """Whether some run's rudder reaches :data:`HARD_OVER` of ``model``'s limit."""
+    return max(float(np.max(np.abs(log.rudder))) for log in logs) >= HARD_OVER * model.rudder_limit
+
+
+def why_not_mmg(logs: Sequence[Log]) -> str:
+    """Why inverse dynamics cannot fit the MMG form to ``logs`` ("" where it can): the runs that lack a channel it
+    needs, or sail in wind (the form has no wind forces)."""
+    for channel, missing in (
+        ("position", [log.name for log in logs if log.north is None]),
+        ("speed", [log.name for log in logs if log.speed is None]),
+        ("propeller rate", [log.name for log in logs if log.propeller_rate is None]),
+    ):
+        if missing:
+            return f"{len(missing)} of {len(logs)} runs log no {channel} ({', '.join(missing[:3])})"
+    windy = [log.name for log in logs if log.has_wind_beyond_noise]
+    if windy:
+        return (
+            f"{len(windy)} of {len(logs)} runs sail in wind beyond the anemometer's noise ({', '.join(windy[:3])}), "
+            "which the MMG form has no forces for"
+        )
+    return ""
 
 
 @dataclass(frozen=True)
@@ -149,4 +166,12 @@ def preferred(ladder_score: float, mmg_score: float, stuck: Sequence[str], min_g
     return True, f"the MMG model: its score {mmg_score:.3g} against {against}"
 
 
-__all__ = ["HARD_OVER", "DynamicsChoice", "choose_dynamics", "mmg_applies", "preferred"]
+__all__ = [
+    "HARD_OVER",
+    "DynamicsChoice",
+    "choose_dynamics",
+    "mmg_applies",
+    "preferred",
+    "reaches_hard_over",
+    "why_not_mmg",
+]

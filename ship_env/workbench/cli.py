@@ -250,6 +250,8 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
             document = with_dynamics(document, choice.identified, command, choice.summary())
             if runs.validation:
                 _print_validation_sailed_by_mmg(validation, choice.identified, runs.validation)
+        else:  # the evidence kept with the preset: why its effects sail it
+            document["fitted"] = {**document["fitted"], "dynamics": choice.summary()}
     write_preset(document, args.preset)
     print(f"fitted preset written to {args.preset} (sail it: ShipModel({str(args.preset)!r}), --ship {args.preset})")
     try:

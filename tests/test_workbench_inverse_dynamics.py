@@ -493,12 +493,12 @@ def test_a_run_sailed_free_is_scored_against_its_samples_on_the_workbenchs_scale
     assert sailed_score([replace(result, cannot_sail="left its validity")], [log], scales) == math.inf
 
 
-def test_the_leaderboard_sails_a_preset_with_a_fitted_model_calm_and_nominal_and_says_what_it_leaves_out(
+def test_the_leaderboard_sails_a_preset_with_a_fitted_model_calm_and_says_what_it_leaves_out(
     fitted_by_command,
 ):
     """The robustness conditions scale ship_env's model and the fitted MMG model has no wind or wave forces: the
-    leaderboard's suites on such a preset are the nominal ship in calm water (TrackFollow too), each left out in a
-    line."""
+    leaderboard's suites on such a preset are the nominal ship and its fitted uncertainty in calm water (TrackFollow
+    too), each left out in a line."""
     from dataclasses import replace
 
     from ship_env.leaderboard.suites import DEV
@@ -509,11 +509,56 @@ def test_the_leaderboard_sails_a_preset_with_a_fitted_model_calm_and_nominal_and
     assert [(suite.task, suite.condition.name) for suite in suites] == [
         ("CourseChange calm", "nominal"),
         ("TrackFollow calm", "nominal"),
+        ("CourseChange calm", "fitted uncertainty"),  # ships drawn from the model's jackknife
+        ("TrackFollow calm", "fitted uncertainty"),
     ]
     assert suites[1].env_kwargs["disturbance"] == "calm"
     left_out = spec.left_out()
-    assert len(left_out) == 6 and "CourseChange wind_current, wind_current_waves" in left_out[4]
+    assert len(left_out) == 5 and "CourseChange wind_current, wind_current_waves" in left_out[3]
     assert replace(DEV, ship="kvlcc2").left_out() == []
+
+
+class _Fold:
+    """Draws fold ``k``: the one draw :meth:`MmgRecord.drawn` makes of a generator."""
+
+    def __init__(self, k: int) -> None:
+        self.k = k
+
+    def integers(self, count: int) -> int:
+        return self.k
+
+
+def test_ships_drawn_from_a_fitted_model_spread_as_its_jackknife_says(fitted_by_command):
+    """Over its n folds, the drawn ships' coefficients have the jackknife's variance and mean the fitted values."""
+    from ship_env.model.mmg_form import YAW_TERMS
+
+    output, printed = fitted_by_command
+    record = read_mmg(output)
+    count = len(record.folds)
+    draws = np.array([record.drawn(_Fold(k)).form.yaw for k in range(count)])  # type: ignore[arg-type]
+    folds = np.array([fold.yaw for fold in record.folds])
+    jackknife = (count - 1) / count * np.sum((folds - folds.mean(axis=0)) ** 2, axis=0)
+    assert np.allclose(draws.var(axis=0), jackknife, rtol=1e-10, atol=0.0)
+    assert np.allclose(draws.mean(axis=0), record.form.yaw, rtol=1e-12, atol=1e-15)
+    document = yaml.safe_load(output.read_text())
+    assert [document["yaw"][name]["std_error"] for name in YAW_TERMS] == pytest.approx(np.sqrt(jackknife))
+
+
+def test_a_preset_sailed_by_its_fitted_model_draws_each_episodes_ship_from_its_seed(fitted_by_command):
+    """``ship_variation="fitted"`` on a preset with a ``dynamics:`` block: each reset's adapter sails a ship drawn
+    from the model's jackknife, the same for the same seed."""
+    output, _ = fitted_by_command
+    env = gym.make("ship_env/CourseChange-v0", ship=str(output.parent / "sailed_by_hull.yaml"), ship_variation="fitted")
+
+    def sailed(seed: int) -> np.ndarray:
+        env.reset(seed=seed)
+        env.step(env.action_space.sample())
+        return env.unwrapped.batch.simulator.adapters[0].sailed.form.sway
+
+    first, again = sailed(1), sailed(1)
+    assert np.array_equal(first, again)
+    assert len({tuple(sailed(seed)) for seed in range(2, 12)}) > 1
+    env.close()
 
 
 def test_a_preset_whose_dynamics_block_is_malformed_is_refused_naming_the_field(tmp_path, fitted_by_command):

@@ -10,6 +10,7 @@ to episode if asked (:mod:`ship_env.envs.variation`).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -27,6 +28,8 @@ from ship_env.envs.uniform_box import UniformBox
 from ship_env.envs.variation import FITTED, FittedShipVariation, ShipFactors, ShipVariation, sailed_conditions
 from ship_env.model import Conditions, ShipModel, Simulator, load_ship
 from ship_env.model.external import DynamicsSource, ExternalSimulator, dynamics_factory, preset_dynamics
+from ship_env.model.mmg_fitted import MmgFitted
+from ship_env.model.mmg_record import MmgRecord
 
 #: ``action_type``: a Box(-1, 1, (1,)) fraction of delta_max, or one of ``rudder_levels`` angles.
 ACTION_TYPES = ("continuous", "discrete")
@@ -93,7 +96,10 @@ class ShipTask:
             mapping of ranges draws each episode's ship (K*, tau*, service speed, weather
             strength; :mod:`ship_env.envs.variation`), recorded as the scenario's ``ship``;
             ``"fitted"`` draws K* and tau* from a fitted preset's standard errors (a Gaussian
-            truncated to their ranges by redrawing; a preset without them is refused).
+            truncated to their ranges by redrawing; a preset without them is refused); on a preset
+            sailed by its fitted MMG model (its ``dynamics:`` block) each episode's ship is drawn from
+            that model's jackknife, from the episode's seed
+            (:meth:`~ship_env.model.mmg_record.MmgRecord.drawn`).
         observation_history: how many past steps of the heading error, rate of turn and rudder
             observations (``history_observations``) follow the observation, newest first (0,
             default: none). A policy without memory can then tell how the ship answers its rudder.
@@ -190,7 +196,13 @@ class ShipTask:
         #: Whether an episode that brings waves adds ``WAVE_EFFECTS`` to the model (:meth:`model_for`): its
         #: effects are the preset's defaults, sailed by ship_env's simulator.
         self.adds_wave_effects = presets_effects and sailed_by is None
-        if ship_variation == FITTED:
+        if ship_variation == FITTED and isinstance(sailed_by, MmgRecord):  # its adapters draw each episode's ship
+            try:
+                sailed_by.drawn(np.random.default_rng(0))
+            except ValueError as error:
+                raise ValueError(f"ship_variation={FITTED!r}: {error}") from None
+            self.make_dynamics = functools.partial(MmgFitted, sailed_by, draw=True)
+        elif ship_variation == FITTED:
             self.variation = FittedShipVariation(self.model)
         #: The ship's length, speed and time over the reference ship's (:mod:`ship_env.envs.ship_scales`).
         self.scales = ship_scales(self.model)

@@ -45,9 +45,9 @@ are designed from its values, and the robustness conditions scale its K*, tau* a
 
 A ship whose preset is sailed by a fitted MMG model (its ``dynamics:`` block, written by ``ship-env fit-mmg --preset``
 or chosen by ``fit``/``improve --preset``) sails what that model can: the nominal ship (the robustness conditions
-scale ship_env's own model, which does not sail it) in calm water (the model has no wind or wave forces), TrackFollow
-included (``disturbance="calm"``, the task then named "TrackFollow calm"); each suite left out is named with why
-(:meth:`SuiteSpec.left_out`).
+scale ship_env's own model, which does not sail it) and its fitted uncertainty (ships drawn from the model's
+jackknife) in calm water (the model has no wind or wave forces), TrackFollow included (``disturbance="calm"``, the
+task then named "TrackFollow calm"); each suite left out is named with why (:meth:`SuiteSpec.left_out`).
 
 Seeds: episode k of a suite's r-th repetition has seed ``first_seed + SEED_STRIDE * r + k``, so the
 dev suite's episodes are the first repetition of the full suite's.
@@ -176,9 +176,11 @@ CONDITIONS = (NOMINAL, K_TAU_HALF, K_TAU_DOUBLE, HALF_SPEED, FITTED_UNCERTAINTY)
 
 def sails_condition(condition: Condition, ship: str) -> bool:
     """Whether ``condition`` can be sailed on ``ship``: :data:`FITTED_UNCERTAINTY` on a fitted preset only, and on a
-    ship sailed by its preset's fitted MMG model (:func:`sailed_by_fitted_model`) the nominal ship only."""
-    if sailed_by_fitted_model(ship) and condition.varies:
-        return False
+    ship sailed by its preset's fitted MMG model (:func:`sailed_by_fitted_model`) the nominal ship and, where the
+    model has a jackknife, ships drawn from it."""
+    record = load_ship(ship).dynamics
+    if record is not None and condition.varies:
+        return condition.variation == FITTED and len(record.folds) >= 2  # ships drawn from its jackknife
     return condition.variation != FITTED or draws_fitted(load_ship(ship))
 
 
@@ -309,7 +311,7 @@ class SuiteSpec:
         lines = [
             f"the {condition.name} condition: it scales or draws ship_env's model of the ship, and {model} sails it"
             for condition in self.conditions
-            if condition.varies
+            if condition.varies and not sails_condition(condition, sailed_ship)
         ]
         calm_air = [level for level in self.course_change_disturbances if level != "calm"]
         if calm_air:

@@ -90,14 +90,20 @@ class MmgFitted:
 
     Args:
         source: the file ``ship-env fit-mmg`` wrote, or its :class:`MmgRecord`.
+        draw: each reset sails a ship drawn from the fit's uncertainty, from the reset's seed
+            (:meth:`MmgRecord.drawn`; the environments' ``ship_variation="fitted"``).
 
     Each step moves the rudder towards the order at the steering machine's rate (linearly over the step) and
     integrates the equations of motion in sub-steps of at most :data:`MAX_STEP_LENGTHS` ship lengths; a state
     that is not finite raises ``FloatingPointError`` (the ship left the model's validity).
     """
 
-    def __init__(self, source: str | Path | MmgRecord) -> None:
+    def __init__(self, source: str | Path | MmgRecord, draw: bool = False) -> None:
         self.record = source if isinstance(source, MmgRecord) else read_mmg(source)
+        #: Whether each reset sails a ship drawn from the fit's uncertainty (:meth:`MmgRecord.drawn`, from the seed).
+        self.draw = draw
+        #: The model the episode sails: the record's, or the reset's draw.
+        self.sailed = self.record
         self.state = np.zeros(6)
         self.rudder = 0.0
         self._current = (0.0, 0.0)
@@ -117,11 +123,12 @@ class MmgFitted:
         sway = -start.speed * math.tan(start.drift)
         self.state = np.array([start.speed, sway, start.rate_of_turn, start.north, start.east, start.heading])
         self.rudder = start.rudder
+        self.sailed = self.record.drawn(np.random.default_rng(seed)) if self.draw else self.record
 
     def step(self, rudder_order: float, propeller_rate: float | None, dt: float) -> ShipMotion:
         """Sail ``dt`` s: the rudder towards ``rudder_order``, the propeller at ``propeller_rate`` (``None``: the
         runs' rate)."""
-        record = self.record
+        record = self.sailed
         order = min(max(rudder_order, -record.rudder_limit), record.rudder_limit)
         largest = record.rudder_rate * dt
         rudder = self.rudder + min(max(order - self.rudder, -largest), largest)

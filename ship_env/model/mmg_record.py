@@ -54,6 +54,26 @@ class MmgRecord:
         """Each fold's model, sailed as this one (no folds of its own)."""
         return [replace(self, form=fold, folds=()) for fold in self.folds]
 
+    def drawn(self, rng: np.random.Generator) -> MmgRecord:
+        """A ship drawn from the fit's uncertainty: its coefficients moved by one fold's jackknife deviation,
+        theta_hat + sqrt(n - 1) (theta_k - mean_j theta_j), with k drawn uniformly from the n folds (no folds of its
+        own). Over the folds the draws' covariance is the jackknife's, (n - 1) / n sum_k (theta_k - mean)(theta_k -
+        mean)^T, the coefficients' correlations kept; ``ValueError`` without two folds."""
+        count = len(self.folds)
+        if count < 2:
+            raise ValueError(
+                f"{self.source or 'the fitted MMG model'}: its jackknife has {count} folds; ships are drawn from two "
+                "or more (fit it with three or more runs, without --no-jackknife)"
+            )
+        k = int(rng.integers(count))
+
+        def moved(name: str) -> np.ndarray:
+            folds = np.array([getattr(fold, name) for fold in self.folds])
+            return getattr(self.form, name) + math.sqrt(count - 1) * (folds[k] - folds.mean(axis=0))
+
+        form = MmgForm(self.form.body, *(moved(name) for name in SECTIONS))
+        return replace(self, form=form, folds=())
+
     def fitted_ranges(self) -> FittedRanges | None:
         """The runs' ranges as a preset's (:class:`~ship_env.model.operating_point.FittedRanges`); None without."""
         return FittedRanges(self.source, dict(self.coverage), propeller=False) if self.coverage else None

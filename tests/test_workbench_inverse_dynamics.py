@@ -459,6 +459,26 @@ def test_a_fit_on_runs_to_the_hard_over_rudder_writes_a_preset_sailed_by_the_mmg
     assert _within_bounds(judged("native"), expected) != []
 
 
+def test_runs_the_mmg_form_cannot_be_fitted_to_leave_the_effects_preset_written(
+    model_preset, fitted_by_command, tmp_path, capsys, monkeypatch
+):
+    """A run inverse dynamics cannot smooth (a gap in its time, say) stops the MMG fit, not the command: the preset
+    sails its effects and says why."""
+    from ship_env.workbench.fitting import inverse_dynamics
+    from ship_env.workbench.fitting.smoothing import SmoothingError
+
+    def gap(*args, **kwargs):
+        raise SmoothingError("log 'zigzag_10_10': a gap of 3 s in its time")
+
+    monkeypatch.setattr(inverse_dynamics, "identify", gap)
+    output, _ = fitted_by_command
+    preset = tmp_path / "fitted.yaml"
+    assert main(["fit", str(output.parent / "zigzag"), "--ship", str(model_preset), "--preset", str(preset)]) == 0
+    assert "the preset sails the effects: the MMG form: log 'zigzag_10_10': a gap" in capsys.readouterr().out
+    document = yaml.safe_load(preset.read_text())
+    assert "dynamics" not in document and document["fitted"]["dynamics"]["mmg_score"] == "not fitted"
+
+
 def test_the_mmg_form_sails_the_preset_only_where_it_sails_every_run_materially_better():
     """The rule on the two scores: chosen where the MMG model's is at least ``min_gain`` below the effects'; not
     where it is not, nor where it cannot sail a run."""

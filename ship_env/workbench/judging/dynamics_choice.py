@@ -114,7 +114,7 @@ class DynamicsChoice:
             "score": "the fitted runs sailed free from their first execute, each by a fit that did not see it: "
             "sqrt(mean (RMS / scale)^2) over heading, rate of turn and speed, the workbench's scale-free scales",
             "effects_score": _finite_or_text(self.ladder_score),
-            "mmg_score": _finite_or_text(self.mmg_score),
+            "mmg_score": _finite_or_text(self.mmg_score) if self.identified is not None else "not fitted",
         }
 
 
@@ -128,6 +128,7 @@ def choose_dynamics(
     """Which model sails the preset of ``validation``'s fit to ``logs`` (the module docstring); None where the MMG
     form does not apply (:func:`mmg_applies`)."""
     from ship_env.workbench.fitting.inverse_dynamics import IdentificationError, identify
+    from ship_env.workbench.fitting.smoothing import SmoothingError
 
     setup = validation.fit.setup
     if not mmg_applies(logs, setup.model):
@@ -142,7 +143,7 @@ def choose_dynamics(
     ladder_score = sailed_score(ladder, logs, scales)
     try:
         identified = identify(logs, setup.model)
-    except IdentificationError as error:
+    except (IdentificationError, SmoothingError, np.linalg.LinAlgError) as error:  # the effects' preset still stands
         return DynamicsChoice(ladder_score, math.inf, None, False, f"the effects: the MMG form: {error}", len(ladder))
     mmg = held_out_mmg_sailing(setup, identified, logs, [])
     mmg_score = sailed_score(mmg, logs, scales)

@@ -82,8 +82,9 @@ def run_leaderboard_command(args: argparse.Namespace) -> int:
     from ship_env.model import load_ship
 
     ship = args.ship or DEFAULT_SHIP
+    preset = load_ship(ship)
     # A ship sailed by its preset's fitted MMG model draws its uncertainty from that model's jackknife (the suites).
-    undetermined = [] if load_ship(ship).dynamics is not None else undetermined_terms(load_ship(ship))
+    undetermined = [] if preset.dynamics is not None else undetermined_terms(preset)
     why = (
         f"the fit of {ship} does not determine {', '.join(undetermined)} (a standard error over half the value)"
         if undetermined

@@ -178,10 +178,10 @@ def sails_condition(condition: Condition, ship: str) -> bool:
     """Whether ``condition`` can be sailed on ``ship``: :data:`FITTED_UNCERTAINTY` on a fitted preset only, and on a
     ship sailed by its preset's fitted MMG model (:func:`sailed_by_fitted_model`) the nominal ship and, where the
     model has a jackknife, ships drawn from it."""
-    record = load_ship(ship).dynamics
-    if record is not None and condition.varies:
-        return condition.variation == FITTED and len(record.folds) >= 2  # ships drawn from its jackknife
-    return condition.variation != FITTED or draws_fitted(load_ship(ship))
+    preset = load_ship(ship)
+    if preset.dynamics is not None and condition.varies:
+        return condition.variation == FITTED and len(preset.dynamics.folds) >= 2  # ships drawn from its jackknife
+    return condition.variation != FITTED or draws_fitted(preset)
 
 
 def sailed_by_fitted_model(ship: str) -> str:

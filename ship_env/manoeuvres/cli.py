@@ -107,13 +107,14 @@ class Sailing:
         without it, the preset's ``dynamics:`` block) is a fitted MMG model, that model's (:meth:`fitted`)."""
         from ship_env.manoeuvres.uncertainty import fold_models
         from ship_env.model.external import preset_dynamics
-        from ship_env.model.mmg_fitted import MmgRecord, read_mmg
+        from ship_env.model.mmg_fitted import read_mmg
+        from ship_env.model.mmg_record import MmgRecord
 
         dynamics = preset_dynamics(model, settings.dynamics)
+        if isinstance(dynamics, (str, Path)) and str(dynamics).endswith((".yaml", ".yml")):
+            dynamics = read_mmg(dynamics)
         if isinstance(dynamics, MmgRecord):
             return cls.fitted(model, settings, dynamics)
-        if isinstance(dynamics, (str, Path)) and str(dynamics).endswith((".yaml", ".yml")):
-            return cls.fitted(model, settings, read_mmg(dynamics))
         if dynamics is not None:
             return cls(model, settings, [], None)
         return cls(model, settings, [(fold, settings) for fold in fold_models(model)], model.fitted_ranges)

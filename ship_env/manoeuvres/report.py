@@ -14,6 +14,7 @@ from ship_env.manoeuvres.imo import CriterionCheck
 from ship_env.manoeuvres.results import KNOT, Figure, ManoeuvreResult, fixed
 from ship_env.manoeuvres.spiral import SpiralTest
 from ship_env.model import ShipModel
+from ship_env.model.external import NATIVE
 
 LABEL_WIDTH = 44  # row headers: a figure and its unit
 CRITERION_WIDTH = 64  # row headers of the criteria: clause, figure, run and unit
@@ -27,7 +28,7 @@ def ship_line(model: ShipModel, approach_speed: float, dynamics: str | None = No
     preset's own: the ``dynamics:`` block), in one line."""
     if dynamics is None and model.ship.dynamics is not None:
         dynamics = f"its preset's dynamics: the fitted MMG model ({model.ship.dynamics.source})"
-    native = dynamics is None or dynamics == "native"
+    native = dynamics is None or dynamics == NATIVE
     sailed_by = f"effects: {', '.join(model.effects)}" if native else f"sailed by {dynamics}"
     return (
         f"{model.ship.name}: L = {model.length:.1f} m, V = {approach_speed / KNOT:.1f} kn "

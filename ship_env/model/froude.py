@@ -261,13 +261,15 @@ class _Rewriter:
 
     def jackknife(self, node: Mapping[str, Any], where: str) -> dict[str, Any]:
         """A fitted preset's jackknife (the fold fits' values of its terms, SI units): each term's values scaled by
-        its parameter's unit (``yaw.time_constant``: s; a principal particular's own)."""
-        principal = {parameter.name: parameter for parameter in PRINCIPAL}
+        its parameter's unit (``steering_machine.rudder_rate``: rad/s; a principal particular's own)."""
         exponents = []
         for term in node["terms"]:
             effect, _, name = str(term).rpartition(".")
-            declared = {p.name: p for p in EFFECTS[effect].parameters} if effect in EFFECTS else principal
-            if effect and effect not in EFFECTS or name not in declared:
+            if not effect:
+                declared = {parameter.name: parameter for parameter in PRINCIPAL}
+            else:
+                declared = {p.name: p for p in EFFECTS[effect].parameters} if effect in EFFECTS else {}
+            if name not in declared:
                 raise ScalingError(
                     f"{where}.terms: {term!r}: no parameter of that name; its Froude scaling is not known"
                 )

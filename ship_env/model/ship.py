@@ -145,7 +145,7 @@ class Ship:
     scaled: tuple[Mapping[str, Any], ...] = ()
     document: Mapping[str, Any] | None = field(default=None, repr=False, compare=False)
     service_conditions: Mapping[str, float] = field(default_factory=dict)
-    dynamics: MmgRecord | None = field(default=None, repr=False)
+    dynamics: MmgRecord | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass

@@ -6,7 +6,7 @@ circle came out a third too wide, where the MMG standard's 3-DOF forces fitted b
 (``ship-env fit-mmg``, :mod:`~ship_env.workbench.fitting.inverse_dynamics`) predicted it within 2 %
 (docs/results/free_running.md). Which of the two a preset sails is chosen on the fitted runs themselves, sailed
 free from their first execute (the zig-zags closed loop on the heading), each by a fit that did not see it
-(:func:`~.free_running.held_out_sailing`, :func:`~.free_running.held_out_mmg_sailing`), and scored sample by sample
+(:func:`~.free_running.held_out_free_running`, :func:`~.free_running.held_out_mmg_sailing`), and scored sample by sample
 as the workbench scores a replay (:func:`~.free_running.sailed_score`: heading, rate of turn and speed on the
 scale-free scales). A zig-zag's first overshoot alone did not tell them apart: on the basin truth's thirteen
 zig-zags the effects' overshoots came closer (0.26 against 0.35 of the 2 deg bound on one seed) while their speed
@@ -30,7 +30,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -38,12 +37,7 @@ import numpy as np
 from ship_env.model import ShipModel
 from ship_env.workbench.defaults import MIN_GAIN
 from ship_env.workbench.fitting.errors import ErrorScales
-from ship_env.workbench.judging.free_running import (
-    compare_free_running,
-    held_out_mmg_sailing,
-    held_out_sailing,
-    sailed_score,
-)
+from ship_env.workbench.judging.free_running import held_out_free_running, held_out_mmg_sailing, sailed_score
 from ship_env.workbench.judging.validation import CrossValidation
 from ship_env.workbench.logs.logs import Log
 
@@ -134,12 +128,7 @@ def choose_dynamics(
     if not mmg_applies(logs, setup.model):
         return None
     scales = ErrorScales.for_runs(setup.model, logs)
-    ladder = held_out_sailing(
-        partial(compare_free_running, setup),
-        [(fold.left_out, partial(compare_free_running, fold.setup)) for fold in validation.folds],
-        logs,
-        [],
-    )
+    ladder = held_out_free_running(validation, logs, ())
     ladder_score = sailed_score(ladder, logs, scales)
     try:
         identified = identify(logs, setup.model)

@@ -51,7 +51,7 @@ from ship_env.manoeuvres.zigzag import ZigZagHelmsman
 from ship_env.model import Conditions
 from ship_env.model.external import NATIVE
 from ship_env.text_table import Table
-from ship_env.workbench.fitting.errors import ErrorScales
+from ship_env.workbench.fitting.errors import ErrorScales, RunErrors, pooled
 from ship_env.workbench.fitting.replay import ReplayModel, service_speed
 from ship_env.workbench.fitting.terms import sailing_model
 from ship_env.workbench.judging.validation import CrossValidation
@@ -395,13 +395,16 @@ def free_running_table(results: Sequence[RunFigures]) -> Table:
 Sail = Callable[[Sequence[Log]], tuple[RunFigures, ...]]
 
 
-def held_out_free_running(validation: CrossValidation, logs: Sequence[Log]) -> tuple[RunFigures, ...]:
-    """Every run of a cross-validated fit sailed free by a fit that did not see it (:func:`held_out_sailing`)."""
+def held_out_free_running(
+    validation: CrossValidation, logs: Sequence[Log], validation_logs: Sequence[Log] | None = None
+) -> tuple[RunFigures, ...]:
+    """Every run of a cross-validated fit sailed free by a fit that did not see it (:func:`held_out_sailing`), and
+    ``validation_logs`` (None: the validation's own) by the fit to all runs."""
     return held_out_sailing(
         partial(compare_free_running, validation.fit.setup),
         [(fold.left_out, partial(compare_free_running, fold.setup)) for fold in validation.folds],
         logs,
-        validation.validation_logs,
+        validation.validation_logs if validation_logs is None else validation_logs,
     )
 
 
@@ -520,25 +523,27 @@ def sailed_score(results: Sequence[RunFigures], logs: Sequence[Log], scales: Err
     if any(result.cannot_sail for result in results):
         return math.inf
     by_name = {log.name: log for log in logs}
-    squares = np.zeros(3)
-    counts = np.zeros(3)
-    for result in results:
-        log, series = by_name[result.run], result.predicted_series
-        if series is None:
-            continue
-        inside = (log.time >= result.manoeuvre.executes[0]) & (log.time <= series.time[-1])
-        time = log.time[inside]
-        channels = (
-            (series.heading, log.heading, scales.heading),
-            (series.rate_of_turn, log.rate_of_turn_or_gradient, scales.rate_of_turn),
-            (series.speed, log.speed, scales.speed_error),
-        )
-        for k, (predicted, measured, scale) in enumerate(channels):
-            if predicted is not None and measured is not None:
-                squares[k] += float(np.sum(((np.interp(time, series.time, predicted) - measured[inside]) / scale) ** 2))
-                counts[k] += time.size
-    sailed = counts > 0
-    return float(np.sqrt(np.mean(squares[sailed] / counts[sailed]))) if np.any(sailed) else math.nan
+    errors = [_sailed_errors(result, by_name[result.run]) for result in results if result.predicted_series is not None]
+    errors = [e for e in errors if e.samples]
+    return pooled(errors).score(scales) if errors else math.nan
+
+
+def _sailed_errors(result: RunFigures, log: Log) -> RunErrors:
+    """One run sailed free against its log: the RMS of heading, rate of turn and speed (NaN where not logged) over the
+    log's samples from the first execute to the predicted run's end, the prediction interpolated at their times."""
+    series = result.predicted_series
+    assert series is not None
+    inside = (log.time >= result.manoeuvre.executes[0]) & (log.time <= series.time[-1])
+    time = log.time[inside]
+
+    def rms(predicted: np.ndarray | None, measured: np.ndarray | None) -> float:
+        if predicted is None or measured is None or not time.size:
+            return math.nan
+        return float(np.sqrt(np.mean((np.interp(time, series.time, predicted) - measured[inside]) ** 2)))
+
+    heading = rms(series.heading, log.heading)
+    rate = rms(series.rate_of_turn, log.rate_of_turn_or_gradient)
+    return RunErrors(result.run, time.size, heading, rate, math.nan, math.nan, rms(series.speed, log.speed))
 
 
 def figure_score(results: Sequence[RunFigures]) -> float:

@@ -581,6 +581,24 @@ def test_a_preset_sailed_by_its_fitted_model_draws_each_episodes_ship_from_its_s
     env.close()
 
 
+def test_training_on_a_preset_sailed_by_its_fitted_model_draws_from_its_jackknife(fitted_by_command, tmp_path):
+    """``ship-env train --ship FILE --ship-variation fitted`` on a ``fit-mmg --preset`` preset, whose effects carry
+    no standard errors: its ships are drawn from the MMG model's jackknife, as the environments and the leaderboard
+    draw them (it was refused, "gives none for yaw.gain, yaw.time_constant")."""
+    import json
+
+    output, _ = fitted_by_command
+    config = tmp_path / "ppo.yaml"
+    entry = {"n_envs": 2, "n_steps": 64, "batch_size": 64, "n_epochs": 1, "policy_kwargs": {"net_arch": [8]}}
+    config.write_text(yaml.safe_dump({"ship_env/CourseChange-v0": entry}))
+    preset = output.parent / "sailed_by_hull.yaml"
+    assert ShipModel(preset).ship.std_errors == {}
+    arguments = ["--steps", "128", "--config", str(config), "--no-progress", "--out", str(tmp_path / "run")]
+    assert main(["train", "--algo", "ppo", "--ship", str(preset), "--ship-variation", "fitted", *arguments]) == 0
+    metadata = json.loads((tmp_path / "run" / "metadata.json").read_text())
+    assert metadata["env_kwargs"]["ship"] == str(preset) and metadata["env_kwargs"]["ship_variation"] == "fitted"
+
+
 def test_a_preset_whose_dynamics_block_is_malformed_is_refused_naming_the_field(tmp_path, fitted_by_command):
     output, _ = fitted_by_command
     document = yaml.safe_load((output.parent / "sailed_by_hull.yaml").read_text())

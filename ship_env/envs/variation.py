@@ -153,6 +153,16 @@ def draws_fitted(preset: Ship) -> bool:
     return all(preset.std_errors.get(key) is not None for key in FITTED_TERMS) and not undetermined_terms(preset)
 
 
+def draws_ships(preset: Ship) -> bool:
+    """Whether ``ship_variation="fitted"`` draws ships from ``preset`` as it sails by default: from its fitted MMG
+    model's jackknife (two or more folds) where its ``dynamics:`` block sails it
+    (:meth:`~ship_env.model.mmg_record.MmgRecord.drawn`), else from its effects' standard errors
+    (:func:`draws_fitted`)."""
+    if preset.dynamics is not None:
+        return len(preset.dynamics.folds) >= 2
+    return draws_fitted(preset)
+
+
 def undetermined_terms(preset: Ship) -> list[str]:
     """The drawn terms whose standard error exceeds :data:`UNDETERMINED_SHARE` of their value, in words."""
     words = []

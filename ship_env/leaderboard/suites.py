@@ -65,7 +65,7 @@ import gymnasium as gym
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.envs.tracks import THESIS_COURSE_CHANGES_DEG, TRACK_IDS
-from ship_env.envs.variation import FITTED, draws_fitted
+from ship_env.envs.variation import FITTED, draws_ships
 from ship_env.model import load_ship
 
 COURSE_CHANGE = "ship_env/CourseChange-v0"
@@ -179,9 +179,9 @@ def sails_condition(condition: Condition, ship: str) -> bool:
     ship sailed by its preset's fitted MMG model (:func:`sailed_by_fitted_model`) the nominal ship and, where the
     model has a jackknife, ships drawn from it."""
     preset = load_ship(ship)
-    if preset.dynamics is not None and condition.varies:
-        return condition.variation == FITTED and len(preset.dynamics.folds) >= 2  # ships drawn from its jackknife
-    return condition.variation != FITTED or draws_fitted(preset)
+    if preset.dynamics is not None and condition.varies:  # its ships are drawn from the model's jackknife only
+        return condition.variation == FITTED and draws_ships(preset)
+    return condition.variation != FITTED or draws_ships(preset)
 
 
 def sailed_by_fitted_model(ship: str) -> str:

@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 
 from ship_env.command_line import Command, add_progress_argument, ship_preset, whole_number
-from ship_env.envs.variation import FITTED, FITTED_TERMS, draws_fitted
+from ship_env.envs.variation import FITTED, FITTED_TERMS, draws_ships
 from ship_env.extras import require
 from ship_env.model import load_ship
 from ship_env.ray_cluster import add_backend_arguments
@@ -86,10 +86,11 @@ def run_train(args: argparse.Namespace) -> int:
         config = config.on_ship(args.ship)
     if args.ship_variation is not None:
         ship = str(config.env_kwargs.get("ship", "the environment's own, container_226m"))
-        if "ship" not in config.env_kwargs or not draws_fitted(load_ship(ship)):
+        if "ship" not in config.env_kwargs or not draws_ships(load_ship(ship)):
             args.command_parser.error(
-                f"argument --ship-variation: {FITTED} draws ships from a fitted preset's standard errors; the ship "
-                f"({ship}) gives none for {', '.join(FITTED_TERMS)} (train --ship FILE written by fit --preset)"
+                f"argument --ship-variation: {FITTED} draws ships from a fitted preset's uncertainty (its fitted MMG "
+                f"model's jackknife, or its effects' standard errors); the ship ({ship}) gives neither (none for "
+                f"{', '.join(FITTED_TERMS)}; train --ship FILE written by fit --preset or improve --preset)"
             )
         config = config.with_ship_variation(args.ship_variation)
     runs = seed_runs(args)
@@ -161,8 +162,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         "--ship-variation",
         choices=[FITTED],
         default=None,
-        help="in place of the config's env_kwargs ship_variation: fitted draws each episode's K*, tau* from the "
-        "--ship preset's standard errors (a preset written by ship-env fit/improve --preset)",
+        help="in place of the config's env_kwargs ship_variation: fitted draws each episode's ship from the --ship "
+        "preset's uncertainty: K*, tau* from its standard errors, or, where a fitted MMG model sails it, the model "
+        "from its jackknife (a preset written by ship-env fit/improve/fit-mmg --preset)",
     )
     parser.add_argument(
         "--steps",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import shlex
+from pathlib import Path
 
 import pytest
 import yaml
@@ -176,14 +177,15 @@ def test_train_command_rejects_an_environment_without_a_config_entry(tmp_path, c
 @pytest.mark.parametrize(
     ("env_id", "entrant"), [(COURSE_CHANGE, "ppo"), (TRACK_FOLLOW, "ppo"), (COURSE_CHANGE, "ppo_esso_osaka_model")]
 )
-def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id, entrant):
+def test_the_shipped_policys_command_reproduces_it(tmp_path, monkeypatch, env_id, entrant):
     """Same command, seed, thread count, package versions and kind of machine: the same weights, bit
     for bit (the shipped entrant's last training seed). A run recorded on another machine is skipped,
     naming both, and so is a run that does not name its machine: its weights depend on the machine, so
     none can be expected to give them. The shipped TrackFollow seed and the Esso Osaka model's
     CourseChange seed (trained on its fitted draws) name the machine kind that gave their weights; the
     container ship's CourseChange seeds were recorded before runs named their machine (their weights
-    came back on one machine kind and not on another)."""
+    came back on one machine kind and not on another). The command is run where it was, from the repository's
+    root (its paths are the repository's), wherever the tests are run from."""
     import torch
     from stable_baselines3.common.save_util import load_from_zip_file
 
@@ -201,6 +203,7 @@ def test_the_shipped_policys_command_reproduces_it(tmp_path, env_id, entrant):
     words = shlex.split(metadata.command)
     out_index = words.index("--out") + 1
     words[out_index] = str(tmp_path / "run")
+    monkeypatch.chdir(Path(__file__).parents[1])
     assert main([*words[1:], "--no-progress"]) == 0
     _, shipped, _ = load_from_zip_file(model, device="cpu", load_data=False)
     _, again, _ = load_from_zip_file(tmp_path / "run" / "model.zip", device="cpu", load_data=False)

@@ -13,19 +13,26 @@ r' = r L / U, U^2 = u^2 + v^2):
 - the hull (their eqs. 11-13), to the third order in v' and r':
   X_H' = X_vv v'^2 + X_vr v' r' + X_rr r'^2 + X_vvvv v'^4,
   Y_H' = Y_v v' + Y_r r' + Y_vvv v'^3 + Y_vvr v'^2 r' + Y_vrr v' r'^2 + Y_rrr r'^3, N_H' likewise;
+- the propeller's inflow u_P = u (1 - w_P) / (1 - w_P0): the wake fraction w_P falls as the flow meets the
+  propeller at a drift angle beta_P = beta - x_P' r' (their eq. 16, one C_2 for both signs):
+  u_P = u (1 + c_w (1 - exp(-C_1 |beta_P|))), with C_1 = :data:`WAKE_DECAY` and x_P' = :data:`PROPELLER_POSITION`,
+  c_w (``wake_drift``, their C_2 - 1) fitted. In KVLCC2's hard-over turn beta_P reaches 0.8 rad (a drift of 0.33
+  rad at r' 0.9) and u_P 1.6 u, at which the propeller pushes less and its slipstream feeds the rudder more; fitted
+  on the basin truth's zig-zags, the form without it predicted the steady rate of turn 9 % high
+  (docs/results/free_running.md);
 - the propeller's thrust at rate n (their eqs. 14-16, K_T quadratic in the advance ratio J), with the
-  resistance R_0 u^2: X_P + X_R0 = (a_nn (n T)^2 + a_un u (n T) + a_uu u^2) / (1/2 rho L d), written with the
+  resistance R_0 u^2: X_P + X_R0 = (a_nn (n T)^2 + a_un u_P (n T) + a_uu u^2) / (1/2 rho L d), written with the
   draught T as the length n is multiplied by (the propeller's diameter, which a preset does not state, is
-  absorbed in the coefficients);
+  absorbed in the coefficients; K_T's J^2 term, small beside the resistance, with it in a_uu u^2);
 - the rudder's normal force F_N (their eqs. 17-27), lumped: F_N ~ U_R^2 sin(alpha_R) with the rudder's inflow
-  u_R^2 = u^2 + b_un u (n T) + c_nn (n T)^2 (the propeller's slipstream), v_R = gamma_R U beta_R with
+  u_R^2 = u_P^2 + b_un u_P (n T) + c_nn (n T)^2 (the propeller's slipstream), v_R = gamma_R U beta_R with
   beta_R = beta - l_R r' and beta = atan2(-v, u) (the hull's flow straightening; gamma_R one value for
   beta_R > 0, another for beta_R < 0, as their eq. 26), alpha_R = delta - atan2(v_R, u_R) and U_R^2 = u_R^2 +
   v_R^2. It enters X as -X_delta U_R^2 sin(alpha_R) sin(delta), Y and N as -Y_delta (N_delta) U_R^2
   sin(alpha_R) cos(delta) (their eq. 17: (1 - t_R), (1 + a_H), (x_R + a_H x_H) times F_N).
 
-Every force is linear in its coefficients for given rudder-inflow parameters (b_un, c_nn, gamma_R+,
-gamma_R-, l_R): :func:`force_regressors` gives the columns, which the identification
+Every force is linear in its coefficients for given inflow parameters (b_un, c_nn, gamma_R+, gamma_R-, l_R,
+c_w): :func:`force_regressors` gives the columns, which the identification
 (:mod:`ship_env.workbench.fitting.inverse_dynamics`) fits by variable projection. The masses are not identified: they
 come from the particulars (:class:`RigidBody`), the added masses from Clarke, Gedling & Hine (1983)'s
 regressions on the hull's length, breadth, draught and block coefficient.
@@ -51,8 +58,13 @@ SURGE_TERMS = ("a_nn", "a_un", "a_uu", "X_vv", "X_vr", "X_rr", "X_vvvv", "X_delt
 #: Names of the sway force's and the yaw moment's coefficients (the columns of the second matrix).
 SWAY_TERMS = ("Y_v", "Y_r", "Y_vvv", "Y_vvr", "Y_vrr", "Y_rrr", "Y_delta")
 YAW_TERMS = ("N_v", "N_r", "N_vvv", "N_vvr", "N_vrr", "N_rrr", "N_delta")
-#: The rudder's inflow parameters (nonlinear in the forces): b_un, c_nn, gamma_R (beta_R > 0), gamma_R (< 0), l_R.
-INFLOW_TERMS = ("b_un", "c_nn", "gamma_plus", "gamma_minus", "l_R")
+#: The propeller's and the rudder's inflow parameters (nonlinear in the forces): b_un, c_nn, gamma_R (beta_R > 0),
+#: gamma_R (< 0), l_R, c_w.
+INFLOW_TERMS = ("b_un", "c_nn", "gamma_plus", "gamma_minus", "l_R", "wake_drift")
+#: x_P', the propeller's position over L from midships: at the stern (the MMG standard's KVLCC2: -0.48).
+PROPELLER_POSITION = -0.5
+#: C_1, how fast the wake fraction falls with the drift at the propeller (the MMG standard's KVLCC2: 2.0).
+WAKE_DECAY = 2.0
 #: Samples of a quantity, or one value.
 Values = np.ndarray | float
 #: A speed below which v' and r' are not formed (the ship at rest), m/s per m of length (U / L).
@@ -169,13 +181,18 @@ def _sample_columns(u, v, r, rudder, propeller_rate, inflow, length, draught, su
     moving = max(speed, RESTING * length)
     sway, turn = v / moving, r * length / moving  # v' and r'
     n_t = propeller_rate * draught
-    inflow_squared = max(u * u + inflow[0] * u * n_t + inflow[1] * n_t * n_t, 0.0)  # u_R^2
-    beta_r = math.atan2(-v, u) - inflow[4] * turn
+    drift = math.atan2(-v, u)  # beta
+    propeller_drift = drift - PROPELLER_POSITION * turn  # beta_P
+    propeller_inflow = u * (1.0 + inflow[5] * (1.0 - math.exp(-WAKE_DECAY * abs(propeller_drift))))  # u_P
+    inflow_squared = max(
+        propeller_inflow * propeller_inflow + inflow[0] * propeller_inflow * n_t + inflow[1] * n_t * n_t, 0.0
+    )  # u_R^2
+    beta_r = drift - inflow[4] * turn
     lateral_inflow = (inflow[2] if beta_r >= 0.0 else inflow[3]) * speed * beta_r  # v_R, gamma_R of beta_R's sign
     attack = rudder - math.atan2(lateral_inflow, math.sqrt(inflow_squared))  # alpha_R
     normal = (inflow_squared + lateral_inflow * lateral_inflow) * math.sin(attack)  # U_R^2 sin(alpha_R)
     surge[0] = n_t * n_t
-    surge[1] = u * n_t
+    surge[1] = propeller_inflow * n_t
     surge[2] = u * u
     surge[3] = speed_squared * sway * sway
     surge[4] = speed_squared * sway * turn

@@ -13,10 +13,10 @@ that moved the ship computed from the mass matrix, and the force coefficients re
    within half a ship length of its ends are left out.
 2. The forces X, Y, N that moved the ship are :meth:`~ship_env.model.mmg_form.RigidBody.inertial_forces`,
    non-dimensionalised by 1/2 rho L d (N by 1/2 rho L^2 d).
-3. For given rudder-inflow parameters (b_un, c_nn, gamma_R+, gamma_R-, l_R) the coefficients are the linear
+3. For given inflow parameters (b_un, c_nn, gamma_R+, gamma_R-, l_R, c_w) the coefficients are the linear
    least-squares solution of each force on its columns (:func:`~ship_env.model.mmg_form.force_regressors`);
    the inflow parameters minimise the three equations' residuals, each weighted by its force's standard
-   deviation (variable projection: ``scipy.optimize.least_squares`` over the five, the coefficients solved
+   deviation (variable projection: ``scipy.optimize.least_squares`` over the six, the coefficients solved
    inside).
 4. Each run is left out in turn and the fit repeated from the all-run fit's inflow: the jackknife's spread is
    each coefficient's standard error, and each fold's model sails the manoeuvres too (the spread of a
@@ -50,12 +50,12 @@ from ship_env.model.mmg_form import (
 from ship_env.workbench.fitting.smoothing import SmoothedRun, smooth_run
 from ship_env.workbench.logs.logs import Log
 
-#: The rudder-inflow parameters' start and bounds (b_un, c_nn, gamma_R+, gamma_R-, l_R), the propeller rate
-#: times the draught as nT (the MMG standard's KVLCC2: u_R^2 about 0.4 u^2 + 0.4 u nT + 0.8 (nT)^2 at its service
-#: point, gamma_R 0.4-0.6, l_R -0.7).
-INFLOW_START = np.array([0.5, 0.1, 0.5, 0.5, -0.7])
-INFLOW_LOWER = np.array([-20.0, 0.0, 0.05, 0.05, -3.0])
-INFLOW_UPPER = np.array([20.0, 20.0, 5.0, 5.0, 0.5])
+#: The inflow parameters' start and bounds (b_un, c_nn, gamma_R+, gamma_R-, l_R, c_w), the propeller rate times the
+#: draught as nT (the MMG standard's KVLCC2: u_R^2 about 0.4 u^2 + 0.4 u nT + 0.8 (nT)^2 at its service point,
+#: gamma_R 0.4-0.6, l_R -0.7, c_w = C_2 - 1 0.1-0.6); c_w starts at no change of the wake with the drift.
+INFLOW_START = np.array([0.5, 0.1, 0.5, 0.5, -0.7, 0.0])
+INFLOW_LOWER = np.array([-20.0, 0.0, 0.05, 0.05, -3.0, -0.5])
+INFLOW_UPPER = np.array([20.0, 20.0, 5.0, 5.0, 0.5, 3.0])
 #: The block coefficient assumed where none is given (its range 0.55 to 0.85 moves the predicted figures by
 #: less than 0.2 %: the coefficients absorb the mass).
 BLOCK_COEFFICIENT = 0.75

@@ -670,6 +670,44 @@ def test_uneven_sampling_rudder_orders_and_a_stated_propeller_rate_give_the_same
         assert predicted[key] == pytest.approx(expected[key], rel=0.01), key
 
 
+def test_runs_with_gaps_in_their_time_are_smoothed_between_them_and_give_the_same_fit(model_preset, exact_logs):
+    """A logger that dropped samples: 3 s gone from the middle of two runs, 2 s four samples after another's start.
+    Each run is smoothed piece by piece between its gaps (no filter bridges them), so the fitted turn is within 1 %
+    of the one fitted to the whole runs; before, the first gap stopped the fit ("split the run there")."""
+    from dataclasses import replace
+
+    from ship_env.workbench.fitting.smoothing import pieces_between_gaps, smooth_run
+
+    model = ShipModel(model_preset)
+
+    def dropped(log: Log, start: int, count: int) -> Log:
+        kept = np.r_[0:start, start + count : len(log.time)]
+        return replace(log, **{name: getattr(log, name)[kept] for name in log.channels()})
+
+    gapped = [dropped(exact_logs[0], 300, 15), dropped(exact_logs[1], 450, 15), dropped(exact_logs[2], 4, 10)]
+    assert [len(pieces_between_gaps(log)) for log in gapped] == [2, 2, 1]  # a piece of 4 samples is left out
+    whole = smooth_run(exact_logs[0], model.length, math.radians(15.0), PROPELLER_RATE)
+    cut = smooth_run(gapped[0], model.length, math.radians(15.0), PROPELLER_RATE)
+    assert 0 < np.count_nonzero(cut.kept) < np.count_nonzero(whole.kept)
+    expected = _turn(model, identify(exact_logs, model, jackknife=False).record)
+    predicted = _turn(model, identify([*gapped, *exact_logs[3:]], model, jackknife=False).record)
+    for key in ("advance_lengths", "tactical_diameter_lengths", "speed_loss"):
+        assert predicted[key] == pytest.approx(expected[key], rel=0.01), key
+
+
+def test_a_run_whose_pieces_between_gaps_are_all_short_is_refused_naming_it(model_preset, exact_logs):
+    from dataclasses import replace
+
+    model = ShipModel(model_preset)
+    log = exact_logs[0]
+    starts = np.arange(0, len(log.time), 40)  # 12 samples every 8 s: pieces of 2.4 s, each under a ship length
+    chopped = np.sort(np.concatenate([starts + k for k in range(12)]))
+    chopped = chopped[chopped < len(log.time)]
+    short = replace(log, **{name: getattr(log, name)[chopped] for name in log.channels()})
+    with pytest.raises(SmoothingError, match=f"log '{log.name}': time: its .* piece"):
+        identify([short, *exact_logs[1:]], model, jackknife=False)
+
+
 def test_the_mmg_form_is_tried_only_where_the_runs_reach_the_hard_over_rudder_in_calm_air(model_preset, exact_logs):
     """``fit``/``improve --preset`` try the MMG form where the runs reach the hard-over rudder (here the 35/5
     zig-zags) and log what it needs; not without a propeller rate, nor in wind, nor for runs that stop short of hard

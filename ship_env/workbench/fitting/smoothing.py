@@ -25,16 +25,18 @@ from the smoothed ground velocity (V_N, V_E) and acceleration (A_N, A_E) in the 
 
     v = -V_N sin(psi) + V_E cos(psi),    dv/dt = -A_N sin(psi) + A_E cos(psi) - r (V_N cos(psi) + V_E sin(psi)).
 
-A run sampled at unequal intervals is interpolated onto equal ones first (:func:`uniform`), and a log of rudder
-orders is turned into the actual rudder by the steering machine's rate (:func:`actual_rudder`). The smoothed rates
-are poor within a few samples of a run's ends; :attr:`SmoothedRun.kept` leaves out the first
-and last ``EDGE_LENGTHS`` ship lengths sailed.
+A run sampled at unequal intervals is interpolated onto equal ones first (:func:`uniform`); one with a gap in its
+time (more than ``LONGEST_GAP`` sample intervals: a logger that dropped samples) is smoothed piece by piece between
+its gaps (:func:`pieces_between_gaps`), since no filter should bridge them. A log of rudder orders is turned into the
+actual rudder by the steering machine's rate (:func:`actual_rudder`). The smoothed rates are poor within a few
+samples of a piece's ends; :attr:`SmoothedRun.kept` leaves out the first and last ``EDGE_LENGTHS`` ship lengths
+sailed of each.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from filterpy.common import Q_continuous_white_noise
@@ -55,7 +57,8 @@ REQUIRED_CHANNELS = {
     "speed": "speed through the water (channel 'speed')",
     "propeller_rate": "propeller rate (channel 'propeller_rate')",
 }
-#: The longest gap in a run's time, in median sample intervals, across which its channels are interpolated.
+#: The longest gap in a run's time, in median sample intervals, across which its channels are interpolated; a run is
+#: smoothed piece by piece between longer ones.
 LONGEST_GAP = 5.0
 #: The samples a filter's start is fitted to.
 START_SAMPLES = 10
@@ -95,6 +98,22 @@ class SmoothedRun:
     propeller_rate: np.ndarray
     kept: np.ndarray
     noise: dict[str, float]
+
+
+#: :class:`SmoothedRun`'s arrays over the samples.
+SAMPLED_FIELDS = (
+    "time",
+    "surge",
+    "sway",
+    "rate_of_turn",
+    "surge_rate",
+    "sway_rate",
+    "yaw_acceleration",
+    "heading",
+    "rudder",
+    "propeller_rate",
+    "kept",
+)
 
 
 def noise_of(values: np.ndarray) -> float:
@@ -203,23 +222,29 @@ def smooth_channels(measured: np.ndarray, dt: float) -> np.ndarray:
     return SteadyFilter.of(noises, dt, jerk_intensity(measured, noises, dt)).smoothed(measured)
 
 
-def uniform(log: Log) -> tuple[np.ndarray, float]:
-    """The sample times the run is smoothed at, and their interval: its own where they are equally spaced (within
-    1 %), else its median interval from its first sample to its last, each channel interpolated linearly there.
+def pieces_between_gaps(log: Log) -> list[Log]:
+    """``log`` cut at each gap in its time of more than :data:`LONGEST_GAP` median sample intervals, each piece of
+    :data:`START_SAMPLES` samples or more (``[log]`` where it has no gap)."""
+    steps = np.diff(log.time)
+    cuts = np.flatnonzero(steps > LONGEST_GAP * float(np.median(steps))) + 1
+    if len(cuts) == 0:
+        return [log]
+    edges = [0, *cuts.tolist(), len(log.time)]
+    return [
+        replace(log, **{name: getattr(log, name)[first:stop] for name in log.channels()})
+        for first, stop in zip(edges[:-1], edges[1:], strict=True)
+        if stop - first >= START_SAMPLES
+    ]
 
-    Raises:
-        SmoothingError: a gap of more than :data:`LONGEST_GAP` intervals (split the run there), naming it.
-    """
+
+def uniform(log: Log) -> tuple[np.ndarray, float]:
+    """The sample times a run without gaps (:func:`pieces_between_gaps`) is smoothed at, and their interval: its own
+    where they are equally spaced (within 1 %), else its median interval from its first sample to its last, each
+    channel interpolated linearly there."""
     steps = np.diff(log.time)
     dt = float(np.median(steps))
     if np.max(np.abs(steps - dt)) <= 0.01 * dt:
         return log.time, dt
-    gap = int(np.argmax(steps))
-    if steps[gap] > LONGEST_GAP * dt:
-        raise SmoothingError(
-            f"log {log.name!r}: time: a gap of {steps[gap]:.4g} s after t = {log.time[gap]:.4g} s, "
-            f"{steps[gap] / dt:.0f} times the median interval {dt:.4g} s; split the run there"
-        )
     return log.time[0] + dt * np.arange(int((log.time[-1] - log.time[0]) / dt) + 1), dt
 
 
@@ -242,14 +267,40 @@ def smooth_run(log: Log, length: float, rudder_rate: float, propeller_rate: floa
     ship's, m (the ends left out); ``rudder_rate`` its steering machine's, rad/s (for a log of rudder orders,
     :func:`actual_rudder`); ``propeller_rate`` the rate, rps, of a log without a propeller channel.
 
+    A run with gaps in its time is smoothed piece by piece (:func:`pieces_between_gaps`), its pieces' samples
+    concatenated, each piece's ends left out.
+
     Raises:
         SmoothingError: a log without the position or speed, or without the propeller rate where none is given;
-            one with a gap in time; naming the run and the channel.
+            one whose pieces between gaps are each too short to keep a sample; naming the run and the channel.
     """
     for channel, words in REQUIRED_CHANNELS.items():
         if getattr(log, channel) is None and not (channel == "propeller_rate" and propeller_rate is not None):
             raise SmoothingError(f"log {log.name!r}: inverse dynamics needs the {words}, which this log lacks")
-    assert log.north is not None and log.east is not None and log.speed is not None  # checked above
+    parts = [_smooth_piece(piece, length, rudder_rate, propeller_rate) for piece in pieces_between_gaps(log)]
+    if not any(np.any(part.kept) for part in parts):
+        raise SmoothingError(
+            f"log {log.name!r}: time: its {len(parts)} piece(s) between gaps of more than {LONGEST_GAP:g} sample "
+            f"intervals each sail less than {2 * EDGE_LENGTHS:g} ship length, the ends the smoothed rates leave out"
+        )
+    stacked = {name: np.concatenate([getattr(part, name) for part in parts]) for name in SAMPLED_FIELDS}
+    noise = {
+        channel: noise_of(values)
+        for channel, values in (
+            ("north", log.north),
+            ("east", log.east),
+            ("heading", log.heading),
+            ("speed", log.speed),
+            ("rate_of_turn", log.rate_of_turn),
+        )
+        if values is not None
+    }
+    return SmoothedRun(name=log.name, noise=noise, **stacked)
+
+
+def _smooth_piece(log: Log, length: float, rudder_rate: float, propeller_rate: float | None) -> SmoothedRun:
+    """One piece of a run without gaps, smoothed (:func:`smooth_run`; its noise left to the whole run's)."""
+    assert log.north is not None and log.east is not None and log.speed is not None  # checked by smooth_run
     times, dt = uniform(log)
 
     def sampled(values: np.ndarray) -> np.ndarray:
@@ -283,13 +334,7 @@ def smooth_run(log: Log, length: float, rudder_rate: float, propeller_rate: floa
         rudder=actual_rudder(log, times, rudder_rate),
         propeller_rate=rates,
         kept=kept,
-        noise={
-            "north": noise_of(log.north),
-            "east": noise_of(log.east),
-            "heading": noise_of(log.heading),
-            "speed": noise_of(log.speed),
-            **({"rate_of_turn": noise_of(log.rate_of_turn)} if log.rate_of_turn is not None else {}),
-        },
+        noise={},
     )
 
 
@@ -297,6 +342,7 @@ __all__ = [
     "EDGE_LENGTHS",
     "SmoothedRun",
     "actual_rudder",
+    "pieces_between_gaps",
     "SmoothingError",
     "jerk_intensity",
     "noise_of",

@@ -44,7 +44,7 @@ from numpy.polynomial.polynomial import polyfit
 from scipy.linalg import solve_discrete_are
 
 from ship_env.model.kernel import kernel
-from ship_env.workbench.logs.logs import Log
+from ship_env.workbench.logs.logs import MIN_SAMPLES, Log
 
 #: Ship lengths sailed at each end of a run whose smoothed rates are left out.
 EDGE_LENGTHS = 0.5
@@ -224,7 +224,7 @@ def smooth_channels(measured: np.ndarray, dt: float) -> np.ndarray:
 
 def pieces_between_gaps(log: Log) -> list[Log]:
     """``log`` cut at each gap in its time of more than :data:`LONGEST_GAP` median sample intervals, each piece of
-    :data:`START_SAMPLES` samples or more (``[log]`` where it has no gap)."""
+    :data:`START_SAMPLES` samples or more, as many as a log holds (``[log]`` where it has no gap)."""
     steps = np.diff(log.time)
     cuts = np.flatnonzero(steps > LONGEST_GAP * float(np.median(steps))) + 1
     if len(cuts) == 0:
@@ -233,7 +233,7 @@ def pieces_between_gaps(log: Log) -> list[Log]:
     return [
         replace(log, **{name: getattr(log, name)[first:stop] for name in log.channels()})
         for first, stop in zip(edges[:-1], edges[1:], strict=True)
-        if stop - first >= START_SAMPLES
+        if stop - first >= max(START_SAMPLES, MIN_SAMPLES)
     ]
 
 

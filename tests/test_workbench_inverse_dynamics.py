@@ -710,8 +710,8 @@ def test_a_run_whose_pieces_between_gaps_are_all_short_is_refused_naming_it(mode
 
 def test_the_mmg_form_is_tried_only_where_the_runs_reach_the_hard_over_rudder_in_calm_air(model_preset, exact_logs):
     """``fit``/``improve --preset`` try the MMG form where the runs reach the hard-over rudder (here the 35/5
-    zig-zags) and log what it needs; not without a propeller rate, nor in wind, nor for runs that stop short of hard
-    over."""
+    zig-zags) and log what it needs; not without a propeller rate (which the preset's service conditions may give),
+    nor in wind, nor for runs that stop short of hard over."""
     from dataclasses import replace
 
     from ship_env.workbench.judging.dynamics_choice import mmg_applies, why_not_mmg
@@ -721,6 +721,12 @@ def test_the_mmg_form_is_tried_only_where_the_runs_reach_the_hard_over_rudder_in
     unpropelled = [replace(exact_logs[0], propeller_rate=None), *exact_logs[1:]]
     assert not mmg_applies(unpropelled, model)
     assert why_not_mmg(unpropelled) == "1 of 6 runs log no propeller rate (zigzag_10_10)"
+    # A preset that states the rate gives it to a log without the channel, as the replay takes it.
+    document = yaml.safe_load(model_preset.read_text())
+    document["service_conditions"] = {"propeller_rate": {"value": PROPELLER_RATE, "unit": "rps", "source": "basin"}}
+    stated = model_preset.parent / "kvlcc2_model_at_its_rate.yaml"
+    stated.write_text(yaml.safe_dump(document))
+    assert mmg_applies(unpropelled, ShipModel(stated)) and why_not_mmg(unpropelled, PROPELLER_RATE) == ""
     assert not mmg_applies(exact_logs[:4], model)  # 10/10 and 20/20 only
     windy = replace(
         exact_logs[0],

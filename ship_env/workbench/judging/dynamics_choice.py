@@ -14,8 +14,9 @@ and heading sailed free were twice as far off (score 3.1 against 1.5), as their 
 
 - the MMG form is tried only where the runs can determine it (:func:`mmg_applies`): they reach the hard-over rudder
   (within :data:`HARD_OVER` of its limit), log the position, speed and propeller rate that inverse dynamics
-  needs, and sail in calm air (the form has no wind forces). Zig-zags of 10 and 20 deg at sea do not determine
-  its forces beyond them (on the sea-trial truths it missed turns that the ladder predicts);
+  needs (the rate may be the preset's, as the replay takes it), and sail in calm air (the form has no wind
+  forces). Zig-zags of 10 and 20 deg at sea do not determine its forces beyond them (on the sea-trial truths it
+  missed turns that the ladder predicts);
 - it sails the preset only where it sails every run and its score is below the ladder's by at least the ladder's
   own materiality, ``min_gain`` of the ladder's score (:data:`~ship_env.workbench.defaults.MIN_GAIN`): a form is
   not swapped for a difference the runs' noise could make.
@@ -50,9 +51,17 @@ HARD_OVER = 0.9
 
 def mmg_applies(logs: Sequence[Log], model: ShipModel) -> bool:
     """Whether inverse dynamics can fit the MMG form to ``logs`` and the form is determined to the hard-over turn:
-    every run logs position, speed and propeller rate in calm air (:attr:`~.logs.Log.has_wind_beyond_noise`), and
-    some run reaches :data:`HARD_OVER` of ``model``'s rudder limit."""
-    return reaches_hard_over(logs, model) and not why_not_mmg(logs)
+    every run logs position, speed and propeller rate (or ``model``'s preset states the rate,
+    :func:`stated_propeller_rate`) in calm air (:attr:`~.logs.Log.has_wind_beyond_noise`), and some run reaches
+    :data:`HARD_OVER` of ``model``'s rudder limit."""
+    return reaches_hard_over(logs, model) and not why_not_mmg(logs, stated_propeller_rate(model))
+
+
+def stated_propeller_rate(model: ShipModel) -> float | None:
+    """The propeller rate, rps, of ``model``'s preset's service conditions, at which the replay sails a log without a
+    propeller channel and inverse dynamics fits it; None where the preset states none."""
+    rate = model.service_propeller_rate
+    return rate if rate > 0.0 else None
 
 
 def reaches_hard_over(logs: Sequence[Log], model: ShipModel) -> bool:
@@ -60,13 +69,14 @@ def reaches_hard_over(logs: Sequence[Log], model: ShipModel) -> bool:
     return max(float(np.max(np.abs(log.rudder))) for log in logs) >= HARD_OVER * model.rudder_limit
 
 
-def why_not_mmg(logs: Sequence[Log]) -> str:
+def why_not_mmg(logs: Sequence[Log], propeller_rate: float | None = None) -> str:
     """Why inverse dynamics cannot fit the MMG form to ``logs`` ("" where it can): the runs that lack a channel it
-    needs, or sail in wind (the form has no wind forces)."""
+    needs (the propeller rate not, where ``propeller_rate`` gives it), or sail in wind (the form has no wind
+    forces)."""
     for channel, missing in (
         ("position", [log.name for log in logs if log.north is None]),
         ("speed", [log.name for log in logs if log.speed is None]),
-        ("propeller rate", [log.name for log in logs if log.propeller_rate is None]),
+        ("propeller rate", [log.name for log in logs if log.propeller_rate is None and propeller_rate is None]),
     ):
         if missing:
             return f"{len(missing)} of {len(logs)} runs log no {channel} ({', '.join(missing[:3])})"
@@ -131,7 +141,7 @@ def choose_dynamics(
     ladder = held_out_free_running(validation, logs, ())
     ladder_score = sailed_score(ladder, logs, scales)
     try:
-        identified = identify(logs, setup.model)
+        identified = identify(logs, setup.model, propeller_rate=stated_propeller_rate(setup.model))
     except (IdentificationError, SmoothingError, np.linalg.LinAlgError) as error:  # the effects' preset still stands
         return DynamicsChoice(ladder_score, math.inf, None, False, f"the effects: the MMG form: {error}", len(ladder))
     mmg = held_out_mmg_sailing(setup, identified, logs, [])
@@ -163,5 +173,6 @@ __all__ = [
     "mmg_applies",
     "preferred",
     "reaches_hard_over",
+    "stated_propeller_rate",
     "why_not_mmg",
 ]

@@ -36,7 +36,8 @@ sailed of each.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
+from typing import Any
 
 import numpy as np
 from filterpy.common import Q_continuous_white_noise
@@ -98,22 +99,6 @@ class SmoothedRun:
     propeller_rate: np.ndarray
     kept: np.ndarray
     noise: dict[str, float]
-
-
-#: :class:`SmoothedRun`'s arrays over the samples.
-SAMPLED_FIELDS = (
-    "time",
-    "surge",
-    "sway",
-    "rate_of_turn",
-    "surge_rate",
-    "sway_rate",
-    "yaw_acceleration",
-    "heading",
-    "rudder",
-    "propeller_rate",
-    "kept",
-)
 
 
 def noise_of(values: np.ndarray) -> float:
@@ -277,13 +262,6 @@ def smooth_run(log: Log, length: float, rudder_rate: float, propeller_rate: floa
     for channel, words in REQUIRED_CHANNELS.items():
         if getattr(log, channel) is None and not (channel == "propeller_rate" and propeller_rate is not None):
             raise SmoothingError(f"log {log.name!r}: inverse dynamics needs the {words}, which this log lacks")
-    parts = [_smooth_piece(piece, length, rudder_rate, propeller_rate) for piece in pieces_between_gaps(log)]
-    if not any(np.any(part.kept) for part in parts):
-        raise SmoothingError(
-            f"log {log.name!r}: time: its {len(parts)} piece(s) between gaps of more than {LONGEST_GAP:g} sample "
-            f"intervals each sail less than {2 * EDGE_LENGTHS:g} ship length, the ends the smoothed rates leave out"
-        )
-    stacked = {name: np.concatenate([getattr(part, name) for part in parts]) for name in SAMPLED_FIELDS}
     noise = {
         channel: noise_of(values)
         for channel, values in (
@@ -295,11 +273,24 @@ def smooth_run(log: Log, length: float, rudder_rate: float, propeller_rate: floa
         )
         if values is not None
     }
-    return SmoothedRun(name=log.name, noise=noise, **stacked)
+    pieces = pieces_between_gaps(log)
+    parts = [_smooth_piece(piece, length, rudder_rate, propeller_rate, noise) for piece in pieces]
+    if not any(np.any(part.kept) for part in parts):
+        raise SmoothingError(
+            f"log {log.name!r}: time: its {len(parts)} piece(s) between gaps of more than {LONGEST_GAP:g} sample "
+            f"intervals each sail less than {2 * EDGE_LENGTHS:g} ship length, the ends the smoothed rates leave out"
+        )
+    if len(parts) == 1:
+        return parts[0]
+    sampled = [f.name for f in fields(SmoothedRun) if isinstance(getattr(parts[0], f.name), np.ndarray)]
+    stacked: dict[str, Any] = {name: np.concatenate([getattr(part, name) for part in parts]) for name in sampled}
+    return replace(parts[0], **stacked)
 
 
-def _smooth_piece(log: Log, length: float, rudder_rate: float, propeller_rate: float | None) -> SmoothedRun:
-    """One piece of a run without gaps, smoothed (:func:`smooth_run`; its noise left to the whole run's)."""
+def _smooth_piece(
+    log: Log, length: float, rudder_rate: float, propeller_rate: float | None, noise: dict[str, float]
+) -> SmoothedRun:
+    """One piece of a run without gaps, smoothed (:func:`smooth_run`), with the whole run's ``noise``."""
     assert log.north is not None and log.east is not None and log.speed is not None  # checked by smooth_run
     times, dt = uniform(log)
 
@@ -334,7 +325,7 @@ def _smooth_piece(log: Log, length: float, rudder_rate: float, propeller_rate: f
         rudder=actual_rudder(log, times, rudder_rate),
         propeller_rate=rates,
         kept=kept,
-        noise={},
+        noise=noise,
     )
 
 

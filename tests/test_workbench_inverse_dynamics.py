@@ -503,6 +503,25 @@ def test_runs_the_mmg_form_cannot_be_fitted_to_leave_the_effects_preset_written(
     assert "dynamics" not in document and document["fitted"]["dynamics"]["mmg_score"] == "not fitted"
 
 
+def test_runs_to_the_hard_over_rudder_the_mmg_form_cannot_use_leave_the_reason_in_the_preset(
+    model_preset, fitted_by_command, tmp_path, capsys, monkeypatch
+):
+    """Runs that reach the hard-over rudder but lack what inverse dynamics needs (here: said to sail in wind) are not
+    fitted by it: the command says why, and the preset keeps it with its effects, as it keeps a lost comparison."""
+    from ship_env.workbench.judging import dynamics_choice
+
+    windy = "6 of 6 runs sail in wind beyond the anemometer's noise (zigzag_10_10, ...)"
+    monkeypatch.setattr(dynamics_choice, "why_not_mmg", lambda logs, propeller_rate=None: windy)
+    output, _ = fitted_by_command
+    preset = tmp_path / "fitted.yaml"
+    assert main(["fit", str(output.parent / "zigzag"), "--ship", str(model_preset), "--preset", str(preset)]) == 0
+    reason = f"the effects: the MMG forces are not fitted: {windy}"
+    assert f"the runs reach the hard-over rudder; the preset sails {reason}" in capsys.readouterr().out
+    document = yaml.safe_load(preset.read_text())
+    choice = document["fitted"]["dynamics"]
+    assert "dynamics" not in document and choice["sailed_by"] == "effects" and choice["why"] == reason
+
+
 def test_the_mmg_form_sails_the_preset_only_where_it_sails_every_run_materially_better():
     """The rule on the two scores: chosen where the MMG model's is at least ``min_gain`` below the effects'; not
     where it is not, nor where it cannot sail a run."""

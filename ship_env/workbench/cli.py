@@ -228,12 +228,7 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
     the runs reach the hard-over rudder and it predicts their manoeuvres better, by the MMG standard's forces fitted by
     inverse dynamics (:mod:`~ship_env.workbench.judging.dynamics_choice`)."""
     from ship_env.manoeuvres.extrapolation import hard_over_turn_beyond
-    from ship_env.workbench.judging.dynamics_choice import (
-        choose_dynamics,
-        reaches_hard_over,
-        stated_propeller_rate,
-        why_not_mmg,
-    )
+    from ship_env.workbench.judging.dynamics_choice import choose_dynamics
     from ship_env.workbench.reporting.presets import preset_document, with_dynamics, write_preset
 
     if args.preset is None:
@@ -241,17 +236,8 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
     command = "ship-env " + shlex.join(args.argv)
     document = preset_document(validation, runs.logs, command, args.preset.stem, runs.validation)
     choice = choose_dynamics(validation, runs.logs, getattr(args, "min_gain", MIN_GAIN))  # improve's, or its default
-    model = validation.fit.setup.model
-    if choice is None and reaches_hard_over(runs.logs, model):
-        why = why_not_mmg(runs.logs, stated_propeller_rate(model))
-        print(f"\nthe runs reach the hard-over rudder, but the MMG forces are not fitted: {why}")
     if choice is not None:
-        print(
-            f"\nthe runs reach the hard-over rudder: the MMG standard's forces fitted by inverse dynamics too; the "
-            f"{choice.runs} fitted runs sailed free, each by a fit that did not see it (score over heading, rate of "
-            f"turn and speed): effects {choice.ladder_score:.3g}, MMG {choice.mmg_score:.3g}"
-        )
-        print(f"  the preset sails {choice.reason}")
+        print("\n" + "\n".join(choice.lines()))
         if choice.chosen and choice.identified is not None:
             document = with_dynamics(document, choice.identified, command, choice.summary())
             if runs.validation:

@@ -100,7 +100,7 @@ class DynamicsChoice:
         identified: the fitted MMG model, or None where it could not be identified.
         chosen: whether the MMG model sails the preset.
         reason: why, in words.
-        runs: how many runs were sailed.
+        runs: how many runs were sailed (0 where the MMG form could not be fitted to them: ``reason`` says why).
     """
 
     ladder_score: float
@@ -109,6 +109,17 @@ class DynamicsChoice:
     chosen: bool
     reason: str
     runs: int
+
+    def lines(self) -> list[str]:
+        """The choice in words, as ``fit``/``improve --preset`` print it."""
+        if not self.runs:
+            return [f"the runs reach the hard-over rudder; the preset sails {self.reason}"]
+        return [
+            "the runs reach the hard-over rudder: the MMG standard's forces fitted by inverse dynamics too; the "
+            f"{self.runs} fitted runs sailed free, each by a fit that did not see it (score over heading, rate of "
+            f"turn and speed): effects {self.ladder_score:.3g}, MMG {self.mmg_score:.3g}",
+            f"  the preset sails {self.reason}",
+        ]
 
     def summary(self) -> dict[str, object]:
         """The choice as a fitted preset records it (``fitted.dynamics``)."""
@@ -129,14 +140,18 @@ def _finite_or_text(score: float) -> float | str:
 def choose_dynamics(
     validation: CrossValidation, logs: Sequence[Log], min_gain: float = MIN_GAIN
 ) -> DynamicsChoice | None:
-    """Which model sails the preset of ``validation``'s fit to ``logs`` (the module docstring); None where the MMG
-    form does not apply (:func:`mmg_applies`)."""
+    """Which model sails the preset of ``validation``'s fit to ``logs`` (the module docstring): the effects where the
+    MMG form cannot be fitted to them (:func:`why_not_mmg`, the reason), None where they do not reach the hard-over
+    rudder (:func:`reaches_hard_over`): nothing to choose there."""
     from ship_env.workbench.fitting.inverse_dynamics import IdentificationError, identify
     from ship_env.workbench.fitting.smoothing import SmoothingError
 
     setup = validation.fit.setup
-    if not mmg_applies(logs, setup.model):
+    if not reaches_hard_over(logs, setup.model):
         return None
+    if not mmg_applies(logs, setup.model):
+        why = why_not_mmg(logs, stated_propeller_rate(setup.model))
+        return DynamicsChoice(math.nan, math.inf, None, False, f"the effects: the MMG forces are not fitted: {why}", 0)
     scales = ErrorScales.for_runs(setup.model, logs)
     ladder = held_out_free_running(validation, logs, ())
     ladder_score = sailed_score(ladder, logs, scales)

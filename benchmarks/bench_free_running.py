@@ -34,9 +34,10 @@ trials (the sensors' noise drawn from another seed) and how many pass every boun
 ``--fit fit-mmg`` fits the MMG standard's 3-DOF forces by inverse dynamics instead (``ship-env fit-mmg LOGS/zigzag
 --ship PRESET -o fitted_mmg.yaml``); the fitted model and the truth sail the judged manoeuvres from the same
 approach with the same rudder programme, and each side's figures are read from its time series by the same code.
+``--zigzag-lengths`` and ``--sample-interval`` log the fitted zig-zags shorter (a basin's length) or at another rate.
 
 Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...] [--truth PRESET|mmg|mmg-basin|kvlcc2-basin]
-          [--fit improve|fit-mmg]
+          [--fit improve|fit-mmg] [--zigzag-lengths L] [--sample-interval S]
 """
 
 from __future__ import annotations
@@ -105,8 +106,6 @@ BASIN_ZIGZAGS: Programme = (
 BASIN_DT = 0.2
 #: The sensor noise's seeds: each a sea trial of the same ship.
 SEEDS = (1, 2, 3, 4, 5)
-#: Each zig-zag's length in ship lengths sailed (five executes of a 10/10 take about 20).
-ZIGZAG_LENGTHS = 30.0
 #: The judged figures: the name printed and the free-running figure whose bound (relative, a fraction, or in
 #: deg) the workbench judges a prediction by (``free_running.JUDGED_FIGURES``).
 JUDGED = (
@@ -141,7 +140,8 @@ class Truth:
     """The ship the logs are sailed by: ``ship`` the preset the workbench starts from, ``model`` the true model
     (an external truth's particulars and rudder limit), ``dynamics`` the external truth (None: ``model``),
     ``propeller_rate`` its constant propeller rate, rps; ``zigzags`` the programme fitted, logged by ``noise``'s
-    sensors every ``dt`` seconds."""
+    sensors every ``dt`` seconds, each ``zigzag_lengths`` ship lengths sailed (five executes of a 10/10 take about
+    20)."""
 
     ship: str
     model: ShipModel
@@ -150,6 +150,7 @@ class Truth:
     zigzags: Programme = ZIGZAGS
     noise: SensorNoise = SEA_TRIAL_NOISE
     dt: float = 1.0
+    zigzag_lengths: float = 30.0
 
 
 def truth_model(ship: str = SHIP) -> ShipModel:
@@ -207,7 +208,7 @@ def sail_truth(
 
 def write_zigzag_logs(truth: Truth, folder: Path, seed: int) -> None:
     folder.mkdir(parents=True)
-    for log in sail_truth(truth, truth.zigzags, ZIGZAG_LENGTHS, seed, truth.noise):
+    for log in sail_truth(truth, truth.zigzags, truth.zigzag_lengths, seed, truth.noise):
         write_log(log, folder / f"{log.name}.csv")
 
 
@@ -300,9 +301,20 @@ def judge(
     return Verdict(seed, seconds, tuple(rows), sum(row[-1] == "FAIL" for row in rows))
 
 
-def main_benchmark(keep: Path | None, seeds: Sequence[int], truth_name: str = SHIP, fit: str = IMPROVE) -> int:
+def main_benchmark(
+    keep: Path | None,
+    seeds: Sequence[int],
+    truth_name: str = SHIP,
+    fit: str = IMPROVE,
+    zigzag_lengths: float | None = None,
+    sample_interval: float | None = None,
+) -> int:
     folder = Path(tempfile.mkdtemp(prefix="free_running_")) if keep is None else keep
     truth = make_truth(truth_name, folder)
+    if zigzag_lengths is not None:
+        truth = replace(truth, zigzag_lengths=zigzag_lengths)
+    if sample_interval is not None:
+        truth = replace(truth, dt=sample_interval)
     truth_logs = sail_truth(truth, JUDGED_RUNS, TURNING_LENGTHS, 0, EXACT)
     verdicts = [judge(seed, folder / f"seed_{seed}", truth, truth_logs, fit) for seed in seeds]
     header = ("figure (mean of 35 deg stbd and port)", "truth", "fitted preset", "error", "within", "")
@@ -337,5 +349,28 @@ if __name__ == "__main__":
         help="how the zig-zags are fitted: the error ladder (ship-env improve) or the MMG standard's forces by inverse "
         "dynamics (ship-env fit-mmg) (default: %(default)s)",
     )
+    parser.add_argument(
+        "--zigzag-lengths",
+        type=float,
+        default=None,
+        metavar="L",
+        help="each fitted zig-zag's length in ship lengths sailed (default: 30; a basin may hold fewer)",
+    )
+    parser.add_argument(
+        "--sample-interval",
+        type=float,
+        default=None,
+        metavar="S",
+        help="the fitted zig-zags' sample interval, s (default: the truth's, 1 at sea and 0.2 in the basin)",
+    )
     arguments = parser.parse_args()
-    raise SystemExit(main_benchmark(arguments.keep, arguments.seeds, arguments.truth, arguments.fit))
+    raise SystemExit(
+        main_benchmark(
+            arguments.keep,
+            arguments.seeds,
+            arguments.truth,
+            arguments.fit,
+            arguments.zigzag_lengths,
+            arguments.sample_interval,
+        )
+    )

@@ -237,3 +237,33 @@ def test_the_workbench_writes_again_into_its_own_folder(log_folder, tmp_path):
     assert main(["compare", str(log_folder), "--ship", SHIP, "--plot", str(folder)]) == 0
     assert main(["compare", str(log_folder), "--ship", SHIP, "--plot", str(folder)]) == 0
     assert len(list(folder.glob("*.png"))) == 3
+
+
+def test_a_fit_on_densely_sampled_runs_says_which_sample_step_keeps_what_it_needs(tmp_path, capsys):
+    """Runs at 10 Hz of a 3 m model at 0.3 m/s hold 100 samples per ship length sailed (L / (U0 dt)): ``fit`` says
+    ``--every 4`` keeps 25 or more; a 320 m tanker at 8 m/s logged at 1 Hz holds 40, and is offered none, nor is a fit
+    given its own ``--every``."""
+    from ship_env.model import ShipModel
+    from ship_env.workbench import Log, load_logs
+    from ship_env.workbench.fitting.replay import SAMPLES_PER_LENGTH, coarser_step, samples_per_length
+
+    def run(duration: float, interval: float, speed: float) -> Log:
+        time = np.arange(0.0, duration, interval)
+        return Log("straight", time, np.zeros_like(time), np.zeros_like(time), speed=np.full_like(time, speed))
+
+    model, tanker = ShipModel(SHIP), ShipModel("kvlcc2")
+    assert samples_per_length(run(60.0, 0.1, 0.3), model) == pytest.approx(100.0)
+    assert coarser_step([run(60.0, 0.1, 0.3)], model) == int(100.0 // SAMPLES_PER_LENGTH) == 4
+    assert coarser_step([run(60.0, 0.1, 0.3), run(60.0, 0.1, 0.6)], model) == 2  # the faster run's 50 decides
+    assert samples_per_length(run(600.0, 1.0, 8.0), tanker) == pytest.approx(40.0)
+    assert coarser_step([run(600.0, 1.0, 8.0)], tanker) == 1
+    folder = tmp_path / "logs"
+    folder.mkdir()
+    _, logs = hidden_effect_logs([], SHIP, manoeuvres=model_test_programme(duration=20.0)[:2], dt=0.05)
+    for log in logs:  # logged at 20 Hz
+        write_log(log, folder / f"{log.name}.csv")
+    assert main(["fit", str(folder), "--ship", SHIP, "--model", "base"]) == 0
+    step = coarser_step(load_logs([folder]), model)  # as read: the runs' service speeds estimated from their speed
+    assert step >= 2 and f"--every {step} keeps 25 or more" in capsys.readouterr().out.replace("\n  ", " ")
+    assert main(["fit", str(folder), "--ship", SHIP, "--model", "base", "--every", "1"]) == 0
+    assert "sampling:" not in capsys.readouterr().out

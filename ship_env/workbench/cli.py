@@ -113,7 +113,7 @@ def _workbench_logs(args: argparse.Namespace, paths: Sequence[Path] | None = Non
         logs = load_logs(args.logs if paths is None else paths, args.format, args.service_speed)
     for warning in caught:
         print(f"ship-env {args.command}: warning: {warning.message}", file=sys.stderr)
-    return [every_nth(log, args.every) for log in logs]
+    return [every_nth(log, args.every or 1) for log in logs]
 
 
 def _workbench_runs(args: argparse.Namespace, setup: ReplayModel) -> WorkbenchRuns:
@@ -220,7 +220,27 @@ def start_command(args: argparse.Namespace, fitting: bool = True) -> tuple[Repla
         setup = with_speed_output(setup, runs.logs)
         for words in not_identified(setup.model, runs.logs):
             print(f"not identified: {words}")
+        if args.every is None:
+            _print_coarser_step(runs.logs, setup.model)
     return setup, options, runs
+
+
+def _print_coarser_step(logs: Sequence[Log], model: ShipModel) -> None:
+    """Where the runs sample the ship's motion more densely than a fit needs, the ``--every`` that fits them faster."""
+    from ship_env.workbench.fitting.replay import SAMPLES_PER_LENGTH, coarser_step, samples_per_length
+
+    step = coarser_step(logs, model)
+    if step > 1:
+        densities = [samples_per_length(log, model) for log in logs]
+        print(
+            textwrap.fill(
+                f"sampling: the runs hold {min(densities):.0f} to {max(densities):.0f} samples per ship length sailed; "
+                f"--every {step} keeps {SAMPLES_PER_LENGTH:.0f} or more (five or more in each of a zig-zag's rudder "
+                f"moves) and fits in about 1/{step} of the time",
+                WIDTH,
+                subsequent_indent="  ",
+            )
+        )
 
 
 def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, runs: WorkbenchRuns) -> None:
@@ -367,7 +387,12 @@ def add_workbench_arguments(parser: argparse.ArgumentParser, fitting: bool = Tru
         help="service speed for logs without a speed channel (default: the ship's)",
     )
     parser.add_argument(
-        "--every", type=_whole_number, default=1, metavar="N", help="use every N-th sample (default: 1)"
+        "--every",
+        type=_whole_number,
+        default=None,
+        metavar="N",
+        help="use every N-th sample (default: every sample; a fit says which N keeps what it needs where the runs are "
+        "sampled more densely)",
     )
     parser.add_argument(
         "--inside",

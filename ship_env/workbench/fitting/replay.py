@@ -61,6 +61,10 @@ INPUTS = ("rudder", "propeller_rate", "wind_speed", "wind_direction")
 INITIAL_WINDOW = 2.0
 #: The usual time over which it is estimated, in ship lengths sailed at the run's service speed.
 INITIAL_WINDOW_LENGTHS = 0.5
+#: Samples per ship length sailed that a fit needs at most to see a zig-zag's rudder moves (:func:`coarser_step`): a
+#: steering machine at IMO's rate (35 to 30 deg in 28 s at full scale, Froude-scaled for a model) moves the rudder by
+#: 20 deg in 0.2 to 0.45 of the time the ship takes to sail its length, so each move keeps five samples or more.
+SAMPLES_PER_LENGTH = 25.0
 
 
 @dataclass(frozen=True)
@@ -195,6 +199,22 @@ def service_speed(log: Log, model: ShipModel) -> float:
         return log.service_speed
     highest = highest_speed(log, model.length)
     return model.service_speed if highest is None else highest
+
+
+def samples_per_length(log: Log, model: ShipModel) -> float:
+    """How densely a run samples the ship's motion: its samples per ship length sailed at its service speed,
+    L / (U0 dt), with dt its median sample interval (inf for a single sample)."""
+    interval = float(np.median(np.diff(log.time))) if log.samples > 1 else 0.0
+    return model.length / (service_speed(log, model) * interval) if interval > 0.0 else math.inf
+
+
+def coarser_step(logs: Sequence[Log], model: ShipModel) -> int:
+    """The largest sample step (``--every``) that keeps every run at :data:`SAMPLES_PER_LENGTH` samples per ship length
+    sailed or more (1: none coarser)."""
+    sparsest = min(samples_per_length(log, model) for log in logs)
+    if not math.isfinite(sparsest):
+        return 1
+    return max(math.floor(sparsest / SAMPLES_PER_LENGTH + 1e-9), 1)  # 1e-9: a whole ratio's rounding
 
 
 def highest_speed(log: Log, length: float) -> float | None:

@@ -642,6 +642,19 @@ def test_training_on_a_preset_sailed_by_its_fitted_model_draws_from_its_jackknif
     assert metadata["env_kwargs"]["ship"] == str(preset) and metadata["env_kwargs"]["ship_variation"] == "fitted"
 
 
+def test_a_preset_sailed_by_a_fit_without_its_jackknife_draws_no_ships(tmp_path, fitted_by_command):
+    """``ship_variation="fitted"`` on a preset whose MMG model has no jackknife (``fit-mmg --no-jackknife``) is refused
+    when the environment is made, saying why, not at its first episode."""
+    output, _ = fitted_by_command
+    document = yaml.safe_load((output.parent / "sailed_by_hull.yaml").read_text())
+    del document["dynamics"]["jackknife"]
+    alone = tmp_path / "without_jackknife.yaml"
+    alone.write_text(yaml.safe_dump(document))
+    gym.make("ship_env/CourseChange-v0", ship=str(alone))  # sails nominal
+    with pytest.raises(ValueError, match=r"ship_variation='fitted': .*its jackknife has 0 folds; ships are drawn from"):
+        gym.make("ship_env/CourseChange-v0", ship=str(alone), ship_variation="fitted")
+
+
 def test_a_preset_whose_dynamics_block_is_malformed_is_refused_naming_the_field(tmp_path, fitted_by_command):
     output, _ = fitted_by_command
     document = yaml.safe_load((output.parent / "sailed_by_hull.yaml").read_text())

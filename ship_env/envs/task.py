@@ -198,7 +198,7 @@ class ShipTask:
         self.adds_wave_effects = presets_effects and sailed_by is None
         if ship_variation == FITTED and isinstance(sailed_by, MmgRecord):  # its adapters draw each episode's ship
             try:
-                sailed_by.drawn(np.random.default_rng(0))
+                sailed_by.check_drawable()
             except ValueError as error:
                 raise ValueError(f"ship_variation={FITTED!r}: {error}") from None
             self.make_dynamics = functools.partial(MmgFitted, sailed_by, draw=True)

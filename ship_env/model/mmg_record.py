@@ -54,17 +54,21 @@ class MmgRecord:
         """Each fold's model, sailed as this one (no folds of its own)."""
         return [replace(self, form=fold, folds=()) for fold in self.folds]
 
+    def check_drawable(self) -> None:
+        """``ValueError`` where :meth:`drawn` cannot draw a ship: the fit's jackknife has fewer than two folds."""
+        if len(self.folds) < 2:
+            raise ValueError(
+                f"{self.source or 'the fitted MMG model'}: its jackknife has {len(self.folds)} folds; ships are drawn "
+                "from two or more (fit it with three or more runs, without --no-jackknife)"
+            )
+
     def drawn(self, rng: np.random.Generator) -> MmgRecord:
         """A ship drawn from the fit's uncertainty: its coefficients moved by one fold's jackknife deviation,
         theta_hat + sqrt(n - 1) (theta_k - mean_j theta_j), with k drawn uniformly from the n folds (no folds of its
         own). Over the folds the draws' covariance is the jackknife's, (n - 1) / n sum_k (theta_k - mean)(theta_k -
-        mean)^T, the coefficients' correlations kept; ``ValueError`` without two folds."""
+        mean)^T, the coefficients' correlations kept; ``ValueError`` without two folds (:meth:`check_drawable`)."""
+        self.check_drawable()
         count = len(self.folds)
-        if count < 2:
-            raise ValueError(
-                f"{self.source or 'the fitted MMG model'}: its jackknife has {count} folds; ships are drawn from two "
-                "or more (fit it with three or more runs, without --no-jackknife)"
-            )
         k = int(rng.integers(count))
 
         def moved(name: str) -> np.ndarray:

@@ -243,10 +243,16 @@ def _print_coarser_step(logs: Sequence[Log], model: ShipModel) -> None:
         )
 
 
-def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, runs: WorkbenchRuns) -> None:
+def write_fitted_preset(
+    args: argparse.Namespace,
+    validation: CrossValidation,
+    runs: WorkbenchRuns,
+    form_spread: Callable[[], str] | None = None,
+) -> None:
     """``--preset FILE``: the fitted model as a ship preset (claimed before any work), sailed by its effects or, where
     the runs reach the hard-over rudder and it predicts their manoeuvres better, by the MMG standard's forces fitted by
-    inverse dynamics (:mod:`~ship_env.workbench.judging.dynamics_choice`)."""
+    inverse dynamics (:mod:`~ship_env.workbench.judging.dynamics_choice`). Where its effects sail it, ``form_spread``
+    (``improve``'s: :func:`~ship_env.workbench.deciding.rivals.rivals_text`) says what a rival form would sail."""
     from ship_env.manoeuvres.extrapolation import hard_over_turn_beyond
     from ship_env.workbench.judging.dynamics_choice import choose_dynamics
     from ship_env.workbench.reporting.presets import preset_document, with_dynamics, write_preset
@@ -264,6 +270,9 @@ def write_fitted_preset(args: argparse.Namespace, validation: CrossValidation, r
                 _print_validation_sailed_by_mmg(validation, choice.identified, runs.validation)
         else:  # the evidence kept with the preset: why its effects sail it
             document["fitted"] = {**document["fitted"], "dynamics": choice.summary()}
+    spread = form_spread() if form_spread is not None and (choice is None or not choice.chosen) else ""
+    if spread:
+        print(f"\n{spread}")
     write_preset(document, args.preset)
     print(f"fitted preset written to {args.preset} (sail it: ShipModel({str(args.preset)!r}), --ship {args.preset})")
     try:

@@ -1,7 +1,7 @@
 """The workbench's fourth stage, deciding what the model lacks: ``signals`` (past the library: the
 measured signals that the missing yaw acceleration lines up with), ``diagnose`` (the missing
-physical effects, ranked) and ``improve`` (the error ladder: add effects while the held-out error
-falls).
+physical effects, ranked), ``improve`` (the error ladder: add effects while the held-out error
+falls) and ``rivals`` (the forms the runs could not tell from those the ladder added, sailed beside its preset).
 
 Layer rule: the workbench's stages are, in order, ``logs``, ``fitting``, ``judging``, ``deciding``,
 ``reporting`` and ``synthetic``; a stage imports only from the stages before it, from

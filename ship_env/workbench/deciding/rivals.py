@@ -1,0 +1,203 @@
+"""Rival forms: effects the runs could not tell from those the ladder added, and what each predicts beyond the runs.
+
+Two forms can fit a ship's zig-zags equally well and part beyond them. On the container ship's sea trials
+(``benchmarks/bench_free_running.py --truth container_226m``, seed 2) the ladder adds the hull's cross-flow drag,
+a yaw damping in |r*| r*, where the truth's is Norrbin's cubic in r*^3: fitted to the four zig-zags, whose r* stays
+under 0.52, the cubic alone scores 2.5 % above the cross-flow drag in sample, and Norrbin's effect with both its
+terms fits an |r*| r* term and is the same model. At the hard-over turn's r* of 0.9 they part: the cross-flow drag
+loses 43.9 % of the speed, the cubic 38.9 %, the truth 39.5 %. The fit's jackknife does not show this spread: its
+folds all carry the form the ladder chose, and give the speed loss +-0.7 points.
+
+A *rival* of an effect added alone on a rung is another candidate of that rung's diagnosis, not in the final model,
+that would have paid there too (its held-out score ``min_gain`` below the rung's start, as the ladder asks). The
+final model with the rival in place of the added effect is fitted to all runs, and so is each of the rival's terms
+alone where it has several (a form is a term's shape as much as an effect). Those whose in-sample score lies within
+``min_gain`` of the final model's (the ladder's own materiality: a difference the runs' noise could make) are sailed
+as their preset would be, through the hard-over turning circle to both sides and the 10/10 zig-zag, beside the
+final model: the columns are the spread of the form, beyond the runs where the turn goes. A rival that leaves the
+model's validity there is not one: the ladder adds no effect with which the model cannot sail that turn.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ship_env.manoeuvres import turning_circle, zigzag
+from ship_env.model import ShipModel
+from ship_env.text_table import Table
+from ship_env.workbench.deciding.diagnose import with_effect_at_null
+from ship_env.workbench.deciding.improve import Ladder
+from ship_env.workbench.fitting.fit import FitError, FitOptions, fit
+from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.terms import default_terms, effect_terms, sailing_model
+from ship_env.workbench.judging.free_running import JUDGED_FIGURES
+from ship_env.workbench.logs.logs import Log
+
+#: The zig-zag whose first overshoot is compared: rudder a and heading change b, deg.
+ZIGZAG = (10.0, 10.0)
+
+
+@dataclass(frozen=True)
+class Rival:
+    """An effect the runs could not tell from one the ladder added.
+
+    Attributes:
+        rung: the rung's label (``+ hull_crossflow``).
+        added: the effect the ladder added there.
+        rival: the candidate of that rung's diagnosis the runs could not tell from it.
+        added_score, rival_score: their held-out scores on that rung (the rival's from its screening where it was not
+            refitted in full).
+    """
+
+    rung: str
+    added: str
+    rival: str
+    added_score: float
+    rival_score: float
+
+
+def find_rivals(ladder: Ladder, min_gain: float) -> list[Rival]:
+    """The candidates (the module docstring) that would have paid in place of each effect added alone on a rung, best
+    first, in the ladder's order."""
+    final = set(ladder.final.fit.setup.model.effects)
+    found = []
+    for before, rung in itertools.pairwise(ladder.rungs):
+        if len(rung.added) != 1 or before.diagnosis is None:
+            continue
+        start = before.validation.score(ladder.scales)
+        added = rung.validation.score(ladder.scales)
+        for candidate in before.diagnosis.ranked:
+            validation = candidate.cross_validation or candidate.screened
+            if validation is None or len(candidate.effects) != 1 or candidate.effect in final:
+                continue
+            score = validation.score(ladder.scales)
+            if score <= (1.0 - min_gain) * start:
+                found.append(Rival(rung.label, rung.added[0], candidate.effect, added, score))
+    return found
+
+
+@dataclass(frozen=True)
+class RivalFit:
+    """The final model with a rival in its added effect's place, fitted to all runs.
+
+    Attributes:
+        rival: the rival.
+        terms: the rival's terms fitted (all of them, or one alone).
+        model: the fitted model, as its preset would sail it (:func:`~.terms.sailing_model`).
+        score: its in-sample score on the runs.
+    """
+
+    rival: Rival
+    terms: tuple[str, ...]
+    model: ShipModel
+    score: float
+
+    @property
+    def title(self) -> str:
+        """'norrbin for hull_crossflow', or with one term alone 'norrbin.cubic alone for hull_crossflow'."""
+        alone = len(self.terms) < len(default_terms((self.rival.rival,)))
+        rival = f"{self.terms[0]} alone" if alone else self.rival.rival
+        return f"{rival} for {self.rival.added}"
+
+
+def rival_fits(ladder: Ladder, logs: Sequence[Log], rival: Rival, options: FitOptions) -> list[RivalFit]:
+    """The final model with ``rival.rival`` in place of ``rival.added``, fitted to all ``logs`` with the rival's
+    terms (from the final fit's values, the rival's at their nulls), and with each of them alone where it has several
+    (the others held at their nulls)."""
+    final = ladder.final.fit
+    without = ReplayModel(final.setup.model.without_effects(rival.added), *final.setup.current)
+    swapped, _ = with_effect_at_null(without, rival.rival)
+    dropped = set(effect_terms(rival.added))
+    kept = [estimate.term.key for estimate in final.estimates if estimate.term.key not in dropped]
+    own = [key for key in default_terms((rival.rival,), logs) if key not in kept]
+    choices = [tuple(own)] + ([(key,) for key in own] if len(own) > 1 else [])
+    fits = []
+    for terms in choices:
+        try:
+            result = fit(swapped, logs, kept + list(terms), options)
+        except FitError:
+            continue
+        fits.append(RivalFit(rival, terms, sailing_model(result.setup.model, logs), result.pooled.score(ladder.scales)))
+    return fits
+
+
+def judged_figures(model: ShipModel) -> dict[str, float]:
+    """The free-running figures the workbench judges (:data:`~.free_running.JUDGED_FIGURES`): the hard-over turning
+    circle's, the mean of both sides, and the 10/10 zig-zag's first overshoot. ``FloatingPointError`` where the model
+    leaves its validity."""
+    values: dict[str, list[float]] = {}
+    turns = [turning_circle(model, side * model.rudder_limit).figures() for side in (1.0, -1.0)]
+    overshoot = zigzag(model, math.radians(ZIGZAG[0]), math.radians(ZIGZAG[1])).figures()
+    for figure in (*turns[0], *turns[1], *overshoot):
+        if figure.key in JUDGED_FIGURES and not isinstance(figure.value, str):
+            values.setdefault(figure.key, []).append(figure.value)
+    return {key: sum(values[key]) / len(values[key]) for key in JUDGED_FIGURES if key in values}
+
+
+def rivals_text(ladder: Ladder, logs: Sequence[Log], options: FitOptions, min_gain: float) -> str:
+    """The rival forms the runs cannot tell from the final model's, and the figures each predicts beside its own;
+    "" where there is none. A rival whose figures are the final model's (to the digits shown) is named, not shown."""
+    score = ladder.final.fit.pooled.score(ladder.scales)
+    candidates = [
+        fitted
+        for rival in find_rivals(ladder, min_gain)
+        for fitted in rival_fits(ladder, logs, rival, options)
+        if fitted.score <= (1.0 + min_gain) * score
+    ]
+    if not candidates:
+        return ""
+    final = _shown(sailing_model(ladder.final.fit.setup.model, logs))
+    if final is None:  # the final model cannot sail the turn: no spread to show beside it
+        return ""
+    shown: list[tuple[RivalFit, dict[str, str]]] = []
+    same = []
+    for fitted in candidates:
+        figures = _shown(fitted.model)
+        if figures is None:  # it cannot sail the hard-over turn: not a ship the ladder would add (its rule 6)
+            continue
+        if figures == final or any(figures == other for _, other in shown):
+            same.append(fitted.title)
+        else:
+            shown.append((fitted, figures))
+    if not shown:
+        if not same:
+            return ""
+        return f"rival forms: {'; '.join(same)} fit the runs within {min_gain:.0%} and sail as the final model does"
+    lines = [
+        f"rival forms: fitted to all runs within {min_gain:.0%} of the final model's in-sample score {score:.3g}, "
+        "they part beyond the runs:",
+        *(f"  rival {k}: {fitted.title}, in-sample score {fitted.score:.3g}" for k, (fitted, _) in enumerate(shown, 1)),
+    ]
+    if same:
+        lines.append(f"  the same figures as the final model or a rival: {'; '.join(same)}")
+    names = {"first_overshoot": f"first overshoot {ZIGZAG[0]:g}/{ZIGZAG[1]:g} [deg]"}
+    table = Table(
+        ("sailed free, mean of the 35 deg turns", "final model", *(f"rival {k}" for k in range(1, len(shown) + 1))),
+        tuple(
+            (names.get(key, _figure_name(key)), final[key], *(figures[key] for _, figures in shown))
+            for key in JUDGED_FIGURES
+        ),
+    )
+    return "\n".join([*lines, table.text()])
+
+
+def _shown(model: ShipModel) -> dict[str, str] | None:
+    """Each judged figure as shown: three significant digits, "n/a" where the model does not reach it; None where it
+    leaves its validity."""
+    try:
+        figures = judged_figures(model)
+    except FloatingPointError:
+        return None
+    return {key: f"{figures[key]:.3g}" if key in figures else "n/a" for key in JUDGED_FIGURES}
+
+
+def _figure_name(key: str) -> str:
+    """A judged figure's name and unit, as the turning circle names it."""
+    units = {"advance_lengths": "[L]", "tactical_diameter_lengths": "[L]", "steady_rate_of_turn": "[deg/s]"}
+    return f"{key.replace('_lengths', '').replace('_', ' ')} {units.get(key, '[%]')}"
+
+
+__all__ = ["Rival", "RivalFit", "find_rivals", "judged_figures", "rival_fits", "rivals_text"]

@@ -38,6 +38,14 @@ from ship_env.workbench.logs.logs import Log
 
 #: The zig-zag whose first overshoot is compared: rudder a and heading change b, deg.
 ZIGZAG = (10.0, 10.0)
+#: The decimals each judged figure is shown with, as ``ship-env manoeuvre`` shows it.
+DIGITS = {
+    "advance_lengths": 2,
+    "tactical_diameter_lengths": 2,
+    "steady_rate_of_turn": 3,
+    "speed_loss": 1,
+    "first_overshoot": 1,
+}
 
 
 @dataclass(frozen=True)
@@ -139,7 +147,7 @@ def judged_figures(model: ShipModel) -> dict[str, float]:
 
 def rivals_text(ladder: Ladder, logs: Sequence[Log], options: FitOptions, min_gain: float) -> str:
     """The rival forms the runs cannot tell from the final model's, and the figures each predicts beside its own;
-    "" where there is none. A rival whose figures are the final model's (to the digits shown) is named, not shown."""
+    "" where there is none. A rival whose figures are the final model's (to the decimals shown) is named, not shown."""
     score = ladder.final.fit.pooled.score(ladder.scales)
     candidates = [
         fitted
@@ -185,13 +193,13 @@ def rivals_text(ladder: Ladder, logs: Sequence[Log], options: FitOptions, min_ga
 
 
 def _shown(model: ShipModel) -> dict[str, str] | None:
-    """Each judged figure as shown: three significant digits, "n/a" where the model does not reach it; None where it
-    leaves its validity."""
+    """Each judged figure as shown (:data:`DIGITS`), "n/a" where the model does not reach it; None where it leaves its
+    validity."""
     try:
         figures = judged_figures(model)
     except FloatingPointError:
         return None
-    return {key: f"{figures[key]:.3g}" if key in figures else "n/a" for key in JUDGED_FIGURES}
+    return {key: f"{figures[key]:.{DIGITS[key]}f}" if key in figures else "n/a" for key in JUDGED_FIGURES}
 
 
 def _figure_name(key: str) -> str:

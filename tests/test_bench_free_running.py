@@ -14,6 +14,7 @@ import re
 from pathlib import Path
 
 import pytest
+import yaml
 
 from ship_env.cli import main
 from ship_env.model import EFFECTS, ShipModel
@@ -49,12 +50,27 @@ def test_a_form_the_runs_cannot_rule_out_is_sailed_beside_the_preset(load_script
     assert "rival 1: norrbin.cubic alone for hull_crossflow" in printed
     table = printed.split("sailed free, mean of the 35 deg turns")[1]
     truth = {row[0]: float(row[1]) for row in verdict.rows}
+    found_values = {}
     for figure, row in (("speed loss", "speed loss [%]"), ("tactical diameter", "tactical diameter [L]")):
         found = re.search(rf"^{re.escape(row)}\s+(\S+)\s+(\S+)$", table, flags=re.MULTILINE)
         assert found is not None, table
+        found_values[row] = (found[1], found[2])
         preset, rival = float(found[1]), float(found[2])
         assert min(preset, rival) <= truth[figure] <= max(preset, rival), (figure, truth[figure], preset, rival)
     assert any(row[0] == "speed loss" and row[-1] == "FAIL" for row in verdict.rows)  # the preset alone misses it
+    # The preset keeps the spread; ship-env manoeuvre prints it; ship-env scale Froude-scales it with the ship.
+    recorded = yaml.safe_load((tmp_path / "fitted.yaml").read_text())["fitted"]["rival_forms"]
+    (rival,) = recorded["rivals"]
+    assert rival["form"] == "norrbin.cubic alone for hull_crossflow"
+    assert rival["figures"]["speed loss [%]"]["value"] == float(found_values["speed loss [%]"][1])
+    assert main(["manoeuvre", "--ship", str(tmp_path / "fitted.yaml")]) == 0
+    assert "  norrbin.cubic alone for hull_crossflow (0.569): advance [L] 2.59" in capsys.readouterr().out
+    scaled = tmp_path / "scaled.yaml"
+    assert main(["scale", str(tmp_path / "fitted.yaml"), "--factor", "4", "-o", str(scaled)]) == 0
+    (rival_scaled,) = yaml.safe_load(scaled.read_text())["fitted"]["rival_forms"]["rivals"]
+    rate = "steady rate of turn [deg/s]"
+    assert rival_scaled["figures"][rate]["value"] == pytest.approx(rival["figures"][rate]["value"] / 2.0, rel=1e-12)
+    assert rival_scaled["figures"]["speed loss [%]"]["value"] == rival["figures"]["speed loss [%]"]["value"]
 
 
 @pytest.mark.slow

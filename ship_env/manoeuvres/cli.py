@@ -13,11 +13,11 @@ import json
 import math
 import re
 import sys
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, replace
 from functools import partial
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from tqdm import tqdm
 
@@ -166,6 +166,8 @@ def sail_report(sailing: Sailing, tasks: Sequence[Task], title: str) -> SailedRe
         lines.append(_uncertainty_line(len(sailing.folds), [name for name, _ in tasks], fold_results))
     if beyond := _extrapolation_block(sailing, results):
         lines.append(beyond)
+    if forms := _rival_forms_block(sailing):
+        lines.append(forms)
     return SailedReport(results, checks, errors, "\n".join(lines))
 
 
@@ -276,6 +278,25 @@ def _extrapolation_block(sailing: Sailing, results: list[ManoeuvreResult]) -> st
         return ""
     lines = ["", "beyond the fitted runs (the fit's coverage: a figure there rests on the model's form):"]
     lines += [f"  {title}: {'; '.join(words)}" for title, words in beyond]
+    return "\n".join(lines)
+
+
+def _rival_forms_block(sailing: Sailing) -> str:
+    """The forms its fit could not rule out and what they sail, as a fitted preset records them (``fitted.rival_forms``,
+    written by ``improve --preset``), where the preset's effects sail it."""
+    from ship_env.model.external import preset_dynamics
+
+    recorded = (sailing.model.ship.fitted or {}).get("rival_forms")
+    if not recorded or not recorded.get("rivals") or preset_dynamics(sailing.model, sailing.settings.dynamics):
+        return ""
+
+    def figures(entry: Mapping[str, Any]) -> str:
+        return ", ".join(f"{name} {number['value']:.4g}" for name, number in entry["figures"].items())
+
+    final = recorded["final_model"]
+    lines = ["", f"rival forms of the fit ({recorded['why']}; the jackknife's +- carry none of them):"]
+    lines.append(f"  as fitted (in-sample score {final['in_sample_score']:.3g}): {figures(final)}")
+    lines += [f"  {rival['form']} ({rival['in_sample_score']:.3g}): {figures(rival)}" for rival in recorded["rivals"]]
     return "\n".join(lines)
 
 

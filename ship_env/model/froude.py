@@ -79,7 +79,7 @@ CONDITION_UNITS: dict[str, str] = {
 COVERAGE_UNITS: dict[str, str] = {"speed": "m/s", "rate": "-", "drift": "rad", "rudder": "rad", "propeller": "rps"}
 
 #: Numbers of a ``fitted:`` record that are counts or shares, kept as they are.
-DIMENSIONLESS_RECORD_KEYS = frozenset({"percentile", "effects_score", "mmg_score"})
+DIMENSIONLESS_RECORD_KEYS = frozenset({"percentile", "effects_score", "mmg_score", "in_sample_score"})
 
 #: The units of a fitted MMG model's numbers (a preset's ``dynamics:`` block, :mod:`ship_env.model.mmg_fitted`) that
 #: are not non-dimensional: the rigid body's and the sailing's. Its force coefficients are non-dimensional (X' =

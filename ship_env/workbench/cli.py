@@ -31,6 +31,7 @@ from ship_env.workbench.outputs import claim_file, claim_folder
 
 if TYPE_CHECKING:
     from ship_env.workbench import CrossValidation, ErrorScales, FitOptions, Log, ReplayModel
+    from ship_env.workbench.deciding.rivals import FormSpread
     from ship_env.workbench.fitting.inverse_dynamics import Identification
     from ship_env.workbench.fitting.replay import Simulated
     from ship_env.workbench.fitting.runs import WorkbenchRuns
@@ -247,12 +248,13 @@ def write_fitted_preset(
     args: argparse.Namespace,
     validation: CrossValidation,
     runs: WorkbenchRuns,
-    form_spread: Callable[[], str] | None = None,
+    form_spread: Callable[[], FormSpread | None] | None = None,
 ) -> None:
     """``--preset FILE``: the fitted model as a ship preset (claimed before any work), sailed by its effects or, where
     the runs reach the hard-over rudder and it predicts their manoeuvres better, by the MMG standard's forces fitted by
     inverse dynamics (:mod:`~ship_env.workbench.judging.dynamics_choice`). Where its effects sail it, ``form_spread``
-    (``improve``'s: :func:`~ship_env.workbench.deciding.rivals.rivals_text`) says what a rival form would sail."""
+    (``improve``'s: :func:`~ship_env.workbench.deciding.rivals.form_spread`) gives what the forms the runs could not
+    rule out would sail, printed and kept in the preset (``fitted.rival_forms``)."""
     from ship_env.manoeuvres.extrapolation import hard_over_turn_beyond
     from ship_env.workbench.judging.dynamics_choice import choose_dynamics
     from ship_env.workbench.reporting.presets import preset_document, with_dynamics, write_preset
@@ -270,9 +272,10 @@ def write_fitted_preset(
                 _print_validation_sailed_by_mmg(validation, choice.identified, runs.validation)
         else:  # the evidence kept with the preset: why its effects sail it
             document["fitted"] = {**document["fitted"], "dynamics": choice.summary()}
-    spread = form_spread() if form_spread is not None and (choice is None or not choice.chosen) else ""
-    if spread:
-        print(f"\n{spread}")
+    spread = form_spread() if form_spread is not None and (choice is None or not choice.chosen) else None
+    if spread is not None:
+        print(f"\n{spread.text()}")
+        document["fitted"] = {**document["fitted"], "rival_forms": spread.summary()}
     write_preset(document, args.preset)
     print(f"fitted preset written to {args.preset} (sail it: ShipModel({str(args.preset)!r}), --ship {args.preset})")
     try:

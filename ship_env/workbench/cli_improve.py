@@ -33,7 +33,7 @@ def run_improve(args: argparse.Namespace) -> int:
     """``ship-env improve``: add effects while the held-out error falls; the error ladder, and with
     ``--report`` a report."""
     from ship_env.workbench import improve, write_report
-    from ship_env.workbench.deciding.rivals import rivals_text
+    from ship_env.workbench.deciding.rivals import form_spread
     from ship_env.workbench.reporting.documents import ladder_document, write_document
     from ship_env.workbench.reporting.tables import estimate_table, ladder_table, validation_coverage_text
 
@@ -71,7 +71,7 @@ def run_improve(args: argparse.Namespace) -> int:
     if args.json is not None:
         write_document(ladder_document(ladder, runs.checks, logs), args.json)
         print(f"final model and ladder written to {args.json}")
-    write_fitted_preset(args, ladder.final, runs, lambda: rivals_text(ladder, logs, options, args.min_gain))
+    write_fitted_preset(args, ladder.final, runs, lambda: form_spread(ladder, logs, options, args.min_gain))
     return 0
 
 

@@ -38,6 +38,15 @@ from ship_env.workbench.logs.logs import Log
 
 #: The zig-zag whose first overshoot is compared: rudder a and heading change b, deg.
 ZIGZAG = (10.0, 10.0)
+#: Each judged figure's unit as a preset's number states it (a length in ship lengths and a share are
+#: dimensionless).
+UNITS = {
+    "advance_lengths": "-",
+    "tactical_diameter_lengths": "-",
+    "steady_rate_of_turn": "deg/s",
+    "speed_loss": "-",
+    "first_overshoot": "deg",
+}
 #: The decimals each judged figure is shown with, as ``ship-env manoeuvre`` shows it.
 DIGITS = {
     "advance_lengths": 2,
@@ -145,9 +154,80 @@ def judged_figures(model: ShipModel) -> dict[str, float]:
     return {key: sum(values[key]) / len(values[key]) for key in JUDGED_FIGURES if key in values}
 
 
-def rivals_text(ladder: Ladder, logs: Sequence[Log], options: FitOptions, min_gain: float) -> str:
-    """The rival forms the runs cannot tell from the final model's, and the figures each predicts beside its own;
-    "" where there is none. A rival whose figures are the final model's (to the decimals shown) is named, not shown."""
+@dataclass(frozen=True)
+class FormSpread:
+    """The final model's judged figures and its rivals' (each rounded to :data:`DIGITS`; a figure not reached is
+    absent), as ``improve --preset`` prints them and the preset records them (``fitted.rival_forms``).
+
+    Attributes:
+        score: the final model's in-sample score.
+        final: its figures.
+        rivals: per rival that sails other figures, its title, in-sample score and figures.
+        same: the rivals whose figures are the final model's or an earlier rival's.
+        min_gain: how far (a fraction of ``score``) a rival's in-sample score may lie above ``score``.
+    """
+
+    score: float
+    final: dict[str, float]
+    rivals: tuple[tuple[str, float, dict[str, float]], ...]
+    same: tuple[str, ...]
+    min_gain: float
+
+    def text(self) -> str:
+        """The rivals and a table of their figures beside the final model's."""
+        if not self.rivals:
+            return (
+                f"rival forms: {'; '.join(self.same)} fit the runs within {self.min_gain:.0%} and sail as the final "
+                "model does"
+            )
+        lines = [
+            f"rival forms: fitted to all runs within {self.min_gain:.0%} of the final model's in-sample score "
+            f"{self.score:.3g}, they part beyond the runs:",
+            *(
+                f"  rival {k}: {title}, in-sample score {score:.3g}"
+                for k, (title, score, _) in enumerate(self.rivals, 1)
+            ),
+        ]
+        if self.same:
+            lines.append(f"  the same figures as the final model or a rival: {'; '.join(self.same)}")
+        table = Table(
+            (
+                "sailed free, mean of the 35 deg turns",
+                "final model",
+                *(f"rival {k}" for k in range(1, len(self.rivals) + 1)),
+            ),
+            tuple(
+                (figure_title(key), _text(key, self.final), *(_text(key, figures) for _, _, figures in self.rivals))
+                for key in JUDGED_FIGURES
+            ),
+        )
+        return "\n".join([*lines, table.text()])
+
+    def summary(self) -> dict[str, object]:
+        """The spread as a fitted preset records it (``fitted.rival_forms``; ``ship-env manoeuvre`` prints it), each
+        figure under its :func:`figure_title` as a preset's number (``{value, unit}``, :data:`UNITS`: ``ship-env
+        scale`` Froude-scales it)."""
+
+        def titled(figures: dict[str, float]) -> dict[str, dict[str, object]]:
+            shown = [key for key in JUDGED_FIGURES if key in figures]
+            return {figure_title(key): {"value": figures[key], "unit": UNITS[key]} for key in shown}
+
+        return {
+            "why": "forms the runs could not rule out, fitted to all runs in place of an effect the ladder added: "
+            f"their in-sample score within {self.min_gain:.0%} of the final model's; the figures are the mean of the "
+            f"35 deg turns and the {ZIGZAG[0]:g}/{ZIGZAG[1]:g} zig-zag's first overshoot",
+            "final_model": {"in_sample_score": self.score, "figures": titled(self.final)},
+            "rivals": [
+                {"form": title, "in_sample_score": score, "figures": titled(figures)}
+                for title, score, figures in self.rivals
+            ],
+            "same_figures": list(self.same),
+        }
+
+
+def form_spread(ladder: Ladder, logs: Sequence[Log], options: FitOptions, min_gain: float) -> FormSpread | None:
+    """The rival forms the runs cannot tell from the final model's, and the figures each predicts beside its own (a
+    rival whose figures are the final model's, to the decimals shown, is only named); None where there is none."""
     score = ladder.final.fit.pooled.score(ladder.scales)
     candidates = [
         fitted
@@ -156,56 +236,54 @@ def rivals_text(ladder: Ladder, logs: Sequence[Log], options: FitOptions, min_ga
         if fitted.score <= (1.0 + min_gain) * score
     ]
     if not candidates:
-        return ""
-    final = _shown(sailing_model(ladder.final.fit.setup.model, logs))
+        return None
+    final = _rounded(sailing_model(ladder.final.fit.setup.model, logs))
     if final is None:  # the final model cannot sail the turn: no spread to show beside it
-        return ""
-    shown: list[tuple[RivalFit, dict[str, str]]] = []
+        return None
+    rivals: list[tuple[str, float, dict[str, float]]] = []
     same = []
     for fitted in candidates:
-        figures = _shown(fitted.model)
+        figures = _rounded(fitted.model)
         if figures is None:  # it cannot sail the hard-over turn: not a ship the ladder would add (its rule 6)
             continue
-        if figures == final or any(figures == other for _, other in shown):
+        if figures == final or any(figures == other for _, _, other in rivals):
             same.append(fitted.title)
         else:
-            shown.append((fitted, figures))
-    if not shown:
-        if not same:
-            return ""
-        return f"rival forms: {'; '.join(same)} fit the runs within {min_gain:.0%} and sail as the final model does"
-    lines = [
-        f"rival forms: fitted to all runs within {min_gain:.0%} of the final model's in-sample score {score:.3g}, "
-        "they part beyond the runs:",
-        *(f"  rival {k}: {fitted.title}, in-sample score {fitted.score:.3g}" for k, (fitted, _) in enumerate(shown, 1)),
-    ]
-    if same:
-        lines.append(f"  the same figures as the final model or a rival: {'; '.join(same)}")
-    names = {"first_overshoot": f"first overshoot {ZIGZAG[0]:g}/{ZIGZAG[1]:g} [deg]"}
-    table = Table(
-        ("sailed free, mean of the 35 deg turns", "final model", *(f"rival {k}" for k in range(1, len(shown) + 1))),
-        tuple(
-            (names.get(key, _figure_name(key)), final[key], *(figures[key] for _, figures in shown))
-            for key in JUDGED_FIGURES
-        ),
-    )
-    return "\n".join([*lines, table.text()])
-
-
-def _shown(model: ShipModel) -> dict[str, str] | None:
-    """Each judged figure as shown (:data:`DIGITS`), "n/a" where the model does not reach it; None where it leaves its
-    validity."""
-    try:
-        figures = judged_figures(model)
-    except FloatingPointError:
+            rivals.append((fitted.title, fitted.score, figures))
+    if not rivals and not same:
         return None
-    return {key: f"{figures[key]:.{DIGITS[key]}f}" if key in figures else "n/a" for key in JUDGED_FIGURES}
+    return FormSpread(score, final, tuple(rivals), tuple(same), min_gain)
 
 
-def _figure_name(key: str) -> str:
-    """A judged figure's name and unit, as the turning circle names it."""
+def figure_title(key: str) -> str:
+    """A judged figure's name and unit: 'tactical diameter [L]', 'first overshoot 10/10 [deg]'."""
+    if key == "first_overshoot":
+        return f"first overshoot {ZIGZAG[0]:g}/{ZIGZAG[1]:g} [deg]"
     units = {"advance_lengths": "[L]", "tactical_diameter_lengths": "[L]", "steady_rate_of_turn": "[deg/s]"}
     return f"{key.replace('_lengths', '').replace('_', ' ')} {units.get(key, '[%]')}"
 
 
-__all__ = ["Rival", "RivalFit", "find_rivals", "judged_figures", "rival_fits", "rivals_text"]
+def _rounded(model: ShipModel) -> dict[str, float] | None:
+    """Each judged figure rounded to :data:`DIGITS` (absent where the model does not reach it); None where the model
+    leaves its validity."""
+    try:
+        figures = judged_figures(model)
+    except FloatingPointError:
+        return None
+    return {key: round(value, DIGITS[key]) for key, value in figures.items() if math.isfinite(value)}
+
+
+def _text(key: str, figures: dict[str, float]) -> str:
+    return f"{figures[key]:.{DIGITS[key]}f}" if key in figures else "n/a"
+
+
+__all__ = [
+    "FormSpread",
+    "Rival",
+    "RivalFit",
+    "figure_title",
+    "find_rivals",
+    "form_spread",
+    "judged_figures",
+    "rival_fits",
+]

@@ -64,35 +64,30 @@ class Rival:
     Attributes:
         rung: the rung's label (``+ hull_crossflow``).
         added: the effect the ladder added there.
-        rival: the candidate of that rung's diagnosis the runs could not tell from it.
-        added_score, rival_score: their held-out scores on that rung (the rival's from its screening where it was not
-            refitted in full).
+        rival: the candidate of that rung's diagnosis that would have paid there too.
     """
 
     rung: str
     added: str
     rival: str
-    added_score: float
-    rival_score: float
 
 
 def find_rivals(ladder: Ladder, min_gain: float) -> list[Rival]:
-    """The candidates (the module docstring) that would have paid in place of each effect added alone on a rung, best
-    first, in the ladder's order."""
+    """The candidates (the module docstring) that would have paid in place of each effect added alone on a rung, in
+    the ladder's order and each rung's diagnosis's (the rival's held-out score there from its screening where it was
+    not refitted in full)."""
     final = set(ladder.final.fit.setup.model.effects)
     found = []
     for before, rung in itertools.pairwise(ladder.rungs):
         if len(rung.added) != 1 or before.diagnosis is None:
             continue
         start = before.validation.score(ladder.scales)
-        added = rung.validation.score(ladder.scales)
         for candidate in before.diagnosis.ranked:
             validation = candidate.cross_validation or candidate.screened
             if validation is None or len(candidate.effects) != 1 or candidate.effect in final:
                 continue
-            score = validation.score(ladder.scales)
-            if score <= (1.0 - min_gain) * start:
-                found.append(Rival(rung.label, rung.added[0], candidate.effect, added, score))
+            if validation.score(ladder.scales) <= (1.0 - min_gain) * start:
+                found.append(Rival(rung.label, rung.added[0], candidate.effect))
     return found
 
 

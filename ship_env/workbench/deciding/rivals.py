@@ -23,9 +23,9 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
-from ship_env.manoeuvres import turning_circle, zigzag
+from ship_env.manoeuvres import Figure, turning_circle, zigzag
 from ship_env.model import ShipModel
 from ship_env.text_table import Table
 from ship_env.workbench.deciding.diagnose import with_effect_at_null
@@ -38,23 +38,9 @@ from ship_env.workbench.logs.logs import Log
 
 #: The zig-zag whose first overshoot is compared: rudder a and heading change b, deg.
 ZIGZAG = (10.0, 10.0)
-#: Each judged figure's unit as a preset's number states it (a length in ship lengths and a share are
-#: dimensionless).
-UNITS = {
-    "advance_lengths": "-",
-    "tactical_diameter_lengths": "-",
-    "steady_rate_of_turn": "deg/s",
-    "speed_loss": "-",
-    "first_overshoot": "deg",
-}
-#: The decimals each judged figure is shown with, as ``ship-env manoeuvre`` shows it.
-DIGITS = {
-    "advance_lengths": 2,
-    "tactical_diameter_lengths": 2,
-    "steady_rate_of_turn": 3,
-    "speed_loss": 1,
-    "first_overshoot": 1,
-}
+#: A figure's display unit as a preset's number states it, where they differ: a length in ship lengths and a share
+#: are dimensionless.
+PRESET_UNITS = {"L": "-", "%": "-"}
 
 
 @dataclass(frozen=True)
@@ -97,21 +83,22 @@ class RivalFit:
 
     Attributes:
         rival: the rival.
-        terms: the rival's terms fitted (all of them, or one alone).
+        terms: the rival's terms fitted.
+        alone: whether ``terms`` is one of the rival's several terms, the others held at their nulls.
         model: the fitted model, as its preset would sail it (:func:`~.terms.sailing_model`).
         score: its in-sample score on the runs.
     """
 
     rival: Rival
     terms: tuple[str, ...]
+    alone: bool
     model: ShipModel
     score: float
 
     @property
     def title(self) -> str:
         """'norrbin for hull_crossflow', or with one term alone 'norrbin.cubic alone for hull_crossflow'."""
-        alone = len(self.terms) < len(default_terms((self.rival.rival,)))
-        rival = f"{self.terms[0]} alone" if alone else self.rival.rival
+        rival = f"{self.terms[0]} alone" if self.alone else self.rival.rival
         return f"{rival} for {self.rival.added}"
 
 
@@ -132,26 +119,31 @@ def rival_fits(ladder: Ladder, logs: Sequence[Log], rival: Rival, options: FitOp
             result = fit(swapped, logs, kept + list(terms), options)
         except FitError:
             continue
-        fits.append(RivalFit(rival, terms, sailing_model(result.setup.model, logs), result.pooled.score(ladder.scales)))
+        model = sailing_model(result.setup.model, logs)
+        fits.append(RivalFit(rival, terms, len(terms) < len(own), model, result.pooled.score(ladder.scales)))
     return fits
 
 
-def judged_figures(model: ShipModel) -> dict[str, float]:
-    """The free-running figures the workbench judges (:data:`~.free_running.JUDGED_FIGURES`): the hard-over turning
-    circle's, the mean of both sides, and the 10/10 zig-zag's first overshoot. ``FloatingPointError`` where the model
-    leaves its validity."""
-    values: dict[str, list[float]] = {}
+def judged_figures(model: ShipModel) -> dict[str, Figure]:
+    """The free-running figures the workbench judges (:data:`~.free_running.JUDGED_FIGURES`), each with its value the
+    mean of both hard-over turning circles' or the 10/10 zig-zag's first overshoot. ``FloatingPointError`` where the
+    model leaves its validity."""
+    found: dict[str, list[Figure]] = {}
     turns = [turning_circle(model, side * model.rudder_limit).figures() for side in (1.0, -1.0)]
     overshoot = zigzag(model, math.radians(ZIGZAG[0]), math.radians(ZIGZAG[1])).figures()
     for figure in (*turns[0], *turns[1], *overshoot):
         if figure.key in JUDGED_FIGURES and not isinstance(figure.value, str):
-            values.setdefault(figure.key, []).append(figure.value)
-    return {key: sum(values[key]) / len(values[key]) for key in JUDGED_FIGURES if key in values}
+            found.setdefault(figure.key, []).append(figure)
+    return {
+        key: replace(found[key][0], value=sum(float(f.value) for f in found[key]) / len(found[key]))
+        for key in JUDGED_FIGURES
+        if key in found
+    }
 
 
 @dataclass(frozen=True)
 class FormSpread:
-    """The final model's judged figures and its rivals' (each rounded to :data:`DIGITS`; a figure not reached is
+    """The final model's judged figures and its rivals' (each rounded to its decimals; a figure not reached is
     absent), as ``improve --preset`` prints them and the preset records them (``fitted.rival_forms``).
 
     Attributes:
@@ -163,8 +155,8 @@ class FormSpread:
     """
 
     score: float
-    final: dict[str, float]
-    rivals: tuple[tuple[str, float, dict[str, float]], ...]
+    final: dict[str, Figure]
+    rivals: tuple[tuple[str, float, dict[str, Figure]], ...]
     same: tuple[str, ...]
     min_gain: float
 
@@ -200,12 +192,14 @@ class FormSpread:
 
     def summary(self) -> dict[str, object]:
         """The spread as a fitted preset records it (``fitted.rival_forms``; ``ship-env manoeuvre`` prints it), each
-        figure under its :func:`figure_title` as a preset's number (``{value, unit}``, :data:`UNITS`: ``ship-env
-        scale`` Froude-scales it)."""
+        figure under its :func:`figure_title` as a preset's number (``{value, unit}``, :data:`PRESET_UNITS`:
+        ``ship-env scale`` Froude-scales it)."""
 
-        def titled(figures: dict[str, float]) -> dict[str, dict[str, object]]:
-            shown = [key for key in JUDGED_FIGURES if key in figures]
-            return {figure_title(key): {"value": figures[key], "unit": UNITS[key]} for key in shown}
+        def titled(figures: dict[str, Figure]) -> dict[str, dict[str, object]]:
+            return {
+                figure_title(key): {"value": figure.value, "unit": PRESET_UNITS.get(figure.unit, figure.unit)}
+                for key, figure in figures.items()
+            }
 
         return {
             "why": "forms the runs could not rule out, fitted to all runs in place of an effect the ladder added: "
@@ -235,7 +229,7 @@ def form_spread(ladder: Ladder, logs: Sequence[Log], options: FitOptions, min_ga
     final = _rounded(sailing_model(ladder.final.fit.setup.model, logs))
     if final is None:  # the final model cannot sail the turn: no spread to show beside it
         return None
-    rivals: list[tuple[str, float, dict[str, float]]] = []
+    rivals: list[tuple[str, float, dict[str, Figure]]] = []
     same = []
     for fitted in candidates:
         figures = _rounded(fitted.model)
@@ -258,18 +252,22 @@ def figure_title(key: str) -> str:
     return f"{key.replace('_lengths', '').replace('_', ' ')} {units.get(key, '[%]')}"
 
 
-def _rounded(model: ShipModel) -> dict[str, float] | None:
-    """Each judged figure rounded to :data:`DIGITS` (absent where the model does not reach it); None where the model
-    leaves its validity."""
+def _rounded(model: ShipModel) -> dict[str, Figure] | None:
+    """Each judged figure with its value rounded to the decimals it is shown with (absent where the model does not
+    reach it); None where the model leaves its validity."""
     try:
         figures = judged_figures(model)
     except FloatingPointError:
         return None
-    return {key: round(value, DIGITS[key]) for key, value in figures.items() if math.isfinite(value)}
+    return {
+        key: replace(figure, value=round(float(figure.value), figure.digits))
+        for key, figure in figures.items()
+        if math.isfinite(float(figure.value))
+    }
 
 
-def _text(key: str, figures: dict[str, float]) -> str:
-    return f"{figures[key]:.{DIGITS[key]}f}" if key in figures else "n/a"
+def _text(key: str, figures: dict[str, Figure]) -> str:
+    return figures[key].text if key in figures else "n/a"
 
 
 __all__ = [

@@ -149,14 +149,15 @@ def choose_dynamics(
     setup = validation.fit.setup
     if not reaches_hard_over(logs, setup.model):
         return None
-    if not mmg_applies(logs, setup.model):
-        why = why_not_mmg(logs, stated_propeller_rate(setup.model))
+    propeller_rate = stated_propeller_rate(setup.model)
+    why = why_not_mmg(logs, propeller_rate)  # with the runs reaching hard over: mmg_applies
+    if why:
         return DynamicsChoice(math.nan, math.inf, None, False, f"the effects: the MMG forces are not fitted: {why}", 0)
     scales = ErrorScales.for_runs(setup.model, logs)
     ladder = held_out_free_running(validation, logs, ())
     ladder_score = sailed_score(ladder, logs, scales)
     try:
-        identified = identify(logs, setup.model, propeller_rate=stated_propeller_rate(setup.model))
+        identified = identify(logs, setup.model, propeller_rate=propeller_rate)
     except (IdentificationError, SmoothingError, np.linalg.LinAlgError) as error:  # the effects' preset still stands
         return DynamicsChoice(ladder_score, math.inf, None, False, f"the effects: the MMG form: {error}", len(ladder))
     mmg = held_out_mmg_sailing(setup, identified, logs, [])

@@ -145,6 +145,49 @@ def test_two_hidden_effects_are_found_in_two_steps():
     check_hidden_pair(("rudder_offset", "wind_drift"), SHORT_RUNS, refit=3, steps=2)
 
 
+def test_densely_sampled_runs_are_screened_at_a_coarser_step_and_scored_on_every_sample(monkeypatch):
+    """The 3 m model's runs logged at 20 Hz hold 133 to 214 samples per ship length sailed: the screening fits every
+    5th sample (26 or more per ship length) and replays a quarter of the samples a screening of every sample does
+    (its fits a fifth, its held-out replays all). It measures the held-out errors on every sample and ranks the
+    candidates as that screening does, the hidden rudder offset first, its score the same within 1 % (a fifth of the
+    5 % a rung must gain)."""
+    import ship_env.workbench.fitting.fit as fit_module
+    from ship_env.workbench.deciding import diagnose as diagnose_module
+    from ship_env.workbench.fitting.replay import coarser_step
+
+    _, logs = hidden_effect_logs(
+        ["rudder_offset"], SHIP, manoeuvres=SHORT_RUNS, noise=MODEL_BASIN.noise, values=MODEL_BASIN.values, dt=0.05
+    )
+    step = coarser_step(logs, MODEL_BASIN.base_model())
+    assert step == 5
+    baseline = cross_validate(MODEL_BASIN.base_model(), logs, options=OPTIONS)
+    replayed = []
+    replay = fit_module.replay
+
+    def counted(runs, *rest):
+        replayed.append(runs.time.size)
+        return replay(runs, *rest)
+
+    monkeypatch.setattr(fit_module, "replay", counted)
+
+    def screenings(screening_runs) -> list:
+        monkeypatch.setattr(diagnose_module, "screening_runs", screening_runs)
+        replayed.clear()
+        founds = [{c.effect: c.evidence} for c in diagnose(baseline, logs, OPTIONS, refit=0).candidates if c.evidence]
+        replayed.clear()
+        return diagnose_module.screen(baseline, logs, founds[:3], OPTIONS), sum(replayed)
+
+    coarse, coarse_samples = screenings(diagnose_module.screening_runs)
+    every, every_samples = screenings(lambda logs, model: list(logs))
+    assert coarse_samples < every_samples / 3
+    samples = [log.samples for log in logs]
+    assert all([len(replay.time) for replay in c.screened.replays] == samples for c in coarse)
+    ranked = [sorted(screened, key=lambda c: c.screened.score(SCALES)) for screened in (coarse, every)]
+    assert [c.effect for c in ranked[0]] == [c.effect for c in ranked[1]]
+    assert ranked[0][0].effect == "rudder_offset"
+    assert ranked[0][0].screened.score(SCALES) == pytest.approx(ranked[1][0].screened.score(SCALES), rel=0.01)
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("effect", EVERY_HIDDEN_EFFECT)
 def test_every_hidden_effect_full_suite(effect):

@@ -222,12 +222,13 @@ def start_command(args: argparse.Namespace, fitting: bool = True) -> tuple[Repla
         for words in not_identified(setup.model, runs.logs):
             print(f"not identified: {words}")
         if args.every is None:
-            _print_coarser_step(runs.logs, setup.model)
+            _print_coarser_step(runs.logs, setup.model, screens=args.command in ("diagnose", "improve"))
     return setup, options, runs
 
 
-def _print_coarser_step(logs: Sequence[Log], model: ShipModel) -> None:
-    """Where the runs sample the ship's motion more densely than a fit needs, the ``--every`` that fits them faster."""
+def _print_coarser_step(logs: Sequence[Log], model: ShipModel, screens: bool) -> None:
+    """Where the runs sample the ship's motion more densely than a fit needs, the ``--every`` that fits them faster
+    (and, for a command that ``screens`` candidates, that it screens them at that step already)."""
     from ship_env.workbench.fitting.replay import SAMPLES_PER_LENGTH, coarser_step, samples_per_length
 
     step = coarser_step(logs, model)
@@ -237,7 +238,8 @@ def _print_coarser_step(logs: Sequence[Log], model: ShipModel) -> None:
             textwrap.fill(
                 f"sampling: the runs hold {min(densities):.0f} to {max(densities):.0f} samples per ship length sailed; "
                 f"--every {step} keeps {SAMPLES_PER_LENGTH:.0f} or more (five or more in each of a zig-zag's rudder "
-                f"moves) and fits in about 1/{step} of the time",
+                f"moves) and fits in about 1/{step} of the time"
+                + ("; the candidates are screened at that step, and confirmed on every sample" if screens else ""),
                 WIDTH,
                 subsequent_indent="  ",
             )

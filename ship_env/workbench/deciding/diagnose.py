@@ -13,7 +13,9 @@ For each effect the model lacks (and the logs can show, see :func:`~.terms.why_n
 2. **Screening**: the effect is added and the model refitted cheaply -- a few Gauss-Newton
    iterations (``SCREENING_EVALUATIONS``) from the current fit with the new terms at their
    linearised estimates -- and its leave-one-run-out error computed: a held-out score to rank the
-   candidates by at a fraction of a full fit's cost.
+   candidates by at a fraction of a full fit's cost. Densely sampled runs are fitted at a coarser
+   step (:func:`screening_runs`: every n-th sample, keeping ``SAMPLES_PER_LENGTH`` per ship length)
+   and their held-out errors measured on every sample.
 3. **Held-out error**: the ``CONFIRMED`` candidates with the best screened score, and the one
    with the most evidence, are refitted in full and cross-validated. The refit starts three
    times -- from the screening's fit, from the current fit with the new terms at their null
@@ -43,7 +45,7 @@ from ship_env.workbench.deciding.signals import ResidualSignals, residual_signal
 from ship_env.workbench.defaults import ON_REQUEST
 from ship_env.workbench.fitting.errors import ErrorScales, RunErrors
 from ship_env.workbench.fitting.fit import FitOptions, Problem
-from ship_env.workbench.fitting.replay import ReplayModel
+from ship_env.workbench.fitting.replay import ReplayModel, coarser_step
 from ship_env.workbench.fitting.terms import (
     Term,
     effect_terms,
@@ -54,7 +56,7 @@ from ship_env.workbench.fitting.terms import (
 )
 from ship_env.workbench.fitting.threads import one_thread
 from ship_env.workbench.judging.validation import CrossValidation, ValidationJob, cross_validate_each
-from ship_env.workbench.logs.logs import Log
+from ship_env.workbench.logs.logs import Log, every_nth
 
 #: Cost evaluations of a screening fit (a few Gauss-Newton iterations from the current fit).
 SCREENING_EVALUATIONS = 6
@@ -273,6 +275,16 @@ def diagnose(
     )
 
 
+def screening_runs(logs: Sequence[Log], model: ShipModel) -> list[Log]:
+    """The runs a screening fits: every n-th sample, n the largest step that keeps every run at
+    ``SAMPLES_PER_LENGTH`` samples per ship length sailed (:func:`~.replay.coarser_step`; five or more
+    in each of a zig-zag's rudder moves). Its held-out errors are measured on every sample, and the
+    candidates it ranks best are confirmed on every sample: a model test logged at 20 Hz is screened
+    at 5 Hz, in about a quarter of the time."""
+    step = coarser_step(logs, model)
+    return [every_nth(log, step) for log in logs]
+
+
 def screen(
     current: CrossValidation, logs: Sequence[Log], founds: Sequence[Mapping[str, Evidence]], options: FitOptions
 ) -> list[CandidateResult]:
@@ -282,12 +294,17 @@ def screen(
     their linearised estimates, without the validation runs (see the module docstring).
     """
     quick = replace(options, max_evaluations=SCREENING_EVALUATIONS)
+    runs = screening_runs(logs, current.fit.setup.model)
     jobs = []
     for found in founds:
         added, terms = with_effect_at_null(current.fit.setup, *found)
         keys = [estimate.term.key for estimate in current.fit.estimates] + [term.key for term in terms]
         linearised = {key: value for evidence_ in found.values() for key, value in evidence_.linearised.items()}
-        jobs.append(ValidationJob(with_values(added, linearised), logs, keys, quick, groups=current.groups or None))
+        jobs.append(
+            ValidationJob(
+                with_values(added, linearised), runs, keys, quick, groups=current.groups or None, scored_on=logs
+            )
+        )
     results = []
     for found, outcome in zip(founds, cross_validate_each(jobs, options.workers), strict=True):
         own_evidence = next(iter(found.values())) if len(found) == 1 else None

@@ -187,7 +187,11 @@ def _linearised_fold(problem: Problem, fitted: FitResult, left_out: Sequence[int
 
 @dataclass(frozen=True)
 class ValidationJob:
-    """A cross-validation to run (the arguments of :func:`cross_validate`, the terms named)."""
+    """A cross-validation to run (the arguments of :func:`cross_validate`, the terms named).
+
+    ``scored_on`` holds the same runs with more samples (a fit on every n-th sample, scored on every
+    sample, :func:`~.diagnose.screening_runs`): the held-out replays are measured there. Empty: on ``logs``.
+    """
 
     setup: ReplayModel
     logs: Sequence[Log]
@@ -196,6 +200,7 @@ class ValidationJob:
     starts: Sequence[Mapping[str, float]] = ()
     groups: Sequence[str] | None = None
     validate_on: Sequence[Log] = ()
+    scored_on: Sequence[Log] = ()
 
 
 #: A fit to run: the model (its values are the start), the runs, the terms, the options.
@@ -361,11 +366,14 @@ class _Plan:
             return error
 
     def _assemble(self, refits: Iterator[dict[str, float]]) -> CrossValidation:
-        job, problem, logs = self.job, self.problem, self.job.logs
+        job, problem = self.job, self.problem
         points = [problem.point_of(next(refits)) if point is None else point for point in self.points]
-        # Every fold's runs left out, replayed from their measured states, in one batch.
+        # Every fold's runs left out, replayed from their measured states, in one batch; each point holds the
+        # terms only (the runs start as measured), so it replays the runs as scored as well as those fitted.
+        logs = job.scored_on or job.logs
+        scoring = Problem(problem.setup, logs, job.keys, job.options) if job.scored_on else problem
         owner = {run: f for f, left_out in enumerate(self.folds_runs) for run in left_out}
-        replays = problem.replay_each(points, [owner[run] for run in range(len(logs))])
+        replays = scoring.replay_each(points, [owner[run] for run in range(len(logs))])
         folds = tuple(
             Fold(
                 left_out=tuple(logs[run].name for run in left_out),

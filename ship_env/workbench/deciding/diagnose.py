@@ -280,7 +280,7 @@ def screening_runs(logs: Sequence[Log], model: ShipModel) -> list[Log]:
     ``SAMPLES_PER_LENGTH`` samples per ship length sailed (:func:`~.replay.coarser_step`; five or more
     in each of a zig-zag's rudder moves). Its held-out errors are measured on every sample, and the
     candidates it ranks best are confirmed on every sample: a model test logged at 20 Hz is screened
-    at 5 Hz, in about a quarter of the time."""
+    at 5 Hz, its screening's fits in about a quarter of the time."""
     step = coarser_step(logs, model)
     return [every_nth(log, step) for log in logs]
 

@@ -295,6 +295,7 @@ def screen(
     """
     quick = replace(options, max_evaluations=SCREENING_EVALUATIONS)
     runs = screening_runs(logs, current.fit.setup.model)
+    scored_on = logs if any(run is not log for run, log in zip(runs, logs, strict=True)) else ()
     jobs = []
     for found in founds:
         added, terms = with_effect_at_null(current.fit.setup, *found)
@@ -302,7 +303,7 @@ def screen(
         linearised = {key: value for evidence_ in found.values() for key, value in evidence_.linearised.items()}
         jobs.append(
             ValidationJob(
-                with_values(added, linearised), runs, keys, quick, groups=current.groups or None, scored_on=logs
+                with_values(added, linearised), runs, keys, quick, groups=current.groups or None, scored_on=scored_on
             )
         )
     results = []

@@ -19,9 +19,11 @@ from ship_env.manoeuvres import (
     turning_circle,
     zigzag,
 )
+from ship_env.manoeuvres.extrapolation import beyond_coverage
 from ship_env.manoeuvres.imo import first_overshoot_limit_10_10, second_overshoot_limit_10_10
 from ship_env.manoeuvres.series import crossing_times, first_crossing, value_at
 from ship_env.model import ShipModel
+from ship_env.model.operating_point import FittedRanges
 
 CONTAINER = "container_226m"
 SETTINGS = TrialSettings(dt=1.0)
@@ -242,3 +244,16 @@ def test_plot_writes_a_png(default_results, tmp_path):
     path = plot_manoeuvre(default_results[1], tmp_path / "zigzag.png")
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert path.stat().st_size > 20_000
+
+
+def test_a_turn_beyond_the_runs_drift_angle_says_so_with_its_steady_drift(default, default_results):
+    """A fit's runs that drifted 5 deg at most: the container ship's hard-over turn, whose steady drift is its
+    figure (heading against the track), sails beyond them by at least that drift; runs that drifted 40 deg cover it."""
+    turn = default_results[0]
+    steady_drift = math.degrees(turn.drift_angle)
+    assert steady_drift > 5.0
+    narrow = FittedRanges("runs", {"drift": (None, math.radians(5.0))})
+    (words,) = beyond_coverage(turn, default, narrow)
+    assert words.startswith("drift angle up to ") and words.endswith("(|drift angle| <= 5 deg)"), words
+    assert float(words.split()[4]) >= round(steady_drift, 1)
+    assert beyond_coverage(turn, default, FittedRanges("runs", {"drift": (None, math.radians(40.0))})) == []

@@ -14,7 +14,7 @@ from ship_env.model import REQUIRED_EFFECTS, ShipModel, load_ship
 from ship_env.model.declarations import Envelope
 from ship_env.paths import config_dir
 from ship_env.workbench import FitOptions, Log, ReplayModel, fit, write_log
-from ship_env.workbench.fitting.envelope import check_envelope, inside_logs
+from ship_env.workbench.fitting.envelope import COURSE_ERROR, check_envelope, drift_angle, inside_logs
 from ship_env.workbench.synthetic.synthetic import HIDDEN_VALUES, NO_NOISE, LogSettings, model_test_programme, sail_all
 
 SHIP = "esso_osaka_model"
@@ -86,6 +86,67 @@ def test_a_run_at_0_05_m_s_astern_is_flagged_with_the_share_and_the_reason():
     # An effect that models the astern propeller widens the envelope: that reason goes.
     wider = model.envelope.widened(Envelope(propeller_ahead_only=False))
     assert check_envelope(harbour_log(), wider, model.length).reasons() == "60 % below 0.1 m/s"
+
+
+def circling_log(
+    drift_deg: float,
+    speed: float,
+    fix_noise: float,
+    dt: float = 1.0,
+    fix_interval: float | None = None,
+    duration: float = 1200.0,
+) -> Log:
+    """A steady turn to starboard in closed form, apart from any simulator: the track a circle of radius
+    R = U / r, the course r t, the heading the course plus the drift; the fixes with white noise of
+    ``fix_noise`` m, each held until the next where ``fix_interval`` is given."""
+    radius = 1000.0
+    time = np.arange(0.0, duration, dt)
+    course = speed / radius * time
+    fixes = np.floor(time / fix_interval) * fix_interval if fix_interval else time
+    noise = np.random.default_rng(0).normal(0.0, fix_noise, size=(2, len(np.unique(fixes))))
+    index = np.unique(fixes, return_inverse=True)[1]
+    fix_course = speed / radius * fixes
+    return Log(
+        name="turn",
+        time=time,
+        heading=course + math.radians(drift_deg),
+        rudder=np.full(len(time), math.radians(35.0)),
+        north=radius * np.sin(fix_course) + noise[0, index],
+        east=radius * (1.0 - np.cos(fix_course)) + noise[1, index],
+        speed=np.full(len(time), speed),
+    )
+
+
+def test_the_drift_angle_holds_under_sea_trial_fixes_and_is_exact_without_noise():
+    # A 320 m tanker's hard-over turn at 3 m/s with a drift of 12 deg, GPS fixes of 3 m at 1 Hz. The course was the
+    # slope of a track smoothed over 1 s: its noise alone (3 m over 1 s against 3 m/s) put half of these samples
+    # beyond 30 deg. The window chosen from the fixes' own noise holds the course to COURSE_ERROR (1 deg): the
+    # error's RMS within that (and 10 % for the noise's estimate and the sample's spread), no sample beyond 5 of it.
+    length = 320.0
+    noisy = circling_log(12.0, 3.0, 3.0)
+    error = drift_angle(noisy, length) - math.radians(12.0)
+    assert np.sqrt(np.mean(error**2)) <= 1.1 * COURSE_ERROR
+    assert np.max(np.abs(error)) <= 5.0 * COURSE_ERROR
+    envelope = Envelope(maximum_drift=math.radians(30.0))
+    assert check_envelope(noisy, envelope, length).share == 0.0
+    # Exact fixes: a quadratic's slope at the centre of a symmetric window on a circle is the tangent's (the two
+    # samples at either end, from one-sided fits, to 1e-6 rad).
+    exact = drift_angle(circling_log(12.0, 3.0, 0.0), length)
+    np.testing.assert_allclose(exact[2:-2], math.radians(12.0), atol=1e-9)
+    np.testing.assert_allclose(exact, math.radians(12.0), atol=1e-6)
+    # A logger at 10 Hz that holds each 1 Hz fix: the course is read at the fixes, as sure as above.
+    held = drift_angle(circling_log(12.0, 3.0, 3.0, dt=0.1, fix_interval=1.0), length) - math.radians(12.0)
+    assert np.sqrt(np.nanmean(held**2)) <= 1.1 * COURSE_ERROR
+    assert np.count_nonzero(np.isnan(held)) <= 10  # only after the last fix
+
+
+def test_a_ship_too_slow_for_its_fixes_has_an_unknown_drift_angle_not_a_wild_one():
+    # Two minutes of 3 m fixes at 1 Hz on a ship at 0.05 m/s: even the whole run as the window leaves the course's
+    # error at 9 deg (sigma sqrt(12 / (w^3 dt^2)) / U), three times MAX_COURSE_ERROR, so the drift is NaN and no
+    # sample is outside the envelope for it.
+    slow = circling_log(12.0, 0.05, 3.0, duration=120.0)
+    assert np.all(np.isnan(drift_angle(slow, 320.0)))
+    assert check_envelope(slow, Envelope(maximum_drift=math.radians(30.0)), 320.0).share == 0.0
 
 
 def test_a_run_wholly_outside_gets_a_message_not_an_error(tmp_path, capsys):

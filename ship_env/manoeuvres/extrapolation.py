@@ -6,8 +6,9 @@ quantity where it first crosses one, with the value at that step: a hard-over tu
 r* 0.5844 against the runs' 0.5842 as it passes, whatever r* it then settles at. A figure read where the ship has
 gone far beyond its runs rests on the model's form, not on the runs, and its jackknife band
 (:mod:`ship_env.manoeuvres.uncertainty`) does not cover that. This module says, for each manoeuvre, how far it went:
-the largest r* = L |r| / max(u, u_min) (2.40) and rudder angle, and the lowest and highest speed along its time
-series, against the runs' ranges.
+the largest r* = L |r| / max(u, u_min) (2.40), drift angle (the heading against the course over ground, where the
+ship makes at least u_min) and rudder angle, and the lowest and highest speed along its time series, against the
+runs' ranges.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ship_env.manoeuvres.results import ManoeuvreResult
+from ship_env.manoeuvres.series import velocity_over_ground, wrap_angle
 from ship_env.model import ShipModel
 from ship_env.model.operating_point import COVERAGE_QUANTITIES, FittedRanges
 
@@ -30,8 +32,12 @@ def beyond_coverage(result: ManoeuvreResult, model: ShipModel, ranges: FittedRan
     speed = series["speed"].to_numpy()
     scheduling_speed = np.maximum(speed, model.parameter("minimum_speed"))
     rate = model.length * np.abs(series["rate_of_turn"].to_numpy()) / scheduling_speed
+    north_rate, east_rate = velocity_over_ground(*(series[key].to_numpy() for key in ("time", "north", "east")))
+    drift = np.abs(wrap_angle(series["heading"].to_numpy() - np.arctan2(east_rate, north_rate)))
+    moving = speed >= model.parameter("minimum_speed")
     sailed = {
         "rate": (float(rate.min()), float(rate.max())),
+        "drift": (0.0, float(drift[moving].max(initial=0.0))),
         "rudder": (0.0, float(np.abs(series["rudder"].to_numpy()).max())),
         "speed": (float(speed.min()), float(speed.max())),
     }

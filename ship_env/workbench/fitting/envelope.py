@@ -6,7 +6,8 @@ base model leaves out widens them (:class:`~ship_env.model.declarations.Envelope
 
 - the speed through the water is below the minimum speed or Froude number (a ship going astern too);
 - the propeller turns astern (n < 0) where the model holds for a propeller turning ahead only;
-- the drift angle (course over ground against heading, from the measured track) exceeds the maximum;
+- the drift angle (course over ground against heading, from the measured track) exceeds the maximum
+  (:func:`drift_angle`: the track smoothed as its own noise asks, the angle unknown where the noise would set it);
 - the rate of turn exceeds the maximum.
 
 :func:`check_envelope` gives, per run, the share outside and why ("61 % below 0.1 m/s; propeller
@@ -21,16 +22,28 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy.ndimage import uniform_filter1d
+from scipy.signal import savgol_filter
 
 from ship_env.model.declarations import Envelope
 from ship_env.model.effects.wave_spectrum import GRAVITY
 from ship_env.workbench.defaults import MIN_SEGMENT
 from ship_env.workbench.fitting.replay import highest_speed
+from ship_env.workbench.fitting.smoothing import noise_of
 from ship_env.workbench.logs.logs import MIN_SAMPLES, Log
 
-#: Seconds over which the track is smoothed before the course over ground is taken from it.
-COURSE_WINDOW = 1.0
+#: The course over ground's standard error that the track's smoothing aims at (:func:`drift_angle`), rad.
+COURSE_ERROR = math.radians(1.0)
+#: A sample's drift angle is unknown (NaN) where its course's standard error exceeds this, rad: the position
+#: fixes' noise, not the ship, would set it there (a ship too slow for its fixes).
+MAX_COURSE_ERROR = math.radians(3.0)
+#: The longest window the track is smoothed over, in ship lengths sailed (L / U seconds): the drift follows the
+#: rate of turn within about half of one (a sway time constant).
+COURSE_WINDOW_LENGTHS = 0.5
+#: The shortest window, samples: a quadratic through five fixes.
+MIN_COURSE_WINDOW = 5
+#: The percentile of a run's ground speed at which the window meets ``COURSE_ERROR``: the slower part of a run
+#: (a hard-over turn's) is as sure as the rest.
+SPEED_PERCENTILE = 10.0
 
 
 @dataclass(frozen=True)
@@ -89,16 +102,67 @@ def _percent(value: float) -> str:
     return "<1" if 0.0 < value < 0.5 else f"{value:.0f}"
 
 
-def drift_angle(log: Log, window: float = COURSE_WINDOW) -> np.ndarray | None:
-    """The drift angle, rad: heading minus course over ground (from the smoothed track); None without position."""
+def drift_angle(log: Log, length: float) -> np.ndarray | None:
+    """The drift angle at each sample, rad: heading minus course over ground (:func:`course_over_ground`, the ship's
+    ``length`` in m); NaN where the course is unknown; None without position."""
     if not log.has_position:
         return None
-    step = float(np.median(np.diff(log.time)))
-    width = max(1, int(round(window / step)))
-    north = uniform_filter1d(log.north, width, mode="nearest")
-    east = uniform_filter1d(log.east, width, mode="nearest")
-    course = np.arctan2(np.gradient(east, log.time), np.gradient(north, log.time))
+    assert log.north is not None and log.east is not None
+    course = course_over_ground(log.time, log.north, log.east, length)
     return np.angle(np.exp(1j * (log.heading - course)))
+
+
+def course_over_ground(time: np.ndarray, north: np.ndarray, east: np.ndarray, length: float) -> np.ndarray:
+    """The course over ground at each sample, rad; NaN where the track's noise would set it.
+
+    The course is the direction of the ground velocity, the slope of a quadratic fitted to the track over a
+    centred window of w samples (Savitzky-Golay, ``scipy.signal.savgol_filter``): in a steady turn the slope at a
+    window's centre is the tangent's, whatever the window. The window follows the track's own noise: the fixes'
+    standard deviation sigma (:func:`~.smoothing.noise_of`) gives the slope's, sigma_V =
+    sigma sqrt(12 / (dt^2 w (w^2 - 1))), and w is the shortest (at least ``MIN_COURSE_WINDOW``) for which
+    sigma_V / U stays within ``COURSE_ERROR`` at the run's slower ground speeds U (``SPEED_PERCENTILE``), and at most
+    ``COURSE_WINDOW_LENGTHS`` ship lengths sailed (L / U s), over which the drift itself moves. Where a sample's
+    course error sigma_V / |V| exceeds ``MAX_COURSE_ERROR`` (a ship slow for its fixes) the course is NaN:
+    unknown, not wild. Sea-trial fixes of 3 m at 1 Hz on a 320 m ship at about 7 m/s make w 21 samples (21 s);
+    a basin's 2 cm fixes at 5 Hz on a 7 m model at 1.2 m/s make w 7 (1.4 s). A log that holds each fix until
+    the next (most samples repeat the last) is read at its fixes and the course interpolated between them; a
+    track of fewer than ``MIN_COURSE_WINDOW`` fixes has no known course.
+    """
+    unknown = np.full(len(time), np.nan)
+    fresh = np.r_[True, (np.diff(north) != 0.0) | (np.diff(east) != 0.0)]
+    if 2 * np.count_nonzero(fresh) < len(time):
+        course = course_over_ground(time[fresh], north[fresh], east[fresh], length)
+        known = np.isfinite(course)
+        if np.count_nonzero(known) < 2:
+            return unknown
+        return np.interp(time, time[fresh][known], np.unwrap(course[known]), left=np.nan, right=np.nan)
+    if len(time) < MIN_COURSE_WINDOW:
+        return unknown
+    step = float(np.median(np.diff(time)))
+    sigma = math.sqrt(0.5 * (noise_of(north) ** 2 + noise_of(east) ** 2))
+    window = MIN_COURSE_WINDOW
+    for _ in range(2):  # U from five samples is the noise's as much as the ship's; again from the window it gave
+        speed = float(np.percentile(np.hypot(*_ground_velocity(north, east, window, step)), SPEED_PERCENTILE))
+        if not speed > 0.0:
+            return unknown
+        # sigma_V <= U COURSE_ERROR where w (w^2 - 1) >= 12 sigma^2 / (dt U COURSE_ERROR)^2.
+        needed = 12.0 * (sigma / (step * speed * COURSE_ERROR)) ** 2
+        longest = min(COURSE_WINDOW_LENGTHS * length / (speed * step), len(time))
+        window = MIN_COURSE_WINDOW
+        while window * (window**2 - 1) < needed and window + 2 <= longest:
+            window += 2
+    velocity_north, velocity_east = _ground_velocity(north, east, window, step)
+    slope_error = sigma * math.sqrt(12.0 / (step**2 * window * (window**2 - 1)))
+    known = slope_error <= MAX_COURSE_ERROR * np.hypot(velocity_north, velocity_east)
+    return np.where(known, np.arctan2(velocity_east, velocity_north), np.nan)
+
+
+def _ground_velocity(north: np.ndarray, east: np.ndarray, window: int, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """The track's velocity north and east, m/s: the slope of a quadratic over ``window`` samples about each."""
+    return (
+        savgol_filter(north, window, 2, deriv=1, delta=step, mode="interp"),
+        savgol_filter(east, window, 2, deriv=1, delta=step, mode="interp"),
+    )
 
 
 def check_envelope(log: Log, envelope: Envelope, length: float) -> EnvelopeCheck:
@@ -114,7 +178,7 @@ def check_envelope(log: Log, envelope: Envelope, length: float) -> EnvelopeCheck
         outside["froude"] = log.speed / math.sqrt(GRAVITY * length) < envelope.minimum_froude
     if log.propeller_rate is not None and envelope.propeller_ahead_only:
         outside["propeller"] = log.propeller_rate < 0.0
-    drift = drift_angle(log)
+    drift = drift_angle(log, length)
     if drift is not None and envelope.maximum_drift is not None:
         # Where the ship barely moves, its course over ground means nothing: no drift angle there.
         moving = np.ones(log.samples, dtype=bool)
@@ -171,4 +235,12 @@ def inside_logs(
     return segments, groups
 
 
-__all__ = ["MIN_SEGMENT", "EnvelopeCheck", "check_envelope", "drift_angle", "inside_logs", "segments_inside"]
+__all__ = [
+    "MIN_SEGMENT",
+    "EnvelopeCheck",
+    "check_envelope",
+    "course_over_ground",
+    "drift_angle",
+    "inside_logs",
+    "segments_inside",
+]

@@ -59,7 +59,7 @@ def coverage_samples(log: Log, model: ShipModel) -> dict[str, np.ndarray]:
     values = {"rate": model.length * np.abs(rate) / np.maximum(speed, minimum), "rudder": np.abs(log.rudder)}
     if log.speed is not None:
         values["speed"] = log.speed
-    drift = drift_angle(log)
+    drift = drift_angle(log, model.length)
     if drift is not None:
         values["drift"] = np.where(speed >= minimum, np.abs(drift), np.nan)
     if log.propeller_rate is not None:

@@ -34,10 +34,11 @@ trials (the sensors' noise drawn from another seed) and how many pass every boun
 ``--fit fit-mmg`` fits the MMG standard's 3-DOF forces by inverse dynamics instead (``ship-env fit-mmg LOGS/zigzag
 --ship PRESET -o fitted_mmg.yaml``); the fitted model and the truth sail the judged manoeuvres from the same
 approach with the same rudder programme, and each side's figures are read from its time series by the same code.
-``--zigzag-lengths`` and ``--sample-interval`` log the fitted zig-zags shorter (a basin's length) or at another rate.
+``--zigzag-lengths`` and ``--sample-interval`` log the fitted zig-zags shorter (a basin's length) or at another rate;
+``--without rate_of_turn`` (or ``speed``, ``propeller_rate``) leaves channels out of them (a basin without a gyro).
 
 Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...] [--truth PRESET|mmg|mmg-basin|kvlcc2-basin]
-          [--fit improve|fit-mmg] [--zigzag-lengths L] [--sample-interval S]
+          [--fit improve|fit-mmg] [--zigzag-lengths L] [--sample-interval S] [--without CHANNEL ...]
 """
 
 from __future__ import annotations
@@ -131,6 +132,8 @@ MMG = "mmg"
 JUDGED_RUNS = (("turning_35_stbd", 35, None), ("turning_35_port", -35, None), ("zigzag_10_stbd", 10, 10))
 #: Each judged turning circle's length in ship lengths sailed at the approach speed (two and more circles).
 TURNING_LENGTHS = 60.0
+#: The channels ``--without`` may leave out of the fitted logs.
+OPTIONAL_CHANNELS = ("rate_of_turn", "speed", "propeller_rate")
 #: No sensor noise: the truth's own figures.
 EXACT = SensorNoise(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
@@ -141,7 +144,7 @@ class Truth:
     (an external truth's particulars and rudder limit), ``dynamics`` the external truth (None: ``model``),
     ``propeller_rate`` its constant propeller rate, rps; ``zigzags`` the programme fitted, logged by ``noise``'s
     sensors every ``dt`` seconds, each ``zigzag_lengths`` ship lengths sailed (five executes of a 10/10 take about
-    20)."""
+    20), ``without`` the channels named (a basin that logs no rate of turn)."""
 
     ship: str
     model: ShipModel
@@ -151,6 +154,7 @@ class Truth:
     noise: SensorNoise = SEA_TRIAL_NOISE
     dt: float = 1.0
     zigzag_lengths: float = 30.0
+    without: tuple[str, ...] = ()
 
 
 def truth_model(ship: str = SHIP) -> ShipModel:
@@ -209,7 +213,7 @@ def sail_truth(
 def write_zigzag_logs(truth: Truth, folder: Path, seed: int) -> None:
     folder.mkdir(parents=True)
     for log in sail_truth(truth, truth.zigzags, truth.zigzag_lengths, seed, truth.noise):
-        write_log(log, folder / f"{log.name}.csv")
+        write_log(replace(log, **dict.fromkeys(truth.without)), folder / f"{log.name}.csv")
 
 
 def figures(truth_logs: Sequence[Log], model: ShipModel) -> tuple[dict[str, float], dict[str, float], str]:
@@ -308,6 +312,7 @@ def main_benchmark(
     fit: str = IMPROVE,
     zigzag_lengths: float | None = None,
     sample_interval: float | None = None,
+    without: Sequence[str] = (),
 ) -> int:
     folder = Path(tempfile.mkdtemp(prefix="free_running_")) if keep is None else keep
     truth = make_truth(truth_name, folder)
@@ -315,6 +320,7 @@ def main_benchmark(
         truth = replace(truth, zigzag_lengths=zigzag_lengths)
     if sample_interval is not None:
         truth = replace(truth, dt=sample_interval)
+    truth = replace(truth, without=tuple(without))
     truth_logs = sail_truth(truth, JUDGED_RUNS, TURNING_LENGTHS, 0, EXACT)
     verdicts = [judge(seed, folder / f"seed_{seed}", truth, truth_logs, fit) for seed in seeds]
     header = ("figure (mean of 35 deg stbd and port)", "truth", "fitted preset", "error", "within", "")
@@ -363,6 +369,14 @@ if __name__ == "__main__":
         metavar="S",
         help="the fitted zig-zags' sample interval, s (default: the truth's, 1 at sea and 0.2 in the basin)",
     )
+    parser.add_argument(
+        "--without",
+        nargs="+",
+        default=(),
+        choices=OPTIONAL_CHANNELS,
+        metavar="CHANNEL",
+        help=f"channels the fitted logs leave out, of {', '.join(OPTIONAL_CHANNELS)} (default: none)",
+    )
     arguments = parser.parse_args()
     raise SystemExit(
         main_benchmark(
@@ -372,5 +386,6 @@ if __name__ == "__main__":
             arguments.fit,
             arguments.zigzag_lengths,
             arguments.sample_interval,
+            arguments.without,
         )
     )

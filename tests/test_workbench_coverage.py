@@ -16,7 +16,7 @@ import pytest
 
 from ship_env.cli import main
 from ship_env.model import REQUIRED_EFFECTS, ShipModel
-from ship_env.workbench import FitOptions, ReplayModel, cross_validate, improve, load_logs, simulate, write_log
+from ship_env.workbench import FitOptions, Log, ReplayModel, cross_validate, improve, load_logs, simulate, write_log
 from ship_env.workbench.fitting.errors import pooled, run_errors
 from ship_env.workbench.judging.bands import jackknife_band, jackknife_bands
 from ship_env.workbench.judging.compare import held_out_comparison, plot_run
@@ -92,6 +92,25 @@ def test_turning_runs_beyond_the_zigzags_are_flagged_with_the_share_and_the_reas
     # A zig-zag like the fitted ones (other noise and wind) stays inside.
     _, again = zigzags(10.0, seed=11)
     assert all(check_coverage(log, coverage, model).exceedances == () for log in again)
+
+
+def test_a_log_without_a_gyro_takes_its_rate_of_turn_from_the_smoothed_heading():
+    """A 320 m tanker's zig-zag in closed form, heading 10 deg sin(2 pi t / 300 s), read by a 0.5 deg compass every
+    second and no rate gyro. The heading's plain derivative has noise sigma / (sqrt(2) dt) = 0.35 deg/s, above the
+    ship's own largest rate (0.21 deg/s): the coverage took it for r*, nearly five times the ship's. The rate smoothed
+    as the heading's noise asks comes an order of magnitude closer, and the coverage's r* within a third of the
+    closed form's largest."""
+    amplitude, period, sigma, length, speed = math.radians(10.0), 300.0, math.radians(0.5), 320.0, 8.0
+    time = np.arange(0.0, 1200.0, 1.0)
+    heading = amplitude * np.sin(2.0 * math.pi * time / period)
+    rate = amplitude * 2.0 * math.pi / period * np.cos(2.0 * math.pi * time / period)
+    noisy = heading + np.random.default_rng(0).normal(0.0, sigma, len(time))
+    log = Log(name="zigzag", time=time, heading=noisy, rudder=np.zeros(len(time)), speed=np.full(len(time), speed))
+    derivative_noise = sigma / math.sqrt(2.0)
+    assert np.sqrt(np.mean((np.gradient(noisy, time) - rate) ** 2)) == pytest.approx(derivative_noise, rel=0.1)
+    assert np.sqrt(np.mean((log.rate_of_turn_or_smoothed - rate) ** 2)) <= 0.1 * derivative_noise
+    largest = length * np.max(np.abs(rate)) / speed
+    assert coverage_of([log], ShipModel("kvlcc2")).ranges["rate"].high == pytest.approx(largest, rel=1.0 / 3.0)
 
 
 def test_the_errors_inside_and_beyond_the_coverage_pool_to_the_whole_run():

@@ -28,7 +28,8 @@ from ship_env.model.mmg_fitted import MmgFitted, MmgRecord, mmg_document, read_m
 from ship_env.model.mmg_form import INFLOW_TERMS, PROPELLER_POSITION, WAKE_DECAY, MmgForm, derivatives, force_regressors
 from ship_env.workbench import ReplayModel
 from ship_env.workbench.fitting.inverse_dynamics import IdentificationError, identify, rigid_body
-from ship_env.workbench.fitting.smoothing import SmoothingError, noise_of, smooth_channels
+from ship_env.workbench.fitting.smoothing import SmoothingError
+from ship_env.workbench.logs.channel_smoother import noise_of, smooth_channels
 from ship_env.workbench.logs.logs import Log, write_log
 from ship_env.workbench.synthetic.synthetic import LogSettings, Manoeuvre, SensorNoise, sail_all
 

@@ -191,7 +191,7 @@ def from_workbench_log(log: Log, service_speed: float | None = None) -> Excitati
         raise ExcitationLogError(
             f"log {log.name!r}: rudder is the {log.rudder_kind} rudder; the estimators need the actual rudder angle"
         )
-    rate = log.rate_of_turn_or_gradient
+    rate = log.rate_of_turn_or_smoothed
     if log.speed is not None:
         speed = log.speed
     else:

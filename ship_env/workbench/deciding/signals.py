@@ -258,7 +258,7 @@ def _smoothed(values: np.ndarray, time: np.ndarray, derivative: int = 0) -> np.n
 def _log_samples(setup: ReplayModel, log: Log) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """One log's missing yaw acceleration and its smoothed signals."""
     model = setup.model
-    rate = log.rate_of_turn_or_gradient
+    rate = log.rate_of_turn_or_smoothed
     rate_smooth = _smoothed(rate, log.time)
     measured_acceleration = _smoothed(rate, log.time, derivative=1)
     speed = np.full(log.samples, model.service_speed if log.service_speed is None else log.service_speed)

@@ -28,7 +28,7 @@ from ship_env.model.declarations import Envelope
 from ship_env.model.effects.wave_spectrum import GRAVITY
 from ship_env.workbench.defaults import MIN_SEGMENT
 from ship_env.workbench.fitting.replay import highest_speed
-from ship_env.workbench.fitting.smoothing import noise_of
+from ship_env.workbench.logs.channel_smoother import noise_of
 from ship_env.workbench.logs.logs import MIN_SAMPLES, Log
 
 #: The course over ground's standard error that the track's smoothing aims at (:func:`drift_angle`), rad.
@@ -118,7 +118,7 @@ def course_over_ground(time: np.ndarray, north: np.ndarray, east: np.ndarray, le
     The course is the direction of the ground velocity, the slope of a quadratic fitted to the track over a
     centred window of w samples (Savitzky-Golay, ``scipy.signal.savgol_filter``): in a steady turn the slope at a
     window's centre is the tangent's, whatever the window. The window follows the track's own noise: the fixes'
-    standard deviation sigma (:func:`~.smoothing.noise_of`) gives the slope's, sigma_V =
+    standard deviation sigma (:func:`~ship_env.workbench.logs.channel_smoother.noise_of`) gives the slope's, sigma_V =
     sigma sqrt(12 / (dt^2 w (w^2 - 1))), and w is the shortest (at least ``MIN_COURSE_WINDOW``) for which
     sigma_V / U stays within ``COURSE_ERROR`` at the run's slower ground speeds U (``SPEED_PERCENTILE``), and at most
     ``COURSE_WINDOW_LENGTHS`` ship lengths sailed (L / U s), over which the drift itself moves. Where a sample's
@@ -186,7 +186,7 @@ def check_envelope(log: Log, envelope: Envelope, length: float) -> EnvelopeCheck
             moving = log.speed >= envelope.minimum_speed
         outside["drift"] = moving & (np.abs(drift) > envelope.maximum_drift)
     if envelope.maximum_rate is not None:
-        rate = log.rate_of_turn_or_gradient
+        rate = log.rate_of_turn_or_smoothed
         outside["rate"] = np.abs(rate) > envelope.maximum_rate
     return EnvelopeCheck(log.name, envelope, outside)
 

@@ -322,7 +322,7 @@ def pack_runs(logs: Sequence[Log], model: ShipModel, window: float | None = None
         rudder=np.concatenate([log.rudder for log in logs]),
         conditions=np.concatenate(conditions),
         heading=np.concatenate([log.heading for log in logs]),
-        rate_of_turn=np.concatenate([log.rate_of_turn_or_gradient for log in logs]),
+        rate_of_turn=np.concatenate([log.rate_of_turn_or_smoothed for log in logs]),
         initial_states=initial_states,
         measured_speed_loss=np.concatenate(measured_speed_loss),
     )

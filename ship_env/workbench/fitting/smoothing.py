@@ -2,56 +2,38 @@
 
 Inverse dynamics (:mod:`.inverse_dynamics`) needs the accelerations, which no log measures, and the sway
 velocity v, which few do. Both come from the measured channels through filterpy's Kalman filter and
-Rauch-Tung-Striebel smoother on a constant-acceleration model, one per channel group:
+Rauch-Tung-Striebel smoother on a constant-acceleration model (:mod:`~ship_env.workbench.logs.channel_smoother`:
+the state, the model, the noise and how the jerk's intensity follows the log), one per channel group:
 
-- state x = (s, ds/dt, d^2s/dt^2) of the smoothed quantity s; x_{k+1} = F x_k + w_k with
-  F = [[1, dt, dt^2 / 2], [0, 1, dt], [0, 0, 1]], w_k the continuous white jerk of spectral density q integrated
-  over the step (``filterpy.common.Q_continuous_white_noise``: the acceleration a continuous random walk, so an
-  exact log's smoothed acceleration is an interpolating quintic spline's). The discrete white-noise model holds the
-  acceleration constant over each step, and its smoothed acceleration lags half a sample wherever it changes (a
-  rudder moving): 3-4 % of dv/dt and dr/dt in exact logs of a known ship, which put its hard-over turn's rate 6 %
-  off (``docs/results/free_running.md``);
-- measurement z_k = H x_k + e_k, e_k ~ N(0, R):
+- the position north and east (one filter each), s the position, z = s;
+- the heading psi with the rate gyro, z = (psi, r) where the log has a rate channel, else z = psi;
+- the speed through the water u, z = u.
 
-  - the position north and east (one filter each), s the position, z = s;
-  - the heading psi with the rate gyro, z = (psi, r) where the log has a rate channel, else z = psi;
-  - the speed through the water u, z = u.
-
-R is each channel's own noise, estimated from the log (:func:`noise_of`: the third differences of white noise
-have variance 20 sigma^2; their median absolute deviation is robust to the manoeuvre's own jerk). q is chosen
-by maximum likelihood of the filter's innovations over a grid of decades (:func:`jerk_intensity`), so the
-smoothing follows the log's sampling and noise, not a setting. The body-frame sway velocity and its rate come
-from the smoothed ground velocity (V_N, V_E) and acceleration (A_N, A_E) in the water (no current):
+The body-frame sway velocity and its rate come from the smoothed ground velocity (V_N, V_E) and acceleration
+(A_N, A_E) in the water (no current):
 
     v = -V_N sin(psi) + V_E cos(psi),    dv/dt = -A_N sin(psi) + A_E cos(psi) - r (V_N cos(psi) + V_E sin(psi)).
 
-A run sampled at unequal intervals is interpolated onto equal ones first (:func:`uniform`); one with a gap in its
-time (more than ``LONGEST_GAP`` sample intervals: a logger that dropped samples) is smoothed piece by piece between
-its gaps (:func:`pieces_between_gaps`), since no filter should bridge them. A log of rudder orders is turned into the
-actual rudder by the steering machine's rate (:func:`actual_rudder`). The smoothed rates are poor within a few
-samples of a piece's ends; :attr:`SmoothedRun.kept` leaves out the first and last ``EDGE_LENGTHS`` ship lengths
-sailed of each.
+A run sampled at unequal intervals is interpolated onto equal ones first (``channel_smoother.uniform``); one with a
+gap in its time (more than ``LONGEST_GAP`` sample intervals: a logger that dropped samples) is smoothed piece by
+piece between its gaps (:func:`pieces_between_gaps`), since no filter should bridge them. A log of rudder orders is
+turned into the actual rudder by the steering machine's rate (:func:`actual_rudder`). The smoothed rates are poor
+within a few samples of a piece's ends; :attr:`SmoothedRun.kept` leaves out the first and last ``EDGE_LENGTHS``
+ship lengths sailed of each.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
 import numpy as np
-from filterpy.common import Q_continuous_white_noise
-from numpy.polynomial.polynomial import polyfit
-from scipy.linalg import solve_discrete_are
 
-from ship_env.model.kernel import kernel
+from ship_env.workbench.logs.channel_smoother import START_SAMPLES, noise_of, smooth_channels, uniform
 from ship_env.workbench.logs.logs import MIN_SAMPLES, Log
 
 #: Ship lengths sailed at each end of a run whose smoothed rates are left out.
 EDGE_LENGTHS = 0.5
-#: The jerk intensities tried, as q dt^5 / sigma^2 (the filter's behaviour depends on this ratio alone): from heavy
-#: smoothing to interpolation (a log with no noise but its digits', whose innovations are likeliest at the largest).
-JERK_RATIOS = 10.0 ** np.arange(-9.0, 7.0)
 #: The channels a run must have to be smoothed into states, in words (the position gives the sway).
 REQUIRED_CHANNELS = {
     "north": "position (channels 'north' and 'east')",
@@ -61,10 +43,6 @@ REQUIRED_CHANNELS = {
 #: The longest gap in a run's time, in median sample intervals, across which its channels are interpolated; a run is
 #: smoothed piece by piece between longer ones.
 LONGEST_GAP = 5.0
-#: The samples a filter's start is fitted to.
-START_SAMPLES = 10
-#: The smallest measurement noise assumed, as a fraction of the channel's range (an exact log's noise is 0).
-NOISE_FLOOR = 1e-9
 
 
 class SmoothingError(ValueError):
@@ -101,112 +79,6 @@ class SmoothedRun:
     noise: dict[str, float]
 
 
-def noise_of(values: np.ndarray) -> float:
-    """A channel's white-noise standard deviation: the third differences' median absolute deviation over
-    sqrt(20) (their variance is 20 sigma^2 for white noise), scaled to a standard deviation (1.4826); at least
-    :data:`NOISE_FLOOR` times the channel's range."""
-    third = np.diff(values, 3)
-    spread = 1.4826 * float(np.median(np.abs(third - np.median(third)))) / math.sqrt(20.0)
-    return max(spread, NOISE_FLOOR * max(float(np.ptp(values)), 1.0))
-
-
-@dataclass(frozen=True)
-class SteadyFilter:
-    """The steady-state Kalman filter and Rauch-Tung-Striebel smoother of one channel group: the gains the
-    time-varying ones converge to (Anderson & Moore 1979, ch. 4 and 7), from the discrete algebraic Riccati
-    equation (``scipy.linalg.solve_discrete_are``).
-
-    Attributes:
-        transition: F, (3, 3).
-        measurement: H, (m, 3).
-        gain: the Kalman gain K, (3, m).
-        innovation: the innovations' covariance S = H P H^T + R, (m, m), P the predicted state's covariance.
-        smoother_gain: the smoother's C = P_f F^T P^-1, (3, 3), P_f the filtered state's covariance.
-    """
-
-    transition: np.ndarray
-    measurement: np.ndarray
-    gain: np.ndarray
-    innovation: np.ndarray
-    smoother_gain: np.ndarray
-
-    @classmethod
-    def of(cls, noises: np.ndarray, dt: float, ratio: float) -> SteadyFilter:
-        """The filter of the first ``len(noises)`` state components measured with these noises, the jerk's
-        intensity q = ``ratio`` sigma^2 / dt^5 (sigma the first channel's noise)."""
-        transition = np.array([[1.0, dt, 0.5 * dt**2], [0.0, 1.0, dt], [0.0, 0.0, 1.0]])
-        measurement = np.eye(3)[: len(noises)]
-        jerk = Q_continuous_white_noise(3, dt, ratio * noises[0] ** 2 / dt**5)
-        noise = np.diag(noises**2)
-        predicted = solve_discrete_are(transition.T, measurement.T, jerk, noise)
-        innovation = measurement @ predicted @ measurement.T + noise
-        gain = predicted @ measurement.T @ np.linalg.inv(innovation)
-        filtered = (np.eye(3) - gain @ measurement) @ predicted
-        smoother_gain = filtered @ transition.T @ np.linalg.inv(predicted)
-        return cls(transition, measurement, gain, innovation, smoother_gain)
-
-    def filtered(self, measured: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(samples, 3) filtered states and (samples, m) innovations of ``measured`` (samples, m), started from a
-        quadratic through the first :data:`START_SAMPLES` values (its value, slope and curvature at the first)."""
-        count = min(START_SAMPLES, len(measured))
-        dt = self.transition[0, 1]
-        value, slope, half_curvature = polyfit(dt * np.arange(count), measured[:count, 0], 2)
-        start = np.array([value, slope, 2.0 * half_curvature])
-        return _filter_pass(measured, start, self.transition, self.measurement, self.gain)
-
-    def smoothed(self, measured: np.ndarray) -> np.ndarray:
-        """(samples, 3): the smoothed states (the filter forward, the smoother backward)."""
-        filtered, _ = self.filtered(measured)
-        return _smoother_pass(filtered, self.transition, self.smoother_gain)
-
-    def log_likelihood(self, measured: np.ndarray, settle: int) -> float:
-        """The innovations' log-likelihood (constant left out), the first ``settle`` samples left out."""
-        _, innovations = self.filtered(measured)
-        kept = innovations[settle:]
-        weighted = np.linalg.solve(self.innovation, kept.T)
-        return -0.5 * float(len(kept) * np.linalg.slogdet(self.innovation)[1] + np.sum(kept.T * weighted))
-
-
-@kernel
-def _filter_pass(measured, start, transition, measurement, gain):
-    """The filter's recursion from the first sample's predicted state ``start``: innovation e = z - H x, update
-    x += K e, predict x = F x."""
-    count = measured.shape[0]
-    states = np.empty((count, 3))
-    innovations = np.empty(measured.shape)
-    state = start.copy()
-    for k in range(count):
-        predicted = transition @ state if k > 0 else state
-        innovations[k] = measured[k] - measurement @ predicted
-        state = predicted + gain @ innovations[k]
-        states[k] = state
-    return states, innovations
-
-
-@kernel
-def _smoother_pass(filtered, transition, smoother_gain):
-    """The smoother's recursion, backward: x_s[k] = x_f[k] + C (x_s[k + 1] - F x_f[k])."""
-    smoothed = filtered.copy()
-    for k in range(filtered.shape[0] - 2, -1, -1):
-        smoothed[k] = filtered[k] + smoother_gain @ (smoothed[k + 1] - transition @ filtered[k])
-    return smoothed
-
-
-def jerk_intensity(measured: np.ndarray, noises: np.ndarray, dt: float) -> float:
-    """The ratio of :data:`JERK_RATIOS` whose filter's innovations are most likely (the first samples, while the
-    filter settles from its start, left out)."""
-    settle = min(20, len(measured) // 4)
-    likelihoods = [SteadyFilter.of(noises, dt, float(ratio)).log_likelihood(measured, settle) for ratio in JERK_RATIOS]
-    return float(JERK_RATIOS[int(np.argmax(likelihoods))])
-
-
-def smooth_channels(measured: np.ndarray, dt: float) -> np.ndarray:
-    """(samples, 3): the smoothed value, rate and acceleration of the first column of ``measured`` (samples,
-    channels: the value, then its rate where measured)."""
-    noises = np.array([noise_of(measured[:, k]) for k in range(measured.shape[1])])
-    return SteadyFilter.of(noises, dt, jerk_intensity(measured, noises, dt)).smoothed(measured)
-
-
 def pieces_between_gaps(log: Log) -> list[Log]:
     """``log`` cut at each gap in its time of more than :data:`LONGEST_GAP` median sample intervals, each piece of
     :data:`START_SAMPLES` samples or more, as many as a log holds (``[log]`` where it has no gap)."""
@@ -220,17 +92,6 @@ def pieces_between_gaps(log: Log) -> list[Log]:
         for first, stop in zip(edges[:-1], edges[1:], strict=True)
         if stop - first >= max(START_SAMPLES, MIN_SAMPLES)
     ]
-
-
-def uniform(log: Log) -> tuple[np.ndarray, float]:
-    """The sample times a run without gaps (:func:`pieces_between_gaps`) is smoothed at, and their interval: its own
-    where they are equally spaced (within 1 %), else its median interval from its first sample to its last, each
-    channel interpolated linearly there."""
-    steps = np.diff(log.time)
-    dt = float(np.median(steps))
-    if np.max(np.abs(steps - dt)) <= 0.01 * dt:
-        return log.time, dt
-    return log.time[0] + dt * np.arange(int((log.time[-1] - log.time[0]) / dt) + 1), dt
 
 
 def actual_rudder(log: Log, times: np.ndarray, rudder_rate: float) -> np.ndarray:
@@ -292,7 +153,7 @@ def _smooth_piece(
 ) -> SmoothedRun:
     """One piece of a run without gaps, smoothed (:func:`smooth_run`), with the whole run's ``noise``."""
     assert log.north is not None and log.east is not None and log.speed is not None  # checked by smooth_run
-    times, dt = uniform(log)
+    times, dt = uniform(log.time)
 
     def sampled(values: np.ndarray) -> np.ndarray:
         return values if times is log.time else np.interp(times, log.time, values)
@@ -335,9 +196,5 @@ __all__ = [
     "actual_rudder",
     "pieces_between_gaps",
     "SmoothingError",
-    "jerk_intensity",
-    "noise_of",
-    "smooth_channels",
     "smooth_run",
-    "uniform",
 ]

@@ -55,7 +55,7 @@ def coverage_samples(log: Log, model: ShipModel) -> dict[str, np.ndarray]:
     minimum = model.parameter("minimum_speed")
     service = model.service_speed if log.service_speed is None else log.service_speed
     speed = np.full(log.samples, service) if log.speed is None else log.speed
-    rate = log.rate_of_turn_or_gradient
+    rate = log.rate_of_turn_or_smoothed
     values = {"rate": model.length * np.abs(rate) / np.maximum(speed, minimum), "rudder": np.abs(log.rudder)}
     if log.speed is not None:
         values["speed"] = log.speed

@@ -93,7 +93,7 @@ class Series:
         """The measured series, or None for a log without a track (north and east)."""
         if log.north is None or log.east is None:
             return None
-        return cls(log.time, log.north, log.east, log.heading, log.rate_of_turn_or_gradient, log.rudder, log.speed)
+        return cls(log.time, log.north, log.east, log.heading, log.rate_of_turn_or_smoothed, log.rudder, log.speed)
 
 
 @dataclass(frozen=True)
@@ -304,7 +304,7 @@ def sail_free(setup: ReplayModel, log: Log, manoeuvre: Manoeuvre, dynamics: Dyna
         [log.name],
         2.0 * (log.time[-1] - start) if zigzag else manoeuvre.end - start,
         (lambda simulator: helmsman.executes > ZIGZAG_EXECUTES) if zigzag else None,
-        initial_rate_of_turn=np.array([at(log.rate_of_turn_or_gradient)]),
+        initial_rate_of_turn=np.array([at(log.rate_of_turn_or_smoothed)]),
         initial_rudder=at(log.rudder),
         conditions=conditions,
         initial_heading=heading0,
@@ -542,7 +542,7 @@ def _sailed_errors(result: RunFigures, log: Log) -> RunErrors:
         return float(np.sqrt(np.mean((np.interp(time, series.time, predicted) - measured[inside]) ** 2)))
 
     heading = rms(series.heading, log.heading)
-    rate = rms(series.rate_of_turn, log.rate_of_turn_or_gradient)
+    rate = rms(series.rate_of_turn, log.rate_of_turn_or_smoothed)
     return RunErrors(result.run, time.size, heading, rate, math.nan, math.nan, rms(series.speed, log.speed))
 
 

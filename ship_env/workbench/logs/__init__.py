@@ -1,6 +1,7 @@
 """The workbench's first stage, the logs: ``formats`` (the declared columns and units of a log
-file, :class:`~ship_env.workbench.logs.formats.LogFormat`) and ``logs`` (reading, checking and
-writing logs, :class:`~ship_env.workbench.logs.logs.Log`).
+file, :class:`~ship_env.workbench.logs.formats.LogFormat`), ``logs`` (reading, checking and
+writing logs, :class:`~ship_env.workbench.logs.logs.Log`) and ``channel_smoother`` (a noisy
+channel's value, rate and acceleration, filterpy's Kalman filter and RTS smoother).
 
 Layer rule: the workbench's stages are, in order, ``logs``, ``fitting``, ``judging``, ``deciding``,
 ``reporting`` and ``synthetic``; a stage imports only from the stages before it, from

@@ -5,6 +5,7 @@ residual signals take the rate with its sign, as its replay does."""
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -81,7 +82,7 @@ def test_the_residual_signals_take_the_propeller_rate_with_its_sign():
     what it is when the astern rate is read as a stopped propeller (what clipping the rate at 0 did)."""
     model = _astern_model()
     log = _sailed_log(model, ASTERN)
-    stopped = Log(**{**vars(log), "propeller_rate": np.zeros(log.samples)})
+    stopped = replace(log, propeller_rate=np.zeros(log.samples))
     setup = ReplayModel(model)
     signed = residual_signals(setup, [log]).residual
     clipped = residual_signals(setup, [stopped]).residual

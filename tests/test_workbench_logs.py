@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import math
 
@@ -285,3 +286,20 @@ def test_every_nth_sample():
 def test_a_log_built_in_code_is_checked():
     with pytest.raises(LogError, match="channel 'rudder' must be 20 finite values"):
         Log("x", np.arange(20.0), np.zeros(20), np.zeros(19))
+
+
+@pytest.mark.parametrize("gyro", [True, False])
+def test_a_log_does_not_change_once_made(gyro):
+    """The fit's worker processes receive the logs by pickle, from a thread of their own while the fit reads them: a
+    log that filled a cache on first use changed under that thread ("dictionary changed size during iteration",
+    the Esso ladder's first parallel screening). Every property read leaves the log as it was made, with or without
+    a rate gyro (whose absence the heading's smoothed rate stands in for)."""
+    frame = standard_frame()
+    log = log_from_frame(frame if gyro else frame.drop(columns="rate_of_turn"), name="turn")
+    made = dict(vars(log))
+    for name in dir(type(log)):
+        if isinstance(getattr(type(log), name), (property, functools.cached_property)):
+            getattr(log, name)
+    assert vars(log).keys() == made.keys()
+    assert all(vars(log)[key] is made[key] for key in made)
+    np.testing.assert_allclose(log.rate_of_turn_or_smoothed, 0.01, rtol=1e-6)

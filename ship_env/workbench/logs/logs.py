@@ -121,6 +121,7 @@ class Log:
     service_speed: float | None = None
     source: str = ""
     notes: tuple[str, ...] = field(default_factory=tuple)
+    _rate_of_turn: np.ndarray = field(init=False, repr=False, compare=False)  # rate_of_turn_or_smoothed
 
     def __post_init__(self) -> None:
         count = len(self.time)
@@ -132,6 +133,9 @@ class Log:
                 raise LogError(f"log {self.name!r}: channel {name!r} must be {count} finite values")
         if count < MIN_SAMPLES or np.any(np.diff(self.time) <= 0.0):
             raise LogError(f"log {self.name!r}: time must hold at least {MIN_SAMPLES} increasing samples")
+        # Smoothed here, once, not on first use: a log must not change while a worker's pickler reads it.
+        rate = smoothed_rate(self.time, self.heading) if self.rate_of_turn is None else self.rate_of_turn
+        object.__setattr__(self, "_rate_of_turn", rate)
 
     @property
     def samples(self) -> int:
@@ -141,12 +145,12 @@ class Log:
     def duration(self) -> float:
         return float(self.time[-1] - self.time[0])
 
-    @functools.cached_property
+    @property
     def rate_of_turn_or_smoothed(self) -> np.ndarray:
         """The measured rate of turn, rad/s, or where the log has none the heading's rate smoothed as the heading's
         own noise asks (:func:`~ship_env.workbench.logs.channel_smoother.smoothed_rate`): a compass of 0.5 deg read
         every second makes the plain derivative's noise 0.35 deg/s, a tanker's whole rate in a zig-zag."""
-        return smoothed_rate(self.time, self.heading) if self.rate_of_turn is None else self.rate_of_turn
+        return self._rate_of_turn
 
     @property
     def has_position(self) -> bool:

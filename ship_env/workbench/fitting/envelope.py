@@ -31,7 +31,7 @@ from ship_env.workbench.fitting.replay import highest_speed
 from ship_env.workbench.logs.channel_smoother import noise_of
 from ship_env.workbench.logs.logs import MIN_SAMPLES, Log
 
-#: The course over ground's standard error that the track's smoothing aims at (:func:`drift_angle`), rad.
+#: The course over ground's standard error that the track's smoothing aims at (:func:`course_over_ground`), rad.
 COURSE_ERROR = math.radians(1.0)
 #: A sample's drift angle is unknown (NaN) where its course's standard error exceeds this, rad: the position
 #: fixes' noise, not the ship, would set it there (a ship too slow for its fixes).

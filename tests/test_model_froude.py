@@ -65,6 +65,10 @@ def test_every_unit_is_scaled_by_its_dimensions():
         "m^2": 2.0,
         "kg": 3.0,
         "kg*m^2": 5.0,
+        "U0": 0.0,  # the ship's own speed and length: the same fraction of them at every scale
+        "U0/L": 0.0,
+        "L": 0.0,
+        "L/U0": 0.0,
     }
     assert {unit: unit_exponent(unit, "test") for unit in expected} == expected
 
@@ -89,7 +93,9 @@ def test_scaled_preset_values(ships):
     assert math.degrees(model.parameter("steering_machine.rudder_rate")) == pytest.approx(15.68, abs=0.01)
     for key in ("yaw.gain", "yaw.time_constant", "norrbin.cubic", "sway.linear", "wind_drift.force_ratio"):
         assert model.parameter(key) == full.parameter(key)
-    assert model.parameter("propeller_slipstream.propeller_diameter") == pytest.approx(9.87 * SCALE, rel=1e-15)
+    diameter = model.parameter("propeller_slipstream.propeller_diameter")
+    assert diameter == pytest.approx(full.parameter("propeller_slipstream.propeller_diameter") * SCALE, rel=1e-14)
+    assert diameter == pytest.approx(0.216, abs=1e-5)  # Yasukawa & Yoshimura 2015, Table 1: the 7 m model's D_P
     assert model.parameter("wind_moment.yaw_coefficient") == pytest.approx(2.4e-8 / SCALE**2, rel=1e-15)
     assert model.parameter("gusts.time_constant") == pytest.approx(10.0 * math.sqrt(SCALE), rel=1e-15)
     assert model.envelope.maximum_rate == pytest.approx(full.envelope.maximum_rate / math.sqrt(SCALE), rel=1e-15)

@@ -216,6 +216,65 @@ def test_config_units_convert_and_mismatched_units_are_rejected(tmp_path):
         load_ship(path)
 
 
+def test_a_number_in_the_ship_s_own_length_and_speed_converts_by_them(tmp_path):
+    """U0, U0/L, L and L/U0: fractions of the ship's own service speed and length, read after them."""
+    ship = load_ship(CONTAINER)
+    length, speed = ship.principal["length"], ship.principal["service_speed"]
+
+    def relative(document):
+        document["envelope"]["minimum_speed"].update(value=0.2, unit="U0")
+        document["envelope"]["maximum_rate"].update(value=1.5, unit="U0/L")
+        document["effects"]["propeller_slipstream"]["propeller_diameter"].update(value=0.03, unit="L")
+        document["effects"]["gusts"]["time_constant"].update(value=0.5, unit="L/U0")
+        document["principal"]["minimum_speed"].update(value=0.05, unit="U0")
+
+    read = load_ship(_write_variant(tmp_path, relative))
+    assert read.envelope.minimum_speed == pytest.approx(0.2 * speed, rel=1e-15)
+    assert read.envelope.maximum_rate == pytest.approx(1.5 * speed / length, rel=1e-15)
+    assert read.values["propeller_slipstream"]["propeller_diameter"] == pytest.approx(0.03 * length, rel=1e-15)
+    assert read.values["gusts"]["time_constant"] == pytest.approx(0.5 * length / speed, rel=1e-15)
+    assert read.principal["minimum_speed"] == pytest.approx(0.05 * speed, rel=1e-15)
+    wrong = _write_variant(tmp_path, lambda d: d["envelope"]["minimum_speed"].update(value=1.0, unit="L"))
+    with pytest.raises(ValueError, match=r"envelope.minimum_speed: unit 'L' cannot be converted to 'm/s'"):
+        load_ship(wrong)
+    above = _write_variant(tmp_path, lambda d: d["envelope"]["minimum_speed"].update(value=9.6, unit="m/s"))
+    with pytest.raises(ValueError, match=r"envelope.minimum_speed: 9.6 m/s is not below the service speed 9.5 m/s"):
+        load_ship(above)
+    circular = _write_variant(tmp_path, lambda d: d["principal"]["service_speed"].update(value=1.0, unit="U0"))
+    with pytest.raises(ValueError, match=r"principal.service_speed: unit 'U0' cannot be converted .*read first"):
+        load_ship(circular)
+
+
+def test_a_preset_scaled_by_hand_keeps_its_assumed_limits_in_proportion(tmp_path):
+    """A user who writes a built-in preset at model scale by editing its particulars (length, breadth, draught,
+    service speed, rudder rate) gets the envelope, the speed floor and the propeller that ``ship-env scale`` gives:
+    the presets write these in the ship's own length and speed. Before, the 7 m KVLCC2 kept the full-scale
+    tanker's 2 m/s minimum speed, above its 1.18 m/s service speed, and every run lay outside the envelope."""
+    for name in ("kvlcc2", CONTAINER):
+        full = ShipModel(name)
+        lam = 7.0 / full.length
+        scaled = full.scaled(length=7.0)
+
+        def by_hand(document, lam=lam):
+            principal = document["principal"]
+            for key in ("length", "breadth", "draught"):
+                principal[key]["value"] *= lam
+            principal["service_speed"]["value"] *= math.sqrt(lam)
+            document["effects"]["steering_machine"]["rudder_rate"]["value"] /= math.sqrt(lam)
+
+        document = yaml.safe_load(load_ship(name).path.read_text())
+        by_hand(document)
+        path = tmp_path / f"{name}_by_hand.yaml"
+        path.write_text(yaml.safe_dump(document))
+        hand = load_ship(path)
+        for limit in ("minimum_speed", "maximum_rate"):
+            assert getattr(hand.envelope, limit) == pytest.approx(getattr(scaled.ship.envelope, limit), rel=1e-12)
+        assert hand.envelope.minimum_speed < 0.3 * hand.principal["service_speed"]
+        assert hand.principal["minimum_speed"] == pytest.approx(scaled.parameter("minimum_speed"), rel=1e-12)
+        diameter = hand.values["propeller_slipstream"]["propeller_diameter"]
+        assert diameter == pytest.approx(scaled.parameter("propeller_slipstream.propeller_diameter"), rel=1e-12)
+
+
 def test_config_number_without_a_source_is_rejected(tmp_path):
     path = _write_variant(tmp_path, lambda d: d["effects"]["yaw"]["gain"].pop("source"))
     with pytest.raises(ValueError, match=r"yaw.gain: every number needs a 'source'"):

@@ -12,7 +12,7 @@ base model leaves out (e.g. propeller astern) widens it when it is on.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, fields
 
 #: What a parameter's material size may be given per (``Parameter.material_per``): the ship's
@@ -31,6 +31,23 @@ UNIT_CONVERSIONS: dict[str, tuple[str, float]] = {
     "kn": ("m/s", 1852.0 / 3600.0),
     "rpm": ("rps", 1.0 / 60.0),
 }
+
+#: Units relative to the ship itself, which a preset may use where a number is a fraction of its own length L or
+#: service speed U0 (an assumed limit such as "a quarter of the service speed"): the number then holds for the
+#: same hull at any length a preset gives it, written by hand or by ``ship-env scale``, and Froude scaling keeps it.
+SHIP_RELATIVE_UNITS: dict[str, tuple[str, Callable[[float, float], float]]] = {
+    "L": ("m", lambda length, service_speed: length),
+    "U0": ("m/s", lambda length, service_speed: service_speed),
+    "U0/L": ("rad/s", lambda length, service_speed: service_speed / length),
+    "L/U0": ("s", lambda length, service_speed: length / service_speed),
+}
+
+
+def ship_units(length: float, service_speed: float) -> dict[str, tuple[str, float]]:
+    """The conversions of :data:`UNIT_CONVERSIONS` and of :data:`SHIP_RELATIVE_UNITS` for a ship of this length
+    (m) and service speed (m/s), as :meth:`Parameter.convert` takes them."""
+    relative = {unit: (target, factor(length, service_speed)) for unit, (target, factor) in SHIP_RELATIVE_UNITS.items()}
+    return {**UNIT_CONVERSIONS, **relative}
 
 
 @dataclass(frozen=True)
@@ -82,15 +99,20 @@ class Parameter:
             return None
         return self.material * MATERIAL_REFERENCES[self.material_per](length, service_speed)
 
-    def convert(self, value: object, unit: str | None, where: str) -> float:
-        """Check a value read from a config and convert it to this parameter's SI unit."""
+    def convert(
+        self, value: object, unit: str | None, where: str, units: Mapping[str, tuple[str, float]] = UNIT_CONVERSIONS
+    ) -> float:
+        """Check a value read from a config and convert it to this parameter's SI unit (``units``: the conversions
+        known, :func:`ship_units` where the ship's length and service speed are)."""
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise TypeError(f"{where}: expected a number in {self.unit}, got {value!r} ({type(value).__name__})")
         number = float(value)
         if unit is not None and unit != self.unit:
-            target, factor = UNIT_CONVERSIONS.get(unit, (None, 1.0))
+            target, factor = units.get(unit, (None, 1.0))
             if target != self.unit:
-                raise ValueError(f"{where}: unit {unit!r} cannot be converted to {self.unit!r}")
+                relative = f"; {', '.join(SHIP_RELATIVE_UNITS)} only where the ship's length and speed are read first"
+                known = f"{', '.join(units)}{'' if 'L' in units else relative}"
+                raise ValueError(f"{where}: unit {unit!r} cannot be converted to {self.unit!r} (units known: {known})")
             number *= factor
         if not math.isfinite(number):
             raise ValueError(f"{where}: value must be finite, got {value!r}")

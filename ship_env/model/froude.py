@@ -46,7 +46,7 @@ from typing import Any
 import yaml
 
 from ship_env.command_line import Command, UsageError, number, ship_preset
-from ship_env.model.declarations import ENVELOPE_LIMITS, UNIT_CONVERSIONS, Parameter
+from ship_env.model.declarations import ENVELOPE_LIMITS, SHIP_RELATIVE_UNITS, UNIT_CONVERSIONS, Parameter
 from ship_env.model.effects import EFFECTS
 from ship_env.model.ship import PRINCIPAL, ShipModel, load_ship, ship_from_document
 from ship_env.model.simulator import Conditions
@@ -111,12 +111,13 @@ class ScalingError(ValueError):
 def unit_exponent(unit: str, where: str) -> float:
     """The power of lambda a quantity in ``unit`` scales by (``m/s``: 0.5); ScalingError naming ``where`` if unknown.
 
-    A unit is ``-`` (dimensionless) or factors separated by ``*`` with at most one ``/`` (``rad/m^2``,
-    ``kg*m/s^2``), each a base unit (``BASE_UNIT_EXPONENTS``), ``1``, or one of ``UNIT_CONVERSIONS``
-    (``deg``, ``kn``, ``rpm``, ...: scaled as the SI unit they convert to), with an optional ``^power``.
+    A unit is ``-`` (dimensionless), one of ``SHIP_RELATIVE_UNITS`` (``U0``, ``U0/L``: kept), or factors separated
+    by ``*`` with at most one ``/`` (``rad/m^2``, ``kg*m/s^2``), each a base unit (``BASE_UNIT_EXPONENTS``), ``1``,
+    or one of ``UNIT_CONVERSIONS`` (``deg``, ``kn``, ``rpm``, ...: scaled as the SI unit they convert to), with an
+    optional ``^power``.
     """
     text = unit.strip()
-    if text == "-":
+    if text == "-" or text in SHIP_RELATIVE_UNITS:  # a fraction of the ship's own L or U0 scales with the ship
         return 0.0
     if text in UNIT_CONVERSIONS:
         return unit_exponent(UNIT_CONVERSIONS[text][0], where)
@@ -202,7 +203,9 @@ class _Rewriter:
                 section[key] = self.entry(entry, 0.0, label) if isinstance(entry, Mapping) else entry
             elif key in declarations:
                 parameter = declarations[key]
-                exponent = unit_exponent(parameter.unit, f"{label} ({parameter.description})")
+                written_in = entry.get("unit") if isinstance(entry, Mapping) else None
+                unit = written_in if written_in in SHIP_RELATIVE_UNITS else parameter.unit  # relative: kept
+                exponent = unit_exponent(unit, f"{label} ({parameter.description})")
                 if parameter.integer and exponent != 0.0:
                     raise ScalingError(f"{label}: a whole number in {parameter.unit!r} cannot be scaled")
                 section[key] = self.entry(entry, exponent, label)

@@ -44,7 +44,7 @@ import yaml
 
 from ship_env.model import draws, dynamics
 from ship_env.model import state as S
-from ship_env.model.declarations import ENVELOPE_LIMITS, Envelope, Parameter
+from ship_env.model.declarations import ENVELOPE_LIMITS, UNIT_CONVERSIONS, Envelope, Parameter, ship_units
 from ship_env.model.dynamics import FINGERPRINT_PREFIX, check_contributions, fingerprint
 from ship_env.model.effects import EFFECTS, MINIMAL_EFFECTS, REQUIRED_EFFECTS
 from ship_env.model.mmg_record import MmgRecord, mmg_record
@@ -69,6 +69,8 @@ PRINCIPAL: tuple[Parameter, ...] = (
     ),
 )
 _PRINCIPAL_BY_NAME = {parameter.name: parameter for parameter in PRINCIPAL}
+#: The principal particulars the ship-relative units (``declarations.SHIP_RELATIVE_UNITS``: L, U0) refer to.
+SHIP_SCALES = ("length", "service_speed")
 #: The sections a preset's YAML may hold.
 TOP_LEVEL_KEYS = (
     "name",
@@ -162,8 +164,15 @@ def list_ships() -> list[str]:
     return sorted(path.stem for path in (config_dir() / "ships").glob("*.yaml"))
 
 
-def _read_value(parameter: Parameter, entry: object, where: str, provenance: _Provenance) -> float:
-    """A number's value in SI units; its source, whether it is assumed and its standard error go to ``provenance``."""
+def _read_value(
+    parameter: Parameter,
+    entry: object,
+    where: str,
+    provenance: _Provenance,
+    units: Mapping[str, tuple[str, float]] = UNIT_CONVERSIONS,
+) -> float:
+    """A number's value in SI units (``units``: the conversions known, :func:`ship_units` once the ship's length and
+    service speed are read); its source, whether it is assumed and its standard error go to ``provenance``."""
     if not isinstance(entry, Mapping):
         raise TypeError(f"{where}: expected a mapping with 'value' and 'source', got {entry!r}")
     unknown = set(entry) - {"value", "unit", "source", "assumed", "std_error"}
@@ -187,11 +196,13 @@ def _read_value(parameter: Parameter, entry: object, where: str, provenance: _Pr
     if "std_error" in entry:
         spread = replace(parameter, minimum=0.0, maximum=math.inf, integer=False)
         error = entry["std_error"]
-        provenance.std_errors[key] = None if error is None else spread.convert(error, unit, f"{where}.std_error")
-    return parameter.convert(entry["value"], unit, where)
+        provenance.std_errors[key] = None if error is None else spread.convert(error, unit, f"{where}.std_error", units)
+    return parameter.convert(entry["value"], unit, where, units)
 
 
-def _read_envelope(entries: object, label: str, provenance: _Provenance) -> Envelope:
+def _read_envelope(
+    entries: object, label: str, provenance: _Provenance, units: Mapping[str, tuple[str, float]]
+) -> Envelope:
     """The preset's ``envelope:`` section: numeric limits and ``propeller_ahead_only``, each with its source."""
     if not isinstance(entries, Mapping):
         raise TypeError(f"{label}: envelope: expected a mapping, got {entries!r}")
@@ -207,7 +218,7 @@ def _read_envelope(entries: object, label: str, provenance: _Provenance) -> Enve
             _read_value(number, {**entry, "value": float(flag)}, where, provenance)
             limits[key] = flag
         elif key in by_name:
-            limits[key] = _read_value(by_name[key], entry, where, provenance)
+            limits[key] = _read_value(by_name[key], entry, where, provenance, units)
         else:
             known = ", ".join([*by_name, "propeller_ahead_only"])
             raise ValueError(f"{label}: envelope: unknown limit {key!r}; known: {known}")
@@ -249,14 +260,21 @@ def ship_from_document(document: object, label: str, path: Path | None = None) -
     principal_entries = document.get("principal") or {}
     if not isinstance(principal_entries, Mapping):
         raise TypeError(f"{label}: principal: expected a mapping, got {principal_entries!r}")
-    principal: dict[str, float] = {}
-    for key, entry in principal_entries.items():
-        if key not in _PRINCIPAL_BY_NAME:
-            raise ValueError(f"{label}: principal: unknown field {key!r}; known: {', '.join(_PRINCIPAL_BY_NAME)}")
-        principal[key] = _read_value(_PRINCIPAL_BY_NAME[key], entry, f"{label}:principal.{key}", provenance)
-    missing = [name for name in _PRINCIPAL_BY_NAME if name not in principal]
+    strange = [key for key in principal_entries if key not in _PRINCIPAL_BY_NAME]
+    if strange:
+        raise ValueError(f"{label}: principal: unknown field {strange[0]!r}; known: {', '.join(_PRINCIPAL_BY_NAME)}")
+    missing = [name for name in _PRINCIPAL_BY_NAME if name not in principal_entries]
     if missing:
         raise ValueError(f"{label}: principal: missing {', '.join(missing)}")
+    principal: dict[str, float] = {}
+    units: Mapping[str, tuple[str, float]] = UNIT_CONVERSIONS  # then the ship's own L and U0 too
+    for key in sorted(principal_entries, key=lambda key: key not in SHIP_SCALES):  # L and U0 first
+        principal[key] = _read_value(
+            _PRINCIPAL_BY_NAME[key], principal_entries[key], f"{label}:principal.{key}", provenance, units
+        )
+        if all(name in principal for name in SHIP_SCALES):
+            units = ship_units(principal["length"], principal["service_speed"])
+    principal = {key: principal[key] for key in principal_entries}  # in the file's order
 
     effect_entries = document.get("effects") or {}
     if not isinstance(effect_entries, Mapping):
@@ -283,8 +301,15 @@ def ship_from_document(document: object, label: str, path: Path | None = None) -
                 raise ValueError(
                     f"{label}: effects.{effect_name}: unknown parameter {key!r}; known: {', '.join(by_name) or 'none'}"
                 )
-            values[effect_name][key] = _read_value(by_name[key], entry, f"{label}:{effect_name}.{key}", provenance)
-    envelope = _read_envelope(document.get("envelope") or {}, label, provenance)
+            where = f"{label}:{effect_name}.{key}"
+            values[effect_name][key] = _read_value(by_name[key], entry, where, provenance, units)
+    envelope = _read_envelope(document.get("envelope") or {}, label, provenance, units)
+    if envelope.minimum_speed is not None and envelope.minimum_speed >= principal["service_speed"]:
+        raise ValueError(
+            f"{label}: envelope.minimum_speed: {envelope.minimum_speed:g} m/s is not below the service speed "
+            f"{principal['service_speed']:g} m/s, so the model would not hold at the ship's own speed (a limit written "
+            "for another scale? give it as a fraction of the service speed, unit: U0)"
+        )
     service_entries = document.get("service_conditions") or {}
     if not isinstance(service_entries, Mapping):
         raise TypeError(f"{label}: service_conditions: expected a mapping, got {service_entries!r}")
@@ -293,7 +318,8 @@ def ship_from_document(document: object, label: str, path: Path | None = None) -
     for key, entry in service_entries.items():
         if key not in by_name:
             raise ValueError(f"{label}: service_conditions: unknown condition {key!r}; known: {', '.join(by_name)}")
-        service_conditions[key] = _read_value(by_name[key], entry, f"{label}:service_conditions.{key}", provenance)
+        where = f"{label}:service_conditions.{key}"
+        service_conditions[key] = _read_value(by_name[key], entry, where, provenance, units)
     sailed_by = None
     if document.get("dynamics") is not None:
         sailed_by = mmg_record(document["dynamics"], f"{path or label}: dynamics")

@@ -132,7 +132,13 @@ def prepare_runs(
             f"--group-by {group_by}: {len(set(groups))} groups left out in turn: {', '.join(dict.fromkeys(groups))}"
         )
     if not runs:
-        raise LogError("no run (or segment) lies inside the model's envelope; nothing to fit or score")
+        reasons = "; ".join(f"{name}: {checks[name].reasons()}" for name in outside[:3])
+        reasons += f"; and {len(outside) - 3} more runs" if len(outside) > 3 else ""
+        raise LogError(
+            f"no run (or segment) lies inside the model's envelope{f' ({reasons})' if reasons else ''}; nothing to "
+            "fit or score. The preset's envelope: section states its limits (in the ship's own L and U0, unit: U0 "
+            "or U0/L, where they hold at any scale)"
+        )
     return WorkbenchRuns(runs, groups, validation, checks, messages)
 
 

@@ -59,7 +59,7 @@ import yaml
 
 import ship_env
 from ship_env.model import EFFECTS, PRINCIPAL, Conditions, ShipModel
-from ship_env.model.declarations import ENVELOPE_LIMITS, Parameter
+from ship_env.model.declarations import ENVELOPE_LIMITS, UNIT_CONVERSIONS, Parameter, ship_units
 from ship_env.model.mmg_fitted import mmg_document
 from ship_env.workbench.fitting.errors import CHANNEL_UNITS, RunErrors
 from ship_env.workbench.fitting.fit import Estimate
@@ -240,25 +240,31 @@ def _narrower(key: str, preset: float | bool, data: float | bool) -> bool:
     return preset > data if key.startswith("minimum") else preset < data
 
 
-def _preset_limit(key: str, entry: object) -> float | bool | None:
-    """A preset's envelope limit in the unit the data's limits are written in (deg for angles)."""
+def _preset_limit(key: str, entry: object, units: Mapping[str, tuple[str, float]]) -> float | bool | None:
+    """A preset's envelope limit in the unit the data's limits are written in (deg for angles); ``units``: the
+    conversions the preset's ship knows (``declarations.ship_units``: its L and U0 too)."""
     if not isinstance(entry, Mapping):
         return None
     value = entry.get("value")
     if key == "propeller_ahead_only":
         return bool(value)
     parameter = {p.name: p for p in ENVELOPE_LIMITS}[key]
-    si = parameter.convert(value, entry.get("unit"), f"envelope.{key}")
+    si = parameter.convert(value, entry.get("unit"), f"envelope.{key}", units)
     return math.degrees(si) if parameter.unit.startswith("rad") else si
 
 
-def envelope_section(raw: Mapping[str, Any], limits: Mapping[str, DataLimit]) -> dict:
-    """The data's limits, but the preset's where it states a narrower one (its source then says so)."""
+def envelope_section(
+    raw: Mapping[str, Any],
+    limits: Mapping[str, DataLimit],
+    units: Mapping[str, tuple[str, float]] = UNIT_CONVERSIONS,
+) -> dict:
+    """The data's limits, but the preset's where it states a narrower one (its source then says so); ``units``: the
+    conversions the preset's ship knows (``declarations.ship_units``, for limits written in its L and U0)."""
     preset_entries = dict(raw.get("envelope") or {})
     section: dict[str, Any] = {}
     for key in [*preset_entries, *(key for key in limits if key not in preset_entries)]:
         data = limits.get(key)
-        preset = _preset_limit(key, preset_entries.get(key))
+        preset = _preset_limit(key, preset_entries.get(key), units)
         if data is None:
             section[key] = dict(preset_entries[key])
         elif preset is not None and _narrower(key, preset, data.value):
@@ -353,7 +359,7 @@ def preset_document(
         ),
         "principal": _principal_section(model, raw, {k: v for k, v in fitted.items() if k in principal_keys}),
         **({"service_conditions": service} if service else {}),
-        "envelope": envelope_section(raw, limits),
+        "envelope": envelope_section(raw, limits, ship_units(model.length, model.ship.principal["service_speed"])),
         "effects": _effects_section(sailed, raw, fitted),
         "fitted": record,
     }

@@ -15,9 +15,12 @@ import pytest
 
 import ship_env  # noqa: F401  (registers the environments)
 from ship_env.baselines.course_changer import CourseChangerSettings
+from ship_env.baselines.online_estimators.zigzag_trial import identify_by_zigzag
 from ship_env.baselines.position_filter import PositionFilterNoise
-from ship_env.baselines.presys import NATURAL_FREQUENCY, pd_controller
+from ship_env.baselines.presys import NATURAL_FREQUENCY, pd_controller, preset_parameters
+from ship_env.baselines.yaw_filter import YawFilterNoise
 from ship_env.envs.ship_scales import ShipScales
+from ship_env.model import ShipModel
 
 SHIPS = ("container_226m", "esso_osaka_model", "kvlcc2")
 
@@ -80,3 +83,33 @@ def test_calibrations_scale_by_their_units() -> None:
         "look_ahead",
         *unchanged[1:],
     }
+
+
+def test_the_yaw_filter_calibration_scales_by_its_units() -> None:
+    """Time x4: rates / 4, the wave time constant x 4, angles and K*, tau* kept, each spectral density by its units
+    squared over the time; the reference scales change nothing."""
+    noise = YawFilterNoise()
+    assert noise.for_ship(ShipScales(length=1.0, speed=1.0)) == noise
+    scaled = noise.for_ship(ShipScales(length=2.0, speed=0.5))
+    assert scaled.wave_rate == noise.wave_rate / 4.0 and scaled.gyro == noise.gyro / 4.0
+    assert scaled.wave_time_constant == 4.0 * noise.wave_time_constant
+    assert scaled.compass == noise.compass and scaled.parameter_uncertainty == noise.parameter_uncertainty
+    assert scaled.rate_model == pytest.approx(noise.rate_model / 4.0**2 / 4.0)  # (rad/s)^2 / s
+    assert scaled.heading_model == pytest.approx(noise.heading_model / 4.0)  # rad^2 / s
+    assert scaled.inverse_time_constant_walk == pytest.approx(noise.inverse_time_constant_walk / 4.0)  # 1 / s
+    assert scaled.gain_ratio_walk == pytest.approx(noise.gain_ratio_walk / 4.0)
+    assert scaled.offset_walk == pytest.approx(noise.offset_walk / 4.0**4 / 4.0)  # (rad/s^2)^2 / s
+    assert scaled.offset_uncertainty == pytest.approx(noise.offset_uncertainty / 4.0**2)  # rad/s^2
+
+
+def test_a_froude_scaled_ship_is_identified_as_the_original() -> None:
+    """The identification zig-zag of the 320 m tanker and of its 7 m model (Froude-scaled: the same manoeuvre in ship
+    lengths, the instruments in its scales) gives the same K*, tau* to rounding. Before the yaw filter took its
+    calibration and speed floor in the ship's scales, both were filtered with the container ship's calibration in
+    seconds, whatever their own L / U: K* 1.750 against 1.779, tau* 2.044 against 2.126."""
+    tanker = ShipModel("kvlcc2")
+    model = tanker.scaled(length=7.0)
+    full = identify_by_zigzag(tanker, preset_parameters(tanker), seed=0).parameters
+    small = identify_by_zigzag(model, preset_parameters(model), seed=0).parameters
+    assert small.gain == pytest.approx(full.gain, rel=1e-8)
+    assert small.time_constant == pytest.approx(full.time_constant, rel=1e-8)

@@ -26,7 +26,7 @@ from ship_env.baselines.nomoto import NomotoParameters
 from ship_env.baselines.online_estimators.zigzag_trial import identify_by_zigzag
 from ship_env.baselines.pd_autopilot import PDAutopilot, PDDesign, Schedule
 from ship_env.baselines.position_filter import PositionFilter, PositionFilterNoise
-from ship_env.baselines.yaw_filter import YawFilter
+from ship_env.baselines.yaw_filter import ship_yaw_filter
 from ship_env.envs.ship_scales import ship_scales
 from ship_env.model import ShipModel
 
@@ -76,7 +76,7 @@ def pd_controller(task: ShipTask, schedule: Schedule = "time") -> AutopilotContr
 def indirect_adaptive_controller(task: ShipTask) -> AutopilotController:
     """The indirect adaptive autopilot (5.5.2), its yaw filter starting at the preset's K*, tau*."""
     model = task.model
-    yaw_filter = YawFilter(model.length, task.dt, preset_parameters(model))
+    yaw_filter = ship_yaw_filter(model, task.dt, preset_parameters(model))
     return AutopilotController(
         IndirectAdaptiveAutopilot(_design(model, task.rudder_limit), yaw_filter), task.rudder_limit
     )
@@ -86,7 +86,7 @@ def mrac_controller(task: ShipTask, reference_gain: float = REFERENCE_GAIN) -> A
     """The MRAC autopilot (5.5.3), filter and reference model starting at the preset's K*, tau*."""
     model = task.model
     parameters = preset_parameters(model)
-    yaw_filter = YawFilter(model.length, task.dt, parameters)
+    yaw_filter = ship_yaw_filter(model, task.dt, parameters)
     autopilot = ModelReferenceAutopilot(
         _design(model, task.rudder_limit), yaw_filter, parameters, reference_gain, adaptation_band=ADAPTATION_BAND
     )
@@ -102,7 +102,7 @@ def track_follow_controller(task: TrackFollowTask, seed: int = 0) -> TrackFollow
     """
     model = task.model
     identified = identify_by_zigzag(model, preset_parameters(model), seed=seed)
-    yaw_filter = YawFilter(model.length, task.dt, identified.parameters)
+    yaw_filter = ship_yaw_filter(model, task.dt, identified.parameters)
     autopilot = ModelReferenceAutopilot(
         _design(model, task.rudder_limit - COMPENSATION_HEADROOM, "distance"),
         yaw_filter,

@@ -64,13 +64,16 @@ from filterpy.kalman import ExtendedKalmanFilter
 from ship_env.baselines.filter_health import InnovationGate
 from ship_env.baselines.measurement import Measurement, wrap_angle
 from ship_env.baselines.nomoto import NomotoParameters
+from ship_env.envs.ship_scales import ShipScales, ship_scales
+from ship_env.model import ShipModel
 
 A_S, B_S, OFFSET, RATE, WAVE_LOW_PASS, HEADING, WAVE_HEADING = range(7)
 STATE_SIZE = 7
 PARAMETERS = slice(A_S, B_S + 1)
 RATE_MEASUREMENT, HEADING_MEASUREMENT = 0, 1
 
-#: The filter's speed is floored here (m/s): the discrete parameters degenerate at rest.
+#: The filter's speed floor on the reference ship (m/s): the discrete parameters degenerate at rest. Another ship
+#: floors at the same fraction of its speed (:func:`ship_yaw_filter`).
 MINIMUM_SPEED = 0.5
 
 _MEASUREMENT_MATRIX = np.zeros((2, STATE_SIZE))
@@ -119,6 +122,25 @@ class YawFilterNoise:
     parameter_uncertainty: float = 1.0
     offset_uncertainty: float = math.radians(0.005)
 
+    def for_ship(self, scales: ShipScales) -> YawFilterNoise:
+        """This calibration, made for the reference ship, on a ship of ``scales``
+        (:mod:`ship_env.envs.ship_scales`): times in L / U, so a rate (rad/s) scales by 1 / time, an angle and
+        K*, tau* stay, and each spectral density scales with its units squared over time."""
+        time = scales.time
+        return YawFilterNoise(
+            wave_rate=self.wave_rate / time,
+            wave_time_constant=self.wave_time_constant * time,
+            gyro=self.gyro / time,
+            compass=self.compass,
+            rate_model=self.rate_model / time**3,
+            heading_model=self.heading_model / time,
+            inverse_time_constant_walk=self.inverse_time_constant_walk / time,
+            gain_ratio_walk=self.gain_ratio_walk / time,
+            offset_walk=self.offset_walk / time**5,
+            parameter_uncertainty=self.parameter_uncertainty,
+            offset_uncertainty=self.offset_uncertainty / time**2,
+        )
+
 
 class _YawEKF(ExtendedKalmanFilter):
     """filterpy's EKF with the yaw model's non-linear prediction f(x, delta) (5.17, 5.29, 5.39, 5.40)."""
@@ -147,8 +169,9 @@ class YawFilter:
         length: the ship's length L, m.
         sample_time: T_s, s.
         parameters: the initial K*, tau* (the thesis starts without prior knowledge at K*/4, tau*/4).
-        noise: the filter's calibration.
+        noise: the filter's calibration (:meth:`YawFilterNoise.for_ship` on another ship than the reference).
         gate: the innovation check (default: the NIS gate of :mod:`ship_env.baselines.filter_health`).
+        minimum_speed: the speed floor, m/s (:data:`MINIMUM_SPEED` for the reference ship).
     """
 
     def __init__(
@@ -158,10 +181,13 @@ class YawFilter:
         parameters: NomotoParameters,
         noise: YawFilterNoise | None = None,
         gate: InnovationGate | None = None,
+        minimum_speed: float = MINIMUM_SPEED,
     ) -> None:
         noise = noise or YawFilterNoise()
         if not (length > 0.0 and sample_time > 0.0):
             raise ValueError(f"length and sample_time must be positive, got {length!r}, {sample_time!r}")
+        if not minimum_speed > 0.0:
+            raise ValueError(f"minimum_speed must be positive, got {minimum_speed!r}")
         if not 0.0 < sample_time < noise.wave_time_constant:
             raise ValueError(
                 f"sample_time {sample_time!r} must be below the wave time constant {noise.wave_time_constant!r}"
@@ -174,7 +200,8 @@ class YawFilter:
         self.kalman = _YawEKF(dim_x=STATE_SIZE, dim_z=2, dim_u=1)
         self.kalman.sample_time = sample_time
         self.kalman.wave_pole = 1.0 - sample_time / noise.wave_time_constant
-        self.speed = MINIMUM_SPEED
+        self.minimum_speed = minimum_speed
+        self.speed = minimum_speed
         self._rudder = 0.0
         self._adapting = True
         self._frozen_parameter_covariance = np.zeros((2, 2))
@@ -187,7 +214,7 @@ class YawFilter:
         ``speed`` (m/s) replaces the log's speed where a better estimate is at hand (the position filter's).
         """
         speed = measurement.speed if speed is None else speed
-        self.speed = MINIMUM_SPEED if math.isnan(speed) else max(speed, MINIMUM_SPEED)
+        self.speed = self.minimum_speed if math.isnan(speed) else max(speed, self.minimum_speed)
         a_s, b_s = self.initial_parameters.discrete(self.sample_time, self.speed, self.length)
         rate = 0.0 if math.isnan(measurement.rate_of_turn) else measurement.rate_of_turn
         heading = 0.0 if math.isnan(measurement.heading) else measurement.heading
@@ -223,7 +250,7 @@ class YawFilter:
         ``speed`` (m/s) replaces the log's speed where a better estimate is at hand (the position filter's).
         """
         speed = measurement.speed if speed is None else speed
-        self._reschedule(self.speed if math.isnan(speed) else max(speed, MINIMUM_SPEED))
+        self._reschedule(self.speed if math.isnan(speed) else max(speed, self.minimum_speed))
         kalman = self.kalman
         kalman.F = self._jacobian(self._rudder)
         kalman.Q = self._process_noise()
@@ -371,3 +398,17 @@ def _measurement_jacobian(x: np.ndarray, rows: np.ndarray | None = None) -> np.n
 
 def _measurement_function(x: np.ndarray, rows: np.ndarray | None = None) -> np.ndarray:
     return _measurement_jacobian(x, rows) @ x
+
+
+def ship_yaw_filter(model: ShipModel, sample_time: float, parameters: NomotoParameters) -> YawFilter:
+    """The yaw filter for ``model``'s ship, starting at ``parameters``: the reference ship's calibration and speed
+    floor in the ship's own scales (:mod:`ship_env.envs.ship_scales`: times in L / U, speeds in U), so that a 7 m
+    model and a 320 m tanker are filtered as the reference ship is; the reference ship gets them exactly."""
+    scales = ship_scales(model)
+    return YawFilter(
+        model.length,
+        sample_time,
+        parameters,
+        YawFilterNoise().for_ship(scales),
+        minimum_speed=MINIMUM_SPEED * scales.speed,
+    )

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from ship_env.baselines.instruments import InstrumentNoise, SimulatedInstruments
 from ship_env.baselines.nomoto import NomotoParameters
 from ship_env.baselines.position_filter import PositionFilter, PositionFilterNoise
-from ship_env.baselines.yaw_filter import YawFilter
+from ship_env.baselines.yaw_filter import ship_yaw_filter
 from ship_env.envs.ship_scales import ship_scales
 from ship_env.model import ShipModel, Simulator
 
@@ -73,7 +73,7 @@ def identify_by_zigzag(
     instruments = SimulatedInstruments(
         simulator, InstrumentNoise.for_ship(scales), REFERENCE_FIX_INTERVAL * scales.time, seed=seed
     )
-    yaw_filter = YawFilter(model.length, sample_time, guess.scaled(0.25))
+    yaw_filter = ship_yaw_filter(model, sample_time, guess.scaled(0.25))
     noise = dataclasses.replace(PositionFilterNoise().for_ship(scales), position_fix=instruments.noise.position)
     position_filter = PositionFilter(sample_time, noise=noise)
     first = instruments.read()

@@ -36,9 +36,12 @@ trials (the sensors' noise drawn from another seed) and how many pass every boun
 approach with the same rudder programme, and each side's figures are read from its time series by the same code.
 ``--zigzag-lengths`` and ``--sample-interval`` log the fitted zig-zags shorter (a basin's length) or at another rate;
 ``--without rate_of_turn`` (or ``speed``, ``propeller_rate``) leaves channels out of them (a basin without a gyro).
+``--validate-on-turns`` logs the two judged turning circles with the same sensors and gives them to ``improve`` as
+``--validate-on`` runs, as an engineer with a sea trial's turning circles would; they are never fitted.
 
 Run:  python benchmarks/bench_free_running.py [--keep DIR] [--seeds N ...] [--truth PRESET|mmg|mmg-basin|kvlcc2-basin]
           [--fit improve|fit-mmg] [--zigzag-lengths L] [--sample-interval S] [--without CHANNEL ...]
+          [--validate-on-turns]
 """
 
 from __future__ import annotations
@@ -155,6 +158,7 @@ class Truth:
     dt: float = 1.0
     zigzag_lengths: float = 30.0
     without: tuple[str, ...] = ()
+    validate_on_turns: bool = False
 
 
 def truth_model(ship: str = SHIP) -> ShipModel:
@@ -210,9 +214,12 @@ def sail_truth(
     # fmt: skip
 
 
-def write_zigzag_logs(truth: Truth, folder: Path, seed: int) -> None:
+def write_logs(
+    truth: Truth, runs: Sequence[tuple[str, float, float | None]], lengths: float, folder: Path, seed: int
+) -> None:
+    """The truth's ``runs`` logged by its sensors (``seed`` their noise), less the channels it leaves out."""
     folder.mkdir(parents=True)
-    for log in sail_truth(truth, truth.zigzags, truth.zigzag_lengths, seed, truth.noise):
+    for log in sail_truth(truth, runs, lengths, seed, truth.noise):
         write_log(replace(log, **dict.fromkeys(truth.without)), folder / f"{log.name}.csv")
 
 
@@ -272,12 +279,16 @@ def judge(
     runs, sailed once for every seed)."""
     truth = make_truth() if truth is None else truth
     truth_logs = sail_truth(truth, JUDGED_RUNS, TURNING_LENGTHS, 0, EXACT) if truth_logs is None else truth_logs
-    write_zigzag_logs(truth, folder / "zigzag", seed)
+    write_logs(truth, truth.zigzags, truth.zigzag_lengths, folder / "zigzag", seed)
+    validation: list[str] = []
+    if truth.validate_on_turns:  # the judged turns, logged by the same sensors (other noise), never fitted
+        write_logs(truth, JUDGED_RUNS[:2], TURNING_LENGTHS, folder / "turning", seed + 1000)
+        validation = ["--validate-on", str(folder / "turning")]
     preset = folder / ("fitted.yaml" if fit == IMPROVE else "fitted_mmg.yaml")
     start = time.perf_counter()
     if fit == IMPROVE:
         command = ["improve", str(folder / "zigzag"), "--ship", truth.ship, "--preset", str(preset)]
-        command += ["--report", str(folder / "report")]
+        command += ["--report", str(folder / "report"), *validation]
     else:
         command = ["fit-mmg", str(folder / "zigzag"), "--ship", truth.ship, "-o", str(preset)]
     status = main(command)
@@ -313,6 +324,7 @@ def main_benchmark(
     zigzag_lengths: float | None = None,
     sample_interval: float | None = None,
     without: Sequence[str] = (),
+    validate_on_turns: bool = False,
 ) -> int:
     folder = Path(tempfile.mkdtemp(prefix="free_running_")) if keep is None else keep
     truth = make_truth(truth_name, folder)
@@ -320,7 +332,7 @@ def main_benchmark(
         truth = replace(truth, zigzag_lengths=zigzag_lengths)
     if sample_interval is not None:
         truth = replace(truth, dt=sample_interval)
-    truth = replace(truth, without=tuple(without))
+    truth = replace(truth, without=tuple(without), validate_on_turns=validate_on_turns)
     truth_logs = sail_truth(truth, JUDGED_RUNS, TURNING_LENGTHS, 0, EXACT)
     verdicts = [judge(seed, folder / f"seed_{seed}", truth, truth_logs, fit) for seed in seeds]
     header = ("figure (mean of 35 deg stbd and port)", "truth", "fitted preset", "error", "within", "")
@@ -377,6 +389,12 @@ if __name__ == "__main__":
         metavar="CHANNEL",
         help=f"channels the fitted logs leave out, of {', '.join(OPTIONAL_CHANNELS)} (default: none)",
     )
+    parser.add_argument(
+        "--validate-on-turns",
+        action="store_true",
+        help="log the judged turning circles with the fitted runs' sensors too and give them to improve as "
+        "--validate-on runs (never fitted)",
+    )
     arguments = parser.parse_args()
     raise SystemExit(
         main_benchmark(
@@ -387,5 +405,6 @@ if __name__ == "__main__":
             arguments.zigzag_lengths,
             arguments.sample_interval,
             arguments.without,
+            arguments.validate_on_turns,
         )
     )

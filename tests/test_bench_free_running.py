@@ -106,7 +106,7 @@ def test_named_among_the_candidates_the_drifts_resistance_makes_a_ship_where_the
     pytest.importorskip("shipmmg", reason='shipmmg is not installed (pip install shipmmg or -e ".[bench]")')
     bench = load_script(BENCH, "bench_free_running")
     truth = bench.make_truth(bench.MMG)
-    bench.write_zigzag_logs(truth, tmp_path / "zigzag", 3)
+    bench.write_logs(truth, truth.zigzags, truth.zigzag_lengths, tmp_path / "zigzag", 3)
     candidates = ",".join(name for name in EFFECTS if name != "rudder_drag")
     preset = tmp_path / "fitted.yaml"
     arguments = ["--ship", "kvlcc2", "--candidates", candidates, "--preset", str(preset)]
@@ -126,7 +126,8 @@ def test_a_ladder_whose_final_model_cannot_sail_says_so_and_why_no_candidate_hel
     candidate with which it would was refused."""
     pytest.importorskip("shipmmg", reason='shipmmg is not installed (pip install shipmmg or -e ".[bench]")')
     bench = load_script(BENCH, "bench_free_running")
-    bench.write_zigzag_logs(bench.make_truth(bench.MMG), tmp_path / "zigzag", 3)
+    truth = bench.make_truth(bench.MMG)
+    bench.write_logs(truth, truth.zigzags, truth.zigzag_lengths, tmp_path / "zigzag", 3)
     candidates = ",".join(name for name in EFFECTS if name not in ("rudder_drag", "drift_resistance"))
     document = tmp_path / "ladder.json"
     arguments = ["--ship", "kvlcc2", "--candidates", candidates, "--json", str(document)]

@@ -75,7 +75,7 @@ class EnvelopeCheck:
         """Why, in words: '61 % below 0.1 m/s; propeller astern 28 % of the time' (empty when all inside)."""
         limits = self.envelope
         words = {
-            "speed": lambda p: f"{p} % below {limits.minimum_speed:g} m/s",
+            "speed": lambda p: f"{p} % below {limits.minimum_speed:.3g} m/s",
             "froude": lambda p: f"{p} % below Froude number {limits.minimum_froude:g}",
             "propeller": lambda p: f"propeller astern {p} % of the time",
             "drift": lambda p: (

@@ -229,7 +229,7 @@ def envelope_line(envelope: Envelope) -> str:
     """The envelope's limits in words."""
     parts = []
     if envelope.minimum_speed is not None:
-        parts.append(f"speed >= {envelope.minimum_speed:g} m/s")
+        parts.append(f"speed >= {envelope.minimum_speed:.3g} m/s")
     if envelope.minimum_froude is not None:
         parts.append(f"Froude number >= {envelope.minimum_froude:g}")
     if envelope.propeller_ahead_only:

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from ship_env.command_line import name_list
 from ship_env.model.effects import EFFECTS
-from ship_env.model.ship import ShipModel, list_ships
+from ship_env.model.ship import ShipModel, list_ships, load_ship
 
 #: The named effect sets of ``--effects``; anything else is a comma-separated list of effects.
 EFFECT_SETS: dict[str, Callable[[str], ShipModel]] = {
@@ -24,10 +24,15 @@ EFFECT_SETS: dict[str, Callable[[str], ShipModel]] = {
 
 
 def ship_name(text: str) -> str:
-    """Check a ship preset name or a YAML file path."""
-    if text in list_ships() or (text.endswith((".yaml", ".yml")) and Path(text).is_file()):
-        return text
-    raise argparse.ArgumentTypeError(f"unknown ship {text!r}; known: {', '.join(list_ships())} (or a YAML file)")
+    """Check a ship preset name or a YAML file path, and that the preset reads (otherwise the reason, naming the
+    file and the field: an envelope written for another scale)."""
+    if not (text in list_ships() or (text.endswith((".yaml", ".yml")) and Path(text).is_file())):
+        raise argparse.ArgumentTypeError(f"unknown ship {text!r}; known: {', '.join(list_ships())} (or a YAML file)")
+    try:
+        load_ship(text)
+    except (OSError, TypeError, ValueError) as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+    return text
 
 
 #: Read a comma-separated list of effects (the registry as it is when the arguments are parsed).

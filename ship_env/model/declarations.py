@@ -111,7 +111,7 @@ class Parameter:
             target, factor = units.get(unit, (None, 1.0))
             if target != self.unit:
                 relative = f"; {', '.join(SHIP_RELATIVE_UNITS)} only where the ship's length and speed are read first"
-                known = f"{', '.join(units)}{'' if 'L' in units else relative}"
+                known = f"{', '.join(units)}{'' if SHIP_RELATIVE_UNITS.keys() <= units.keys() else relative}"
                 raise ValueError(f"{where}: unit {unit!r} cannot be converted to {self.unit!r} (units known: {known})")
             number *= factor
         if not math.isfinite(number):

@@ -266,15 +266,15 @@ def ship_from_document(document: object, label: str, path: Path | None = None) -
     missing = [name for name in _PRINCIPAL_BY_NAME if name not in principal_entries]
     if missing:
         raise ValueError(f"{label}: principal: missing {', '.join(missing)}")
-    principal: dict[str, float] = {}
-    units: Mapping[str, tuple[str, float]] = UNIT_CONVERSIONS  # then the ship's own L and U0 too
-    for key in sorted(principal_entries, key=lambda key: key not in SHIP_SCALES):  # L and U0 first
-        principal[key] = _read_value(
+
+    def read_principal(key: str, units: Mapping[str, tuple[str, float]]) -> float:
+        return _read_value(
             _PRINCIPAL_BY_NAME[key], principal_entries[key], f"{label}:principal.{key}", provenance, units
         )
-        if all(name in principal for name in SHIP_SCALES):
-            units = ship_units(principal["length"], principal["service_speed"])
-    principal = {key: principal[key] for key in principal_entries}  # in the file's order
+
+    scales = {key: read_principal(key, UNIT_CONVERSIONS) for key in SHIP_SCALES}  # what L and U0 refer to
+    units = ship_units(scales["length"], scales["service_speed"])
+    principal = {key: scales[key] if key in scales else read_principal(key, units) for key in principal_entries}
 
     effect_entries = document.get("effects") or {}
     if not isinstance(effect_entries, Mapping):

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ship_env.command_line import UsageError, positive_number, whole_number
-from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships, load_ship
+from ship_env.model import EFFECTS, REQUIRED_EFFECTS, ShipModel, list_ships
 from ship_env.model.arguments import EFFECT_SETS, effect_names, effect_set, ship_name
 from ship_env.text_table import WIDTH
 from ship_env.workbench.defaults import MIN_GAIN, MIN_SEGMENT, NUISANCE, ON_REQUEST, PAIR_WIDTH
@@ -75,10 +75,6 @@ def _workbench_setup(args: argparse.Namespace) -> ReplayModel:
             print(f"ship-env {args.command}: warning: {fitted.note}", file=sys.stderr)
         return fitted.setup
     ship = args.ship or WORKBENCH_SHIP
-    try:
-        load_ship(ship)
-    except (OSError, ValueError, TypeError) as error:
-        raise UsageError("--ship", str(error)) from None
     try:
         if args.model in WORKBENCH_MODELS:
             model = WORKBENCH_MODELS[args.model](ship)

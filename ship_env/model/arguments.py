@@ -11,9 +11,9 @@ import argparse
 from collections.abc import Callable
 from pathlib import Path
 
-from ship_env.command_line import name_list
+from ship_env.command_line import name_list, ship_preset
 from ship_env.model.effects import EFFECTS
-from ship_env.model.ship import ShipModel, list_ships, load_ship
+from ship_env.model.ship import ShipModel, list_ships
 
 #: The named effect sets of ``--effects``; anything else is a comma-separated list of effects.
 EFFECT_SETS: dict[str, Callable[[str], ShipModel]] = {
@@ -28,11 +28,7 @@ def ship_name(text: str) -> str:
     file and the field: an envelope written for another scale)."""
     if not (text in list_ships() or (text.endswith((".yaml", ".yml")) and Path(text).is_file())):
         raise argparse.ArgumentTypeError(f"unknown ship {text!r}; known: {', '.join(list_ships())} (or a YAML file)")
-    try:
-        load_ship(text)
-    except (OSError, TypeError, ValueError) as error:
-        raise argparse.ArgumentTypeError(str(error)) from None
-    return text
+    return ship_preset(text)
 
 
 #: Read a comma-separated list of effects (the registry as it is when the arguments are parsed).
